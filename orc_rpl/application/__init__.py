@@ -1,0 +1,1 @@
+"""Registry of primitives, functions and INSTALL kinds; the built-in features; actions."""

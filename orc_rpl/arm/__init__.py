@@ -1,0 +1,1 @@
+"""Arm control: Pinocchio model (FK, IK, dynamics), limits, path velocity control."""

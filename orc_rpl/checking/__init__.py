@@ -1,0 +1,1 @@
+"""Static rules: names, units, primitive signatures, the FRAME-context rule."""

@@ -1,0 +1,1 @@
+"""Runs checked programs: scopes, call stack, program pointer, steps, exceptions."""

@@ -1,0 +1,1 @@
+"""The motion layer: move(), planning, the motion pipeline, sensors, modes."""

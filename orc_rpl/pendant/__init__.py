@@ -1,0 +1,1 @@
+"""The teach pendant: prompt-toolkit application and rich views; no domain logic."""

@@ -1,0 +1,1 @@
+"""What the servos drive: the MuJoCo cell; serial links."""

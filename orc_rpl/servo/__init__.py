@@ -1,0 +1,1 @@
+"""Local control: per-joint position/velocity loops with feed-forward; internal signals."""

@@ -1,0 +1,1 @@
+"""The logger (submit/update), recordings, export, plots."""

@@ -1,0 +1,1 @@
+"""Text <-> one syntax tree for both syntaxes; no semantics."""

@@ -1,0 +1,1 @@
+"""The world model: object tree, poses, frames, model/spatial/soft attributes, YAML I/O."""
