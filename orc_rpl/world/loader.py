@@ -1,0 +1,291 @@
+"""Reading a world file: YAML nodes to world objects, with every mistake reported at its file, line and column."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from orc_rpl.errors import Diagnostic, SourceError
+from orc_rpl.world.objects import FLANGE, NAME_RE, PREDEFINED, ModelAttributes, PathAttribute, Position, RobotEntry, WorldObject
+from orc_rpl.world.pose import WORLD, Pose
+from orc_rpl.world.source import MappingNode, Node, ScalarNode, SequenceNode, SourceText, did_you_mean
+from orc_rpl.world.values import BadValue, read_lengths, read_number, read_pose, read_soft
+
+TOP_KEYS = ("robot", "world")
+ROBOT_KEYS = ("model", "pose")
+OBJECT_KEYS = ("parent", "pose", "online_frame", "tool", "model", "model_key", "frames", "paths", "spatial", "soft")
+MODEL_KEYS = ("geometry", "size", "colour", "mesh", "offset")
+#: Geometry kinds and how many sizes each takes (a mesh takes its size from the mesh file).
+GEOMETRIES = {"box": 3, "cylinder": 2, "sphere": 1, "mesh": 0}
+
+
+@dataclass(frozen=True)
+class Parsed:
+    """A checked world file: its text, nodes (kept for exact edits) and objects in file order."""
+
+    src: SourceText
+    root: MappingNode | None
+    robot: RobotEntry | None
+    objects: tuple[WorldObject, ...]
+    object_nodes: dict[str, tuple[ScalarNode, MappingNode]]   #: name -> (key node, attribute mapping)
+
+
+def parse_world(text: str, path: str = "<world>") -> Parsed:
+    """Read and check a world file's text; raise SourceError listing every problem found."""
+    return _Reader(SourceText(text, path)).read()
+
+
+class _Reader:
+    """One pass over the nodes, collecting diagnostics rather than stopping at the first."""
+
+    def __init__(self, src: SourceText) -> None:
+        self.src = src
+        self.diags: list[Diagnostic] = []
+
+    def bad(self, node: Node | None, message: str, hint: str = "") -> None:
+        self.diags.append(self.src.diagnostic(node, message, hint))
+
+    def read(self) -> Parsed:
+        root = self.src.compose()
+        robot, objects, nodes = None, [], {}
+        if root is not None and not isinstance(root, MappingNode):
+            raise self.src.error(root, "a world file is a mapping with the keys 'robot' and 'world'")
+        if root is not None:
+            top = self.mapping(root, TOP_KEYS, "top-level key")
+            if "robot" in top:
+                robot = self.robot(top["robot"][1])
+            if "world" in top:
+                world_node = top["world"][1]
+                if not self.is_block(world_node, "'world' is a block mapping of objects, one per name"):
+                    world_node = None
+                seen: dict[str, ScalarNode] = {}
+                for key, value in world_node.value if world_node is not None else ():
+                    if not self.check_name(key, "object"):
+                        continue
+                    if key.value in seen:
+                        self.bad(key, f"duplicate object name '{key.value}'", f"first defined at line {seen[key.value].start_mark.line + 1}")
+                        continue
+                    if key.value in PREDEFINED:
+                        self.bad(key, f"'{key.value}' is predefined in every world; choose another object name")
+                        continue
+                    seen[key.value] = key
+                    obj = self.object(key, value)
+                    if obj is not None:
+                        objects.append(obj)
+                        nodes[obj.name] = (key, value)
+        self.check_tree(objects, nodes)
+        if self.diags:
+            self.diags.sort(key=lambda d: (d.location.line, d.location.column))
+            raise SourceError(self.diags, self.src.text)
+        return Parsed(self.src, root, robot, tuple(objects), nodes)
+
+    def is_block(self, node: Node, message: str) -> bool:
+        if isinstance(node, MappingNode) and not node.flow_style:
+            return True
+        self.bad(node, message)
+        return False
+
+    def check_name(self, key: Node, what: str) -> bool:
+        if isinstance(key, ScalarNode) and NAME_RE.fullmatch(key.value):
+            return True
+        self.bad(key, f"bad {what} name '{getattr(key, 'value', '?')}'", "a name is a letter or '_' followed by letters, digits and '_'")
+        return False
+
+    def mapping(self, node: Node, allowed: tuple[str, ...], what: str) -> dict[str, tuple[ScalarNode, Node]]:
+        """A mapping's entries by key; unknown and repeated keys are reported."""
+        out: dict[str, tuple[ScalarNode, Node]] = {}
+        for key, value in node.value:
+            name = getattr(key, "value", None)
+            if not isinstance(name, str) or name not in allowed:
+                self.bad(key, f"unknown {what} '{name}'", did_you_mean(str(name), list(allowed)) or "allowed: " + ", ".join(allowed))
+            elif name in out:
+                self.bad(key, f"duplicate key '{name}'", f"first given at line {out[name][0].start_mark.line + 1}")
+            else:
+                out[name] = (key, value)
+        return out
+
+    def robot(self, node: Node) -> RobotEntry | None:
+        if not self.is_block(node, "'robot' is a mapping with 'model' and 'pose'"):
+            return None
+        keys = self.mapping(node, ROBOT_KEYS, "robot key")
+        if "model" not in keys or not isinstance(keys["model"][1], ScalarNode):
+            self.bad(node, "the robot needs 'model: <name>' (a robot model in worlds/, such as irb2400)")
+            return None
+        pose = self.pose(keys["pose"][1], WORLD) if "pose" in keys else Pose(0, 0, 0)
+        return RobotEntry(keys["model"][1].value, pose or Pose(0, 0, 0), self.src.location(node))
+
+    def pose(self, node: Node, frame: str) -> Pose | None:
+        try:
+            return read_pose(node, frame)
+        except BadValue as exc:
+            self.diags.append(exc.diagnostic(self.src))
+            return None
+
+    def flag(self, node: Node, key: str) -> bool:
+        if isinstance(node, ScalarNode) and node.tag.endswith(":bool"):
+            return node.value.lower() in ("true", "yes", "on")
+        self.bad(node, f"'{key}' is true or false")
+        return False
+
+    def object(self, key: ScalarNode, node: Node) -> WorldObject | None:
+        name = key.value
+        if not self.is_block(node, f"object '{name}' is a block mapping of its attributes (parent, pose, frames, ...)"):
+            return None
+        attrs = self.mapping(node, OBJECT_KEYS, "object attribute")
+        parent = WORLD
+        if "parent" in attrs:
+            pnode = attrs["parent"][1]
+            if self.check_name(pnode, "parent"):
+                parent = pnode.value
+        pose = self.pose(attrs["pose"][1], parent) if "pose" in attrs else Pose(0, 0, 0, frame=parent)
+        online = self.flag(attrs["online_frame"][1], "online_frame") if "online_frame" in attrs else False
+        tool = self.flag(attrs["tool"][1], "tool") if "tool" in attrs else False
+        if "model" in attrs and "model_key" in attrs:
+            self.bad(attrs["model_key"][0], "an object has either 'model' (off-line) or 'model_key' (on-line), not both")
+        model = self.model(attrs["model"][1]) if "model" in attrs else None
+        model_key = None
+        if "model_key" in attrs:
+            knode = attrs["model_key"][1]
+            model_key = knode.value if isinstance(knode, ScalarNode) else None
+        self.check_attribute_names(name, attrs)
+        frames = self.frames(name, attrs["frames"][1]) if "frames" in attrs else ()
+        paths = self.paths(name, attrs["paths"][1], frames) if "paths" in attrs else ()
+        soft = self.soft(attrs["soft"][1], "soft") if "soft" in attrs else ()
+        spatial = self.soft(attrs["spatial"][1], "spatial") if "spatial" in attrs else ()
+        return WorldObject(name, parent, pose or Pose(0, 0, 0, frame=parent), online, tool, model, model_key,
+                           frames, paths, soft, spatial, self.src.location(key))
+
+    def check_attribute_names(self, owner: str, attrs: dict[str, tuple[ScalarNode, Node]]) -> None:
+        """`owner.name` must name one thing: a frame, a path, a spatial or a soft attribute."""
+        seen: dict[str, tuple[str, int]] = {}
+        for section in ("frames", "paths", "spatial", "soft"):
+            node = attrs.get(section, (None, None))[1]
+            for key, _ in node.value if isinstance(node, MappingNode) else ():
+                name = getattr(key, "value", None)
+                if name in seen and seen[name][0] != section:
+                    first, line = seen[name]
+                    self.bad(key, f"'{owner}.{name}' is defined twice, in {first} and in {section}", f"the first is at line {line}")
+                seen.setdefault(name, (section, key.start_mark.line + 1))
+
+    def entries(self, node: Node, what: str) -> list[tuple[ScalarNode, Node]]:
+        """Named entries of frames/paths/soft (an empty value means none), names checked and unique."""
+        if isinstance(node, ScalarNode) and node.tag.endswith(":null"):
+            return []
+        if not isinstance(node, MappingNode):
+            self.bad(node, f"{what} is a mapping of names to values")
+            return []
+        out, seen = [], {}
+        for key, value in node.value:
+            if not self.check_name(key, what.rstrip("s")):
+                continue
+            if key.value in seen:
+                self.bad(key, f"duplicate name '{key.value}' in {what}", f"first defined at line {seen[key.value] + 1}")
+                continue
+            seen[key.value] = key.start_mark.line
+            out.append((key, value))
+        return out
+
+    def frames(self, owner: str, node: Node) -> tuple[Position, ...]:
+        out = []
+        for key, value in self.entries(node, "frames"):
+            pose = self.pose(value, owner)
+            if pose is not None:
+                out.append(Position(key.value, pose, self.src.location(key)))
+        return tuple(out)
+
+    def paths(self, owner: str, node: Node, frames: tuple[Position, ...]) -> tuple[PathAttribute, ...]:
+        by_name = {f.name: f for f in frames}
+        out = []
+        for key, value in self.entries(node, "paths"):
+            if not isinstance(value, SequenceNode):
+                self.bad(value, "a path is a list of frame names and poses")
+                continue
+            points, refs = [], []
+            for item in value.value:
+                if isinstance(item, ScalarNode):
+                    if item.value not in by_name:
+                        self.bad(item, f"'{owner}' has no frame '{item.value}'", did_you_mean(item.value, list(by_name)))
+                        continue
+                    points.append(by_name[item.value].pose)
+                    refs.append(item.value)
+                else:
+                    pose = self.pose(item, owner)
+                    if pose is not None:
+                        points.append(pose)
+                        refs.append(None)
+            out.append(PathAttribute(key.value, tuple(points), tuple(refs), self.src.location(key)))
+        return tuple(out)
+
+    def soft(self, node: Node, what: str) -> tuple:
+        out = []
+        for key, value in self.entries(node, what):
+            try:
+                out.append((key.value, read_soft(value)))
+            except BadValue as exc:
+                self.diags.append(exc.diagnostic(self.src))
+        return tuple(out)
+
+    def model(self, node: Node) -> ModelAttributes | None:
+        if not isinstance(node, MappingNode):
+            self.bad(node, "'model' is a mapping: geometry, size, colour, mesh")
+            return None
+        keys = self.mapping(node, MODEL_KEYS, "model attribute")
+        geometry = keys["geometry"][1].value if "geometry" in keys and isinstance(keys["geometry"][1], ScalarNode) else None
+        if geometry is not None and geometry not in GEOMETRIES:
+            self.bad(keys["geometry"][1], f"unknown geometry '{geometry}'", did_you_mean(geometry, list(GEOMETRIES)) or "box, cylinder, sphere or mesh")
+        size: tuple[float, ...] = ()
+        if "size" in keys:
+            try:
+                size = read_lengths(keys["size"][1], "size")
+            except BadValue as exc:
+                self.diags.append(exc.diagnostic(self.src))
+            wanted = GEOMETRIES.get(geometry or "", 0)
+            if size and wanted and len(size) != wanted:
+                self.bad(keys["size"][1], f"a {geometry} has {wanted} size value{'s' if wanted > 1 else ''}, got {len(size)}")
+        colour = None
+        if "colour" in keys:
+            cnode = keys["colour"][1]
+            try:
+                colour = cnode.value if isinstance(cnode, ScalarNode) else tuple(float(read_number(c, "colour")) for c in cnode.value)
+            except BadValue as exc:
+                self.diags.append(exc.diagnostic(self.src))
+        mesh = keys["mesh"][1].value if "mesh" in keys and isinstance(keys["mesh"][1], ScalarNode) else None
+        if geometry == "mesh" and mesh is None:
+            self.bad(node, "geometry 'mesh' needs 'mesh: <file>'")
+        offset = self.pose(keys["offset"][1], "model") if "offset" in keys else None
+        return ModelAttributes(geometry, size, colour, mesh, offset)
+
+    def check_tree(self, objects: list[WorldObject], nodes: dict[str, tuple[ScalarNode, MappingNode]]) -> None:
+        """Parents exist, parent links have no cycle, tools hang below the flange."""
+        by_name = {o.name: o for o in objects}
+        known = set(by_name) | set(PREDEFINED)
+
+        def parent_node(name: str) -> Node:
+            entry = next((v for k, v in nodes[name][1].value if getattr(k, "value", None) == "parent"), None)
+            return entry if entry is not None else nodes[name][0]
+
+        for obj in objects:
+            if obj.parent not in known:
+                self.bad(parent_node(obj.name), f"unknown parent '{obj.parent}' of '{obj.name}'", did_you_mean(obj.parent, known))
+        reported: set[str] = set()
+        for obj in objects:
+            chain, name = [], obj.name
+            while name in by_name and name not in chain:
+                chain.append(name)
+                name = by_name[name].parent
+            if name in chain and name not in reported:
+                cycle = chain[chain.index(name):]
+                reported.update(cycle)
+                first = min(cycle, key=lambda n: nodes[n][0].start_mark.line)
+                i = cycle.index(first)
+                ring = cycle[i:] + cycle[:i] + [first]
+                self.bad(parent_node(first), "cycle in parents: " + " -> ".join(ring), "an object cannot be its own ancestor")
+        for obj in objects:
+            if not obj.tool:
+                continue
+            chain, name = set(), obj.parent
+            while name in by_name and name not in chain:
+                chain.add(name)
+                name = by_name[name].parent
+            if name != FLANGE and name in PREDEFINED:
+                tool_key = next(k for k, _ in nodes[obj.name][1].value if getattr(k, "value", None) == "tool")
+                self.bad(tool_key, f"tool '{obj.name}' is not mounted on the flange", "give it (or its holder) 'parent: flange'")

@@ -1,0 +1,109 @@
+"""World-file text and its YAML node tree: positions of every node, for messages and for exact text edits."""
+
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass, field
+
+from ruamel.yaml import YAML
+from ruamel.yaml.error import MarkedYAMLError
+from ruamel.yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+
+from orc_rpl.errors import Diagnostic, Location, SourceError
+
+__all__ = ["MappingNode", "Node", "ScalarNode", "SequenceNode", "SourceText", "did_you_mean"]
+
+
+@dataclass(frozen=True)
+class SourceText:
+    """The exact text of a world file, its name, and the offsets of its lines."""
+
+    text: str
+    path: str
+    _starts: tuple[int, ...] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        starts = [0]
+        for line in self.text.splitlines(keepends=True):
+            starts.append(starts[-1] + len(line))
+        object.__setattr__(self, "_starts", tuple(starts))
+
+    @property
+    def newline(self) -> str:
+        """The line ending the file uses, so inserted lines match it."""
+        return "\r\n" if "\r\n" in self.text else "\n"
+
+    def index(self, line0: int, column0: int) -> int:
+        """Character offset of a 0-based line and column (as ruamel marks count them)."""
+        if line0 >= len(self._starts) - 1:
+            return len(self.text)
+        return self._starts[line0] + column0
+
+    def line_end(self, line0: int) -> int:
+        """Offset just after the line break of a 0-based line (end of text for the last line)."""
+        return self._starts[min(line0 + 1, len(self._starts) - 1)]
+
+    def line(self, line0: int) -> str:
+        """A 0-based line without its line break."""
+        lines = self.text.splitlines()
+        return lines[line0] if 0 <= line0 < len(lines) else ""
+
+    def location(self, node: Node) -> Location:
+        """The span of a node: its first line and column, and where it ends on that line."""
+        start, end = node.start_mark, node.end_mark
+        end_column = end.column + 1 if end.line == start.line else 0
+        return Location(self.path, start.line + 1, start.column + 1, 0, end_column)
+
+    def diagnostic(self, node: Node | None, message: str, hint: str = "") -> Diagnostic:
+        """A diagnostic at a node (at the top of the file when there is none)."""
+        loc = self.location(node) if node is not None else Location(self.path, 1, 1)
+        return Diagnostic(loc, message, hint, source_line=self.line(loc.line - 1))
+
+    def error(self, node: Node | None, message: str, hint: str = "") -> SourceError:
+        """A SourceError with one diagnostic at a node."""
+        return SourceError([self.diagnostic(node, message, hint)], self.text)
+
+    def compose(self) -> Node | None:
+        """The YAML node tree; a syntax error becomes a SourceError at ruamel's mark."""
+        try:
+            return YAML(typ="rt").compose(self.text)
+        except MarkedYAMLError as exc:
+            mark = exc.problem_mark or exc.context_mark
+            line0, col0 = (mark.line, mark.column) if mark is not None else (0, 0)
+            message = f"YAML syntax error: {exc.problem or exc.context}"
+            loc = Location(self.path, line0 + 1, col0 + 1)
+            hint = f"{exc.context} (line {exc.context_mark.line + 1})" if exc.context and exc.context_mark and exc.problem else ""
+            raise SourceError([Diagnostic(loc, message, hint, source_line=self.line(line0))], self.text) from None
+
+    def last_line(self, node: Node) -> int:
+        """The 0-based last line that holds text of the node (a block collection ends where the next token starts)."""
+        if isinstance(node, (MappingNode, SequenceNode)) and not node.flow_style and node.value:
+            last = node.value[-1]
+            return self.last_line(last[1] if isinstance(last, tuple) else last)
+        end = node.end_mark
+        if isinstance(node, ScalarNode) and node.style in ("|", ">") and end.column == 0:
+            return end.line - 1
+        return end.line
+
+    def text_of(self, node: Node) -> str:
+        """The exact source text of a node."""
+        return self.text[self.index(node.start_mark.line, node.start_mark.column) : self.index(node.end_mark.line, node.end_mark.column)]
+
+
+def entries(node: MappingNode) -> list[tuple[ScalarNode, Node]]:
+    """Key and value nodes of a mapping, in file order."""
+    return list(node.value)
+
+
+def find(node: MappingNode, key: str) -> tuple[ScalarNode, Node] | None:
+    """The (key, value) nodes of a key in a mapping, or None."""
+    for k, v in node.value:
+        if isinstance(k, ScalarNode) and k.value == key:
+            return k, v
+    return None
+
+
+def did_you_mean(name: str, candidates: list[str] | set[str]) -> str:
+    """A 'did you mean' hint for a misspelt name, or an empty string."""
+    close = difflib.get_close_matches(name, sorted(candidates), n=1, cutoff=0.6)
+    return f"did you mean '{close[0]}'?" if close else ""

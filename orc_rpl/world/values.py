@@ -1,0 +1,139 @@
+"""Values written in world files: poses and quantities with the language's units, read from nodes and written back as text."""
+
+from __future__ import annotations
+
+import math
+import re
+
+from orc_rpl.errors import Diagnostic
+from orc_rpl.syntax.units import ANGLE, LENGTH, Dimension, Quantity, Scalar, dim_of, format_number, magnitude, parse_literal
+from orc_rpl.world.pose import Pose
+from orc_rpl.world.source import Node, ScalarNode, SequenceNode, SourceText
+
+#: What each of the six pose values measures; a plain number is SI (m, rad), as in POSE(...).
+POSE_FIELDS: tuple[tuple[str, Dimension], ...] = (
+    ("x", LENGTH), ("y", LENGTH), ("z", LENGTH), ("a", ANGLE), ("b", ANGLE), ("c", ANGLE),
+)
+
+#: Written poses are rounded here: 1 nm and 1e-9 deg keep affix/unfix far below any robot's repeatability.
+LENGTH_DIGITS_MM = 6
+ANGLE_DIGITS_DEG = 9
+
+SoftValue = bool | int | float | str | Quantity | None
+
+
+class BadValue(Exception):
+    """A value that cannot be read, with the node to point at."""
+
+    def __init__(self, node: Node, message: str, hint: str = "") -> None:
+        super().__init__(message)
+        self.node, self.message, self.hint = node, message, hint
+
+    def diagnostic(self, src: SourceText) -> Diagnostic:
+        return src.diagnostic(self.node, self.message, self.hint)
+
+
+def read_number(node: Node, what: str) -> Scalar:
+    """A number with an optional sign and unit (`-300mm`, `90deg`, `0.5`) from a scalar node."""
+    if not isinstance(node, ScalarNode) or node.style not in (None, ""):
+        raise BadValue(node, f"{what} must be a number with an optional unit")
+    text = node.value.strip()
+    sign = -1.0 if text.startswith("-") else 1.0
+    body = text[1:] if text[:1] in "+-" else text
+    try:
+        value = parse_literal(body)
+    except KeyError:
+        unit = re.sub(r"^[\d.eE+-]+", "", body)
+        raise BadValue(node, f"unknown unit '{unit}' in '{text}'", "units: mm cm m deg rad (a plain number is m or rad)") from None
+    except ValueError:
+        raise BadValue(node, f"'{text}' is not a number", f"{what} is a number with an optional unit") from None
+    if sign < 0:
+        return Quantity(-value.value, value.dim) if isinstance(value, Quantity) else -value
+    return value
+
+
+def read_pose(node: Node, frame: str) -> Pose:
+    """`[x, y, z, a, b, c]` with units; plain numbers are m and rad. The pose is relative to `frame`."""
+    if not isinstance(node, SequenceNode):
+        raise BadValue(node, "a pose is a list [x, y, z, a, b, c]", "for example [1200mm, 300mm, 750mm, 0, 0, 90deg]")
+    if len(node.value) != 6:
+        raise BadValue(node, f"a pose has 6 values [x, y, z, a, b, c], got {len(node.value)}")
+    numbers = []
+    for item, (name, dim) in zip(node.value, POSE_FIELDS):
+        value = read_number(item, f"pose value {name}")
+        if isinstance(value, Quantity) and value.dim != dim:
+            raise BadValue(item, f"pose value {name} must be a{'n' if dim == ANGLE else ''} {dim}, got a{'n' if dim_of(value) == ANGLE else ''} {dim_of(value)} ('{item.value}')")
+        numbers.append(magnitude(value))
+    return Pose(*numbers, frame=frame)
+
+
+def read_lengths(node: Node, what: str) -> tuple[float, ...]:
+    """A list of lengths (`[600mm, 800mm, 20mm]`) in m."""
+    if not isinstance(node, SequenceNode):
+        raise BadValue(node, f"{what} is a list of lengths")
+    out = []
+    for item in node.value:
+        value = read_number(item, what)
+        if isinstance(value, Quantity) and value.dim != LENGTH:
+            raise BadValue(item, f"{what} must be lengths, got a{'n' if value.dim == ANGLE else ''} {value.dim} ('{item.value}')")
+        out.append(magnitude(value))
+    return tuple(out)
+
+
+def read_soft(node: Node) -> SoftValue:
+    """A soft attribute: true/false, a number (with a unit, kept as a Quantity), a string, or null."""
+    if not isinstance(node, ScalarNode):
+        raise BadValue(node, "a soft attribute is a single value (number, text, true/false)")
+    tag = node.tag.rsplit(":", 1)[-1]
+    if tag == "bool":
+        return node.value.lower() in ("true", "yes", "on")
+    if tag == "null":
+        return None
+    if tag == "int":
+        return int(node.value)
+    if tag == "float":
+        return float(node.value)
+    if node.style in (None, "") and re.fullmatch(r"[+-]?(\d|\.\d)\S*", node.value):
+        return read_number(node, "a soft attribute")
+    return node.value
+
+
+def _fixed(value: float, digits: int) -> str:
+    """Shortest text of a value rounded to `digits` decimals (no `-0`)."""
+    rounded = round(value, digits)
+    if rounded == 0:
+        return "0"
+    return format_number(rounded)
+
+
+def format_length(value_m: float) -> str:
+    """A length as a world file writes it: `300mm`, `0` (millimetres, the unit cell drawings use)."""
+    text = _fixed(value_m * 1000.0, LENGTH_DIGITS_MM)
+    return "0" if text == "0" else f"{text}mm"
+
+
+def format_angle(value_rad: float) -> str:
+    """An angle as a world file writes it: `90deg`, `0`."""
+    text = _fixed(math.degrees(value_rad), ANGLE_DIGITS_DEG)
+    return "0" if text == "0" else f"{text}deg"
+
+
+def format_pose(pose: Pose) -> str:
+    """`[1200mm, 300mm, 750mm, 0, 0, 90deg]`: the flow list a world file writes for a pose."""
+    parts = [format_length(v) for v in (pose.x, pose.y, pose.z)] + [format_angle(v) for v in (pose.a, pose.b, pose.c)]
+    return "[" + ", ".join(parts) + "]"
+
+
+def format_soft(value: SoftValue) -> str:
+    """A soft attribute's YAML text."""
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return format_number(value)
+    if isinstance(value, Quantity):
+        return f"{format_number(value.value)}{value.dim.symbol()}"
+    if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_ .-]*", value) and value.lower() not in ("true", "false", "yes", "no", "on", "off", "null"):
+        return value
+    return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
