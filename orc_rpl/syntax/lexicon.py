@@ -1,0 +1,31 @@
+"""The words of the on-line language: reserved words, predefined names, the motion-keyword rule."""
+
+from __future__ import annotations
+
+import re
+
+#: LANGUAGE.md section 1: reserved, upper case and exact; never usable as names.
+RESERVED: frozenset[str] = frozenset(
+    """MOVE TO ALONG VIA WITH UNTIL IF THEN ELSIF ELSE ENDIF WHILE DO ENDWHILE FOR FROM STEP
+    ENDFOR CASE OF ENDCASE FRAME ENDFRAME PROC ENDPROC FUNC ENDFUNC RETURN TRY ON ENDTRY
+    RAISE WAIT PRINT STOP INSTALL AS IN TOOL POS PATH VAR CONST ENUM TIMEOUT AND OR NOT
+    TRUE FALSE""".split()
+)
+
+#: Names every program may use without declaring them (LANGUAGE.md section 1).
+PREDEFINED_NAMES: frozenset[str] = frozenset({"ARM", "ROBOT", "HERE", "world", "DigIn", "DigOut", "AnalogIn", "AnalogOut", "FINE"})
+
+#: Exceptions the system raises (LANGUAGE.md section 3); exception names need no declaration.
+SYSTEM_EXCEPTIONS: tuple[str, ...] = ("NotFound", "Unreachable", "JointLimit", "Timeout", "SensorFault")
+
+_MOTION_KEYWORD = re.compile(r"(?:[A-Z][A-Z0-9_]*)?MOVE")
+
+
+def is_motion_keyword(word: str) -> bool:
+    """True for every upper-case word ending in MOVE (`MOVE`, `LMOVE`, `GRINDMOVE`, ...)."""
+    return _MOTION_KEYWORD.fullmatch(word) is not None
+
+
+def is_reserved(word: str) -> bool:
+    """True for words that can never be a name: reserved words and motion keywords."""
+    return word in RESERVED or is_motion_keyword(word)

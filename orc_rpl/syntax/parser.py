@@ -1,0 +1,175 @@
+"""On-line text -> syntax tree: the Lark parser, its errors translated to `file:line:col` diagnostics, recovery per line."""
+
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+
+from lark import Lark, Token
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+from orc_rpl.errors import Diagnostic, Location, SourceError
+from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.blocks import NEUTRAL_HEADERS, block_keyword, check_blocks
+from orc_rpl.syntax.builder import BuildError, TreeBuilder
+from orc_rpl.syntax.grammar_files import grammar_path
+
+#: At most this many syntax errors are reported per file (later ones are usually consequences).
+MAX_ERRORS = 50
+
+#: How terminals are named in messages.
+_TERMINAL_NAMES = {
+    "_NL": "end of line",
+    "$END": "end of file",
+    "NAME": "a name",
+    "NUMBER": "a number",
+    "STRING": "a string",
+    "MOTION_KW": "a motion keyword",
+    "EQUAL": "'='",
+    "COMMA": "','",
+    "COLON": "':'",
+    "DOT": "'.'",
+    "LPAR": "'('",
+    "RPAR": "')'",
+    "LSQB": "'['",
+    "RSQB": "']'",
+    "COMP_OP": "a comparison",
+    "ADD_OP": "'+' or '-'",
+    "MUL_OP": "'*' or '/'",
+    "_AND": "AND",
+    "_OR": "OR",
+}
+_HIDDEN = {"COMMENT", "CONT"}
+_CONTINUATION = re.compile(r"[ \t]*(WITH|VIA|UNTIL)\b")
+
+
+@lru_cache(maxsize=None)
+def _lark() -> Lark:
+    """The on-line parser, built once per process."""
+    return Lark(
+        grammar_path("rpl.lark").read_text(encoding="utf-8"),
+        parser="lalr",
+        lexer="contextual",
+        start="program",
+        maybe_placeholders=True,
+        transformer=TreeBuilder(),
+    )
+
+
+def describe_token(token: Token) -> str:
+    """A token as a message shows it."""
+    if token.type in ("_NL", "$END"):
+        return _TERMINAL_NAMES[token.type]
+    if token.type == "NAME":
+        return f"name '{token}'"
+    if token.type == "NUMBER":
+        return f"number {token}"
+    if token.type == "STRING":
+        return f"string {token}"
+    if token.type == "CONT":
+        return "continuation line"
+    return f"'{token}'"
+
+
+def describe_expected(expected: set[str]) -> str:
+    """The expected terminals as words: `TO, ALONG, VIA, WITH or UNTIL`."""
+    words = sorted({_TERMINAL_NAMES.get(t, f"'{t.lstrip('_')}'" if t.isupper() else t) for t in expected if t not in _HIDDEN})
+    if not words:
+        return ""
+    if len(words) > 8:
+        return "a different word here"
+    return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " or " + words[-1]
+
+
+def _diagnostic(path: str, error: Exception, lines: list[str]) -> tuple[Diagnostic, int]:
+    """The user's message for a Lark or tree-building error, and the line it is on."""
+    if isinstance(error, BuildError):
+        span = error.span
+        loc = Location(path, span.line, span.column, span.end_line, span.end_column)
+        return Diagnostic(loc, error.message, error.hint), span.line
+    if isinstance(error, UnexpectedToken):
+        token = error.token
+        line, column = token.line or len(lines), token.column or 1
+        if token.type == "$END":
+            line, column = len(lines), len(lines[-1]) + 1 if lines else 1
+        width = len(str(token)) if token.type not in ("_NL", "$END") else 1
+        expected = describe_expected(set(error.expected))
+        message = f"unexpected {describe_token(token)}" + (f"; expected {expected}" if expected else "")
+        hint = ""
+        if token.type == "CONT":
+            message = "a WITH, VIA or UNTIL line continues only a motion or INSTALL statement"
+        elif token.type == "NAME" and str(token).upper() == str(token) and str(token) in _lark().terminals_by_name:
+            hint = ""
+        return Diagnostic(Location(path, line, column, line, column + width), message, hint), line
+    if isinstance(error, UnexpectedCharacters):
+        char = lines[error.line - 1][error.column - 1] if 0 < error.line <= len(lines) and error.column <= len(lines[error.line - 1]) else "?"
+        message = f"unexpected character {char!r}"
+        if char == '"':
+            message = "string is not closed before the end of the line"
+        return Diagnostic(Location(path, error.line, error.column, error.line, error.column + 1), message), error.line
+    if isinstance(error, UnexpectedEOF):
+        line = len(lines)
+        return Diagnostic(Location(path, line, 1), "unexpected end of file"), line
+    raise error
+
+
+def _neutralize(lines: list[str], number: int) -> None:
+    """Make line `number` (1-based) harmless while keeping the block structure and every line number."""
+    found = block_keyword(lines[number - 1])
+    if found is not None and found[0] in NEUTRAL_HEADERS:
+        lines[number - 1] = NEUTRAL_HEADERS[found[0]]
+    elif found is not None:
+        return  # a closer or middle that the structure check accepted: keep it
+    else:
+        lines[number - 1] = ""
+    following = number
+    while following < len(lines) and _CONTINUATION.match(lines[following]):
+        lines[following] = ""
+        following += 1
+
+
+def parse(text: str, path: str = "<input>") -> n.Program:
+    """Parse on-line RPL text; raise SourceError with every syntax error found (up to MAX_ERRORS)."""
+    if "\t" in text:
+        text = text.expandtabs(4)
+    if text and not text.endswith("\n"):
+        text += "\n"
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    lines = text.split("\n")[:-1] if text else []
+    problems, to_blank = check_blocks(lines)
+    diagnostics = [
+        Diagnostic(Location(path, p.line, p.column, p.line, p.column + p.length), p.message, p.hint) for p in problems
+    ]
+    work = list(lines)
+    for number in to_blank:
+        work[number - 1] = ""
+    seen_lines: set[int] = set()
+    while True:
+        source = "\n".join(work) + "\n" if work else ""
+        try:
+            tree = _lark().parse(source)
+        except (UnexpectedInput, BuildError) as error:
+            diagnostic, line = _diagnostic(path, error, lines)
+            if line in seen_lines or len(diagnostics) >= MAX_ERRORS or not 1 <= line <= len(work):
+                if line not in seen_lines:
+                    diagnostics.append(diagnostic)
+                break
+            seen_lines.add(line)
+            diagnostics.append(diagnostic)
+            _neutralize(work, line)
+            continue
+        if diagnostics:
+            break
+        return tree
+    diagnostics.sort(key=lambda d: (d.location.line, d.location.column))
+    raise SourceError(diagnostics, "\n".join(lines))
+
+
+def parse_statement(text: str, path: str = "<input>") -> n.Statement:
+    """Parse one statement as typed at the pendant (a whole block is one statement too)."""
+    program = parse(text, path)
+    statements = [s for s in program.body if not isinstance(s, (n.Blank, n.Comment))]
+    if len(statements) != 1:
+        raise SourceError([Diagnostic(Location(path, 1, 1), f"expected one statement, found {len(statements)}")], text)
+    return statements[0]
