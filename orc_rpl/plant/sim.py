@@ -1,0 +1,156 @@
+"""The plant room's virtual robot: the MuJoCo cell stepped by torques at the servo rate, deterministic."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.errors import UsageError
+from orc_rpl.plant.cell import ROBOT_PREFIX, CellDescription, build_spec, default_cell
+from orc_rpl.plant.io import CellIO
+
+# Headless offscreen rendering: EGL unless the user chose otherwise (read when mujoco is first imported).
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+import mujoco  # noqa: E402  (after MUJOCO_GL)
+
+
+class SimCell:
+    """The simulated cell: robot joints driven by torque motors, 1 kHz steps, simulated IO.
+
+    Same inputs give bit-identical trajectories; it runs about 100 times faster than real time
+    unless `realtime=True` paces it to the wall clock.
+    """
+
+    def __init__(self, robot: str = "irb2400", cell: CellDescription | None = None, realtime: bool = False) -> None:
+        self.description = cell if cell is not None else default_cell(robot)
+        if cell is not None and robot != cell.robot and robot != "irb2400":
+            raise UsageError(f"robot {robot!r} differs from the cell description's robot {cell.robot!r}")
+        self.robot: str = self.description.robot
+        try:
+            self._spec = build_spec(self.description)
+            self._model = self._spec.compile()
+        except ValueError as exc:  # MuJoCo's compile errors
+            raise UsageError(f"cannot build the cell for robot {self.robot!r}: {exc}") from None
+        self._data = mujoco.MjData(self._model)
+        m = self._model
+        self.n_joints: int = int(m.nactuator)
+        joint_ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{ROBOT_PREFIX}j{i + 1}") for i in range(self.n_joints)]
+        if min(joint_ids) < 0:
+            raise UsageError(f"robot {self.robot!r}: its MJCF must name its joints j1..j{self.n_joints}")
+        self._qpos = np.array([m.jnt_qposadr[j] for j in joint_ids])
+        self._qvel = np.array([m.jnt_dofadr[j] for j in joint_ids])
+        # Fast path: the robot's joints are the model's only ones, in order.
+        self._contiguous = bool(np.array_equal(self._qpos, np.arange(self.n_joints)) and m.nv == self.n_joints)
+        self.tau_max = m.actuator_forcerange[:, 1].copy()
+        self.timestep_s: float = float(m.opt.timestep)
+        self._flange_site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, ROBOT_PREFIX + self.description.robot_spec.flange_frame)
+        self._payload_body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "payload")
+        self.io = CellIO(self.description.n_digital, self.description.n_analog)
+        self.realtime = realtime
+        self._wall_start_s = time.perf_counter()
+        self._renderer: Any = None
+        self.reset()
+
+    # -- state ----------------------------------------------------------------
+
+    @property
+    def q(self) -> np.ndarray:
+        """Measured joint angles (rad), a copy."""
+        return self._data.qpos[self._qpos]
+
+    @property
+    def qd(self) -> np.ndarray:
+        """Measured joint speeds (rad/s), a copy."""
+        return self._data.qvel[self._qvel]
+
+    @property
+    def tau(self) -> np.ndarray:
+        """Torques the motors applied in the last step (N m, after saturation), a copy."""
+        return self._data.actuator_force.copy()
+
+    @property
+    def time_s(self) -> float:
+        """Simulated time since the last reset."""
+        return float(self._data.time)
+
+    def flange_pose(self) -> np.ndarray:
+        """The plant's own flange pose (4x4, world), to check the controller's model against."""
+        t = np.eye(4)
+        t[:3, :3] = self._data.site_xmat[self._flange_site].reshape(3, 3)
+        t[:3, 3] = self._data.site_xpos[self._flange_site]
+        return t
+
+    # -- stepping -------------------------------------------------------------
+
+    def reset(self, q: Any = None, qd: Any = None) -> None:
+        """Back to time 0 at q (the robot's home if None) at rest or at qd; IO cleared."""
+        mujoco.mj_resetData(self._model, self._data)
+        q0 = self.description.robot_spec.home_q_rad if q is None else q
+        self._data.qpos[self._qpos] = self._checked(q0, "q")
+        if qd is not None:
+            self._data.qvel[self._qvel] = self._checked(qd, "qd")
+        mujoco.mj_forward(self._model, self._data)
+        self.io.reset()
+        self._wall_start_s = time.perf_counter()
+
+    def step(self, tau_nm: np.ndarray) -> None:
+        """Apply motor torques for one timestep (saturated at the motors' limits) and advance the cell."""
+        data = self._data
+        data.ctrl[:] = tau_nm
+        mujoco.mj_step(self._model, data)
+        self.io.update(data.time)
+        if self.realtime:
+            ahead_s = data.time - (time.perf_counter() - self._wall_start_s)
+            if ahead_s > 0.002:
+                time.sleep(ahead_s)
+
+    def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0)) -> None:
+        """Put a point-like mass on the flange (com in the flange frame); the plant feels it from the next step."""
+        com = np.asarray(com_m, dtype=float).reshape(-1)
+        if not (np.isfinite(mass_kg) and mass_kg >= 0.0) or com.shape != (3,) or not np.all(np.isfinite(com)):
+            raise UsageError(f"payload must be a mass >= 0 kg and a finite 3-vector centre, got {mass_kg!r}, {com_m!r}")
+        b = self._payload_body
+        self._model.body_mass[b] = mass_kg
+        self._model.body_ipos[b] = com
+        # A tiny inertia keeps the body well-formed; a point mass has none of its own.
+        self._model.body_inertia[b] = 1e-9 if mass_kg > 0.0 else 0.0
+
+    def _checked(self, value: Any, what: str) -> np.ndarray:
+        v = np.asarray(value, dtype=float).reshape(-1)
+        if v.shape != (self.n_joints,) or not np.all(np.isfinite(v)):
+            raise UsageError(f"{what} must be {self.n_joints} finite numbers, got {value!r}")
+        return v
+
+    # -- pictures -------------------------------------------------------------
+
+    def render_png(self, path: str | Path, width: int = 640, height: int = 480, camera: str = "overview") -> Path:
+        """Write an offscreen picture of the cell; a clear UsageError when no OpenGL is available."""
+        try:
+            if self._renderer is None or (self._renderer.width, self._renderer.height) != (width, height):
+                self._renderer = mujoco.Renderer(self._model, height, width)
+            self._renderer.update_scene(self._data, camera=camera)
+            pixels = self._renderer.render()
+        except Exception as exc:  # no GL context, too large an image...
+            raise UsageError(
+                f"cannot render the cell offscreen ({type(exc).__name__}: {exc}); "
+                f"set MUJOCO_GL=egl or MUJOCO_GL=osmesa (apt-get install libosmesa6) before starting"
+            ) from None
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from matplotlib import image
+
+        out = Path(path)
+        image.imsave(out, pixels)
+        return out
+
+    def close(self) -> None:
+        """Free the renderer's GL context, if one was made."""
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None

@@ -1,0 +1,89 @@
+"""The servo room's control law: per-joint P position and PI velocity loops on top of inverse-dynamics feed-forward."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from orc_rpl.arm.model import ArmModel
+from orc_rpl.errors import UsageError
+
+
+@dataclass(frozen=True, slots=True)
+class ServoGains:
+    """Loop tuning, the same for every joint: bandwidths, scaled per joint by its inertia at the current pose.
+
+    Velocity loop: tau_fb = M_ii(q) * (velocity_bw * e_v + integral_bw * velocity_bw * integral of e_v),
+    with e_v = qd_ref + position_gain * (q_ref - q) - qd. Scaling by the inertia keeps each joint's
+    bandwidth the same whether the arm is folded or stretched (j1's inertia changes ten times).
+    """
+
+    position_gain_1_s: float = 40.0        #: P position loop: commanded speed per rad of error
+    velocity_bw_rad_s: float = 160.0       #: P velocity loop bandwidth
+    integral_bw_rad_s: float = 15.0        #: PI zero of the velocity loop (removes steady errors)
+    integral_limit: float = 0.25           #: integral torque limited to this share of tau_max (anti-windup)
+    inertia_every_steps: int = 4           #: recompute M_ii(q) every so many steps (a motion cycle)
+
+    def __post_init__(self) -> None:
+        for name in ("position_gain_1_s", "velocity_bw_rad_s", "integral_bw_rad_s", "integral_limit"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value >= 0.0):
+                raise UsageError(f"servo gain {name} must be a finite number >= 0, got {value!r}")
+        if self.inertia_every_steps < 1:
+            raise UsageError(f"inertia_every_steps must be >= 1, got {self.inertia_every_steps}")
+
+
+class JointServo:
+    """Local control of all joints at the servo period; its attributes are the internal signals of the last cycle."""
+
+    def __init__(self, arm: ArmModel, period_s: float = 0.001, gains: ServoGains = ServoGains()) -> None:
+        self.arm = arm
+        self.period_s = period_s
+        self.gains = gains
+        n = arm.n_joints
+        self._tau_max = np.array(arm.tau_max)
+        self._integral_max = gains.integral_limit * self._tau_max
+        self._inertia = np.diag(arm.mass_matrix(arm.home_q))
+        self._steps = 0
+        # Internal signals (software sensors), overwritten each cycle; read them, do not keep them.
+        self.position_error = np.zeros(n)     #: q_ref - q (rad)
+        self.velocity = np.zeros(n)           #: measured qd (rad/s)
+        self.torque = np.zeros(n)             #: commanded torque after saturation (N m): the torque estimate
+        self.torque_ff = np.zeros(n)          #: inverse-dynamics feed-forward (N m)
+        self.integral = np.zeros(n)           #: integral torque of the velocity loop (N m)
+        self.saturated = np.zeros(n, dtype=bool)  #: joints whose demand exceeded tau_max
+
+    def reset(self) -> None:
+        """Forget the integral and the signals (after a plant reset)."""
+        for signal in (self.position_error, self.velocity, self.torque, self.torque_ff, self.integral):
+            signal[:] = 0.0
+        self.saturated[:] = False
+        self._steps = 0
+
+    def update(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
+               q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """One servo cycle: the torque to apply for the next period (unchecked inputs: the loop checks once)."""
+        g = self.gains
+        if self._steps % g.inertia_every_steps == 0:
+            self._inertia = self.arm.mass_matrix_diagonal_unchecked(q)
+        self._steps += 1
+        error = q_ref - q
+        velocity_error = qd_ref + g.position_gain_1_s * error - qd
+        scale = self._inertia * g.velocity_bw_rad_s
+        integral = self.integral + (scale * g.integral_bw_rad_s * self.period_s) * velocity_error
+        np.clip(integral, -self._integral_max, self._integral_max, out=integral)
+        tau_ff = self.arm.inverse_dynamics_unchecked(q_ref, qd_ref, qdd_ref)
+        demand = tau_ff + scale * velocity_error + integral
+        tau = np.clip(demand, -self._tau_max, self._tau_max)
+        saturated = tau != demand
+        if saturated.any():
+            # Anti-windup: do not integrate further into a saturated motor.
+            integral = np.where(saturated, self.integral, integral)
+        self.integral = integral
+        self.position_error = error
+        self.velocity = qd
+        self.torque = tau
+        self.torque_ff = tau_ff
+        self.saturated = saturated
+        return tau

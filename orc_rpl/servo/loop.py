@@ -1,0 +1,108 @@
+"""The servo room's seam to the motion layer: model, plant and servo advanced together, n servo steps per call."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.arm.model import ArmModel
+from orc_rpl.arm.robots import load_robot
+from orc_rpl.errors import UsageError
+from orc_rpl.plant.sim import SimCell
+from orc_rpl.servo.control import JointServo, ServoGains
+
+
+@dataclass(frozen=True, slots=True)
+class ServoState:
+    """What the loop measured at the end of a call (copies: safe to keep)."""
+
+    time_s: float                 #: plant time
+    q: np.ndarray                 #: joint angles (rad)
+    qd: np.ndarray                #: joint speeds (rad/s)
+    tau: np.ndarray               #: torques applied in the last step (N m)
+    position_error: np.ndarray    #: q_ref - q of the last servo cycle (rad)
+
+
+class ServoLoop:
+    """Owns the arm model, the simulated cell and the joint servo; the motion layer calls `run` each motion cycle.
+
+    References are given for the plant's current time. A single reference (1-D arrays) is continued
+    inside the call with constant acceleration, q_ref + qd_ref t + qdd_ref t^2 / 2, exact for the
+    piecewise constant-acceleration output of a time-optimal planner; 2-D arrays of shape
+    (n_steps, n_joints) give one reference per servo step instead.
+    """
+
+    def __init__(self, arm: ArmModel | str = "irb2400", cell: SimCell | None = None,
+                 gains: ServoGains = ServoGains()) -> None:
+        self.arm = load_robot(arm) if isinstance(arm, str) else arm
+        self.cell = cell if cell is not None else SimCell(self.arm.name)
+        if self.cell.robot != self.arm.name:
+            raise UsageError(f"the cell drives robot {self.cell.robot!r} but the arm model is {self.arm.name!r}")
+        self.period_s: float = self.cell.timestep_s
+        self.servo = JointServo(self.arm, self.period_s, gains)
+        self.on_step: list[Callable[[], None]] = []  #: called after every servo step (loggers, sensors)
+        n = self.arm.n_joints
+        self._q_ref, self._qd_ref, self._qdd_ref = self.cell.q, np.zeros(n), np.zeros(n)
+
+    # -- the seam -------------------------------------------------------------
+
+    def run(self, q_ref: Any, qd_ref: Any, qdd_ref: Any, n_steps: int = 4) -> ServoState:
+        """Advance the plant by n_steps servo periods towards the reference; return the measured state."""
+        q_ref, qd_ref, qdd_ref = (np.asarray(v, dtype=float) for v in (q_ref, qd_ref, qdd_ref))
+        n = self.arm.n_joints
+        if q_ref.ndim == 1:
+            if not (q_ref.shape == qd_ref.shape == qdd_ref.shape == (n,)):
+                raise UsageError(f"references must each have {n} values, got {q_ref.shape}, {qd_ref.shape}, {qdd_ref.shape}")
+        elif not (q_ref.shape == qd_ref.shape == qdd_ref.shape == (n_steps, n)):
+            raise UsageError(f"per-step references must have shape ({n_steps}, {n})")
+        if not (np.all(np.isfinite(q_ref)) and np.all(np.isfinite(qd_ref)) and np.all(np.isfinite(qdd_ref))):
+            raise UsageError("servo reference contains NaN or infinity")
+        if n_steps < 1:
+            raise UsageError(f"n_steps must be >= 1, got {n_steps}")
+        servo, cell, dt = self.servo, self.cell, self.period_s
+        for k in range(n_steps):
+            if q_ref.ndim == 1:
+                t = k * dt
+                q_r = q_ref + qd_ref * t + (0.5 * t * t) * qdd_ref
+                qd_r = qd_ref + qdd_ref * t
+                qdd_r = qdd_ref
+            else:
+                q_r, qd_r, qdd_r = q_ref[k], qd_ref[k], qdd_ref[k]
+            tau = servo.update(q_r, qd_r, qdd_r, cell.q, cell.qd)
+            cell.step(tau)
+            for callback in self.on_step:
+                callback()
+        self._q_ref, self._qd_ref, self._qdd_ref = q_r, qd_r, qdd_r
+        return self.state()
+
+    def hold(self, q_ref: Any, n_steps: int) -> ServoState:
+        """Servo to a fixed position at rest for n_steps (settling at the end of a FINE move)."""
+        zero = np.zeros(self.arm.n_joints)
+        return self.run(q_ref, zero, zero, n_steps)
+
+    def state(self) -> ServoState:
+        """The measured state now."""
+        cell = self.cell
+        return ServoState(cell.time_s, cell.q, cell.qd, cell.tau, self.servo.position_error.copy())
+
+    # -- set-up ---------------------------------------------------------------
+
+    def reset(self, q: Any = None) -> ServoState:
+        """Plant and servo back to time 0 at rest at q (home if None)."""
+        self.cell.reset(q)
+        self.servo.reset()
+        self._q_ref = self.cell.q
+        return self.state()
+
+    def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0), known: bool = True) -> None:
+        """Put a payload on the flange; `known` also tells the feed-forward (False: the plant only, for identification)."""
+        self.cell.set_payload(mass_kg, com_m)
+        self.arm.set_payload(mass_kg if known else 0.0, com_m if known else None)
+
+    @property
+    def time_s(self) -> float:
+        """Plant time."""
+        return self.cell.time_s
