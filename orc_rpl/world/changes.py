@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 from orc_rpl.world.editing import add_object, apply, set_attribute, set_entry
 from orc_rpl.world.objects import NAME_RE, PREDEFINED, WorldError
-from orc_rpl.world.pose import WORLD, Pose
+from orc_rpl.world.pose import WORLD, Pose, readable_angles
 from orc_rpl.world.values import SoftValue, format_pose, format_soft
 
 if TYPE_CHECKING:
@@ -34,13 +34,14 @@ def with_frame(world: World, owner: str, name: str, pose: Pose) -> World:
     world.object(owner)
     if any(p.name == name for p in world.object(owner).paths):
         raise WorldError(f"'{owner}.{name}' is a path, not a frame")
-    local = _relative_to(world, pose, owner)
+    old = world.object(owner).frame(name)
+    local = readable_angles(_relative_to(world, pose, owner), old.pose if old else None)
     return world._reloaded(apply(world.dump(), [set_entry(world.parsed, owner, "frames", name, format_pose(local))]))
 
 
 def with_pose(world: World, name: str, pose: Pose) -> World:
     """Move an object (its children move with it); `pose` may be relative to any frame."""
-    local = _relative_to(world, pose, world.object(name).parent)
+    local = readable_angles(_relative_to(world, pose, world.object(name).parent), world.object(name).pose)
     return world._reloaded(apply(world.dump(), [set_attribute(world.parsed, name, "pose", format_pose(local))]))
 
 
@@ -52,7 +53,7 @@ def with_object(world: World, name: str, parent: str = WORLD, pose: Pose | None 
         raise WorldError(f"object '{name}' already exists in {world.path}")
     if parent not in world:
         raise WorldError(f"no parent '{parent}' in {world.path}")
-    local = _relative_to(world, pose, parent) if pose is not None else Pose(0, 0, 0, frame=parent)
+    local = readable_angles(_relative_to(world, pose, parent)) if pose is not None else Pose(0, 0, 0, frame=parent)
     attributes = [("parent", parent)] if parent != WORLD else []
     attributes.append(("pose", format_pose(local)))
     attributes += [("online_frame", "true")] if online_frame else []
@@ -74,7 +75,7 @@ def affix(world: World, name: str, to: str) -> World:
         raise WorldError(f"no object '{to}' to affix '{name}' to")
     if to == name or to in world.descendants(name):
         raise WorldError(f"cannot affix '{name}' to '{to}': '{to}' hangs below '{name}'")
-    local = world.relative_pose(name, to)
+    local = readable_angles(world.relative_pose(name, to), world.object(name).pose)
     patches = [set_attribute(world.parsed, name, "parent", to), set_attribute(world.parsed, name, "pose", format_pose(local))]
     return world._reloaded(apply(world.dump(), patches))
 

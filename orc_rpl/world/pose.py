@@ -99,3 +99,34 @@ class Joints:
 
     def __len__(self) -> int:
         return len(self.values)
+
+
+def _wrap(angle_rad: float) -> float:
+    """An angle in (-pi, pi]."""
+    wrapped = math.remainder(angle_rad, 2.0 * math.pi)
+    return math.pi if math.isclose(wrapped, -math.pi, abs_tol=1e-12) else wrapped
+
+
+def zyx_alternatives(a_rad: float, b_rad: float, c_rad: float) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """The two angle triples (a, b, c) of one rotation Rz(a)·Ry(b)·Rx(c), each wrapped to (-pi, pi]."""
+    first = (_wrap(a_rad), _wrap(b_rad), _wrap(c_rad))
+    second = (_wrap(a_rad + math.pi), _wrap(math.pi - b_rad), _wrap(c_rad + math.pi))
+    return first, second
+
+
+def readable_angles(pose: Pose, near: Pose | None = None) -> Pose:
+    """The same pose with the angle triple a person would write: the one nearest `near`, else the one with fewest turns.
+
+    `from_matrix` always returns |b| <= 90°, so a tool pointing down (0, 180°, 0) comes back as
+    (180°, 0, 180°); a world file written by a person should get its own spelling back.
+    """
+    options = zyx_alternatives(pose.a, pose.b, pose.c)
+    if near is not None:
+        def cost(abc: tuple[float, float, float]) -> float:
+            return sum(abs(_wrap(x - y)) for x, y in zip(abc, (near.a, near.b, near.c)))
+    else:
+        def cost(abc: tuple[float, float, float]) -> float:
+            nonzero = sum(1 for x in abc if abs(x) > 1e-9)
+            return nonzero * 100.0 + abs(abc[2]) * 10.0 + sum(abs(x) for x in abc)
+    a, b, c = min(options, key=cost)
+    return Pose(pose.x, pose.y, pose.z, a, b, c, pose.frame)
