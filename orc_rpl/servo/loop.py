@@ -13,6 +13,7 @@ from orc_rpl.arm.robots import load_robot
 from orc_rpl.errors import UsageError
 from orc_rpl.plant.sim import SimCell
 from orc_rpl.servo.control import JointServo, ServoGains
+from orc_rpl.signals.logger import Logger
 
 
 @dataclass(frozen=True, slots=True)
@@ -101,6 +102,27 @@ class ServoLoop:
         """Put a payload on the flange; `known` also tells the feed-forward (False: the plant only, for identification)."""
         self.cell.set_payload(mass_kg, com_m)
         self.arm.set_payload(mass_kg if known else 0.0, com_m if known else None)
+
+    def attach_logger(self, logger: Logger, every_steps: int = 1, tool: Any = None) -> None:
+        """Record q, qd, tau, position_error, tau_ff and the TCP position ("tcp", m) every so many servo steps."""
+        if every_steps < 1:
+            raise UsageError(f"every_steps must be >= 1, got {every_steps}")
+        servo, cell, arm = self.servo, self.cell, self.arm
+        t_tool = None if tool is None else arm.transform(tool)
+        logger.submit("q", lambda: cell.q)
+        logger.submit("qd", lambda: cell.qd)
+        logger.submit("tau", lambda: servo.torque)
+        logger.submit("tau_ff", lambda: servo.torque_ff)
+        logger.submit("position_error", lambda: servo.position_error)
+        logger.submit("tcp", lambda: arm._fk(cell.q, t_tool)[:3, 3])
+        counter = [0]
+
+        def sample() -> None:
+            if counter[0] % every_steps == 0:
+                logger.update()
+            counter[0] += 1
+
+        self.on_step.append(sample)
 
     @property
     def time_s(self) -> float:

@@ -1,0 +1,86 @@
+"""The signals room's logger: named getters sampled each cycle into preallocated arrays, stamped with simulated time."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.errors import UsageError
+from orc_rpl.signals.recording import Recording
+
+Getter = Callable[[], Any]
+
+
+class Logger:
+    """`submit(name, getter)` once, `update()` every cycle, `recording()` at the end.
+
+    Each getter returns a number or a fixed-size array; its width is taken from a first call at
+    submit time. Samples go into one preallocated float array that doubles when full, so a cycle
+    costs one getter call and one slice assignment per signal.
+    """
+
+    def __init__(self, clock: Callable[[], float], capacity: int = 4096) -> None:
+        self._clock = clock
+        self._names: list[str] = []
+        self._channels: list[tuple[Getter, int, int]] = []
+        self._shapes: dict[str, tuple[int, ...]] = {}
+        self._width = 1  # column 0 is the time stamp
+        self._rows = np.empty((max(16, capacity), self._width))
+        self._count = 0
+
+    def submit(self, name: str, getter: Getter) -> None:
+        """Record `getter()` under `name` from the next update on; a name can be submitted once."""
+        if not name or not isinstance(name, str):
+            raise UsageError(f"a signal needs a non-empty name, got {name!r}")
+        if name in self._shapes:
+            raise UsageError(f"signal {name!r} is already submitted to this logger")
+        if self._count:
+            raise UsageError(f"submit signal {name!r} before the first update(): every sample has every signal")
+        try:
+            first = np.asarray(getter(), dtype=float)
+        except Exception as exc:
+            raise UsageError(f"signal {name!r}: its getter failed on a first call ({type(exc).__name__}: {exc})") from None
+        if first.ndim > 1:
+            raise UsageError(f"signal {name!r} must be a number or a 1-D array, got shape {first.shape}")
+        width = max(1, first.size)
+        start = self._width
+        self._width += width
+        self._channels.append((getter, start, self._width))
+        self._names.append(name)
+        self._shapes[name] = first.shape
+        self._rows = np.empty((self._rows.shape[0], self._width))
+
+    @property
+    def names(self) -> list[str]:
+        """Submitted signal names, in submission order."""
+        return list(self._names)
+
+    def __len__(self) -> int:
+        return self._count
+
+    def update(self) -> None:
+        """Take one sample of every signal, stamped with the clock's time."""
+        if self._count == self._rows.shape[0]:
+            grown = np.empty((2 * self._rows.shape[0], self._width))
+            grown[: self._count] = self._rows
+            self._rows = grown
+        row = self._rows[self._count]
+        row[0] = self._clock()
+        for getter, start, stop in self._channels:
+            row[start:stop] = getter()
+        self._count += 1
+
+    def clear(self) -> None:
+        """Drop the samples; the signals stay submitted."""
+        self._count = 0
+
+    def recording(self) -> Recording:
+        """The samples so far, as a Recording (copied: the logger may go on)."""
+        rows = self._rows[: self._count]
+        signals = {}
+        for name, (_, start, stop) in zip(self._names, self._channels):
+            block = rows[:, start:stop].copy()
+            signals[name] = block[:, 0] if self._shapes[name] == () else block
+        return Recording(rows[:, 0].copy(), signals)

@@ -1,0 +1,108 @@
+"""Tests of local control: holding under gravity, settling after a step, tracking with feed-forward."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from orc_rpl.errors import UsageError
+from orc_rpl.servo import ServoGains, ServoLoop
+
+pytestmark = pytest.mark.sim
+
+FINE_MM, FINE_DEG = 0.5, 0.1
+
+
+def _tcp_miss(loop: ServoLoop, q: np.ndarray, q_target: np.ndarray) -> tuple[float, float]:
+    """TCP position error (mm) and largest joint error (deg)."""
+    arm = loop.arm
+    miss_m = np.linalg.norm(arm.fk(q)[:3, 3] - arm.fk(q_target)[:3, 3])
+    return 1000.0 * float(miss_m), math.degrees(float(np.abs(q - q_target).max()))
+
+
+@pytest.mark.parametrize("robot", ["irb2400", "ur5e"])
+def test_servo_holds_a_pose_under_gravity(robot: str) -> None:
+    loop = ServoLoop(robot)
+    q0 = loop.arm.home_q + 0.2
+    loop.reset(q0)
+    state = loop.hold(q0, 500)
+    mm, deg = _tcp_miss(loop, state.q, q0)
+    assert mm < 1e-6 and deg < 1e-6, "feed-forward is the plant's own model: nothing should move"
+
+
+@pytest.mark.parametrize("robot", ["irb2400", "ur5e"])
+def test_servo_settles_after_a_small_step(robot: str) -> None:
+    loop = ServoLoop(robot)
+    q0 = loop.arm.home_q
+    q1 = q0 + np.radians([1.0, -1.0, 1.0, 2.0, -2.0, 2.0])
+    loop.reset(q0)
+    state = loop.hold(q1, 300)
+    mm, deg = _tcp_miss(loop, state.q, q1)
+    assert mm < FINE_MM and deg < FINE_DEG, f"FINE within 300 ms: {mm:.3f} mm, {deg:.4f} deg"
+
+
+def test_unknown_payload_is_corrected_by_the_integral() -> None:
+    loop = ServoLoop()
+    q0 = loop.arm.home_q
+    loop.reset(q0)
+    loop.set_payload(10.0, known=False)
+    state = loop.hold(q0, 800)
+    mm, deg = _tcp_miss(loop, state.q, q0)
+    assert mm < FINE_MM and deg < FINE_DEG, f"integral action against an unmodelled 10 kg: {mm:.3f} mm"
+
+
+def _trapezoid(q0: np.ndarray, q1: np.ndarray, duration_s: float):
+    """Synchronised constant-acceleration profile: accelerate a third, coast a third, brake a third."""
+    ta = duration_s / 3
+    v = (q1 - q0) / (duration_s - ta)
+    a = v / ta
+
+    def ref(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if t < ta:
+            return q0 + 0.5 * a * t * t, a * t, a
+        if t < duration_s - ta:
+            return q0 + 0.5 * a * ta * ta + v * (t - ta), v, 0 * a
+        if t < duration_s:
+            r = duration_s - t
+            return q1 - 0.5 * a * r * r, a * r, -a
+        return q1, 0 * a, 0 * a
+
+    return ref
+
+
+def test_irb2400_tracks_a_fast_joint_move_and_stops_fine() -> None:
+    loop = ServoLoop()
+    arm = loop.arm
+    q0 = arm.home_q
+    q1 = q0 + np.radians([90, 30, -40, 90, -60, 180])
+    # 1.05 s: the slowest joint (j6, 180 deg) near its speed and acceleration limits.
+    ref = _trapezoid(q0, q1, 1.05)
+    loop.reset(q0)
+    worst_rad = 0.0
+    while loop.time_s < 1.05:
+        state = loop.run(*ref(loop.time_s), n_steps=4)
+        worst_rad = max(worst_rad, float(np.abs(state.position_error).max()))
+    assert math.degrees(worst_rad) < 0.1, "tracking error along the move (deg)"
+    state = loop.hold(q1, 100)
+    mm, deg = _tcp_miss(loop, state.q, q1)
+    assert mm < FINE_MM and deg < FINE_DEG, f"FINE 100 ms after the reference stops: {mm:.3f} mm, {deg:.4f} deg"
+
+
+def test_per_step_references_are_accepted() -> None:
+    loop = ServoLoop()
+    q = np.tile(loop.arm.home_q, (4, 1))
+    zero = np.zeros((4, 6))
+    state = loop.run(q, zero, zero, n_steps=4)
+    assert state.time_s == pytest.approx(0.004)
+
+
+def test_bad_references_are_usage_errors() -> None:
+    loop = ServoLoop()
+    with pytest.raises(UsageError, match="NaN"):
+        loop.run(np.full(6, math.nan), np.zeros(6), np.zeros(6))
+    with pytest.raises(UsageError, match="6 values"):
+        loop.run(np.zeros(5), np.zeros(5), np.zeros(5))
+    with pytest.raises(UsageError, match="velocity_bw"):
+        ServoGains(velocity_bw_rad_s=-1.0)
