@@ -1,0 +1,1 @@
+"""The built-in application features, one module each, registered like third-party features."""

@@ -1,0 +1,39 @@
+"""General equipment and sensors: Gripper, Grinder, Switch, ForceSensor and the LaserDistance sensor."""
+
+from __future__ import annotations
+
+from orc_rpl.application.declarations import AttributeSpec, InstallKindSpec, MethodSpec
+from orc_rpl.application.registry import Registry
+from orc_rpl.syntax.units import DIMENSIONLESS, FORCE, LENGTH
+
+ORIGIN = "equipment"
+
+#: An IO channel such as `DigOut[3]` is written as an indexed name; the checker sees "any".
+IO_CHANNEL = ("any",)
+PORT = AttributeSpec("PORT", ("string",), "sim", "\"sim\" for the simulated cell, or a serial device such as \"/dev/ttyUSB0\"",
+                     function_ok=False)
+
+
+def register(registry: Registry) -> None:
+    """Declare the general equipment kinds."""
+    kinds = [
+        InstallKindSpec("Gripper", "a two-state gripper driven by a digital output",
+                        (AttributeSpec("CLOSE", IO_CHANNEL, None, "digital output that closes the gripper", function_ok=False),),
+                        (MethodSpec("Open", "open the gripper"), MethodSpec("Close", "close the gripper"),
+                         MethodSpec("Closed", "TRUE while the gripper is closed", returns="bool"))),
+        InstallKindSpec("Grinder", "a grinding spindle driven by a digital output",
+                        (AttributeSpec("SPINDLE", IO_CHANNEL, None, "digital output that runs the spindle", function_ok=False),),
+                        (MethodSpec("On", "start the spindle"), MethodSpec("Off", "stop the spindle"))),
+        InstallKindSpec("Switch", "a digital input read as a sensor",
+                        (AttributeSpec("INPUT", IO_CHANNEL, None, "digital input of the switch", function_ok=False),),
+                        (MethodSpec("State", "1 when the switch is closed", returns=DIMENSIONLESS),), is_sensor=True),
+        InstallKindSpec("ForceSensor", "a force sensor at the flange", (PORT,),
+                        (MethodSpec("Force", "the measured force along the tool z axis", returns=FORCE),), is_sensor=True),
+        InstallKindSpec("LaserDistance", "a laser distance sensor (seam finding and tracking)", (PORT,),
+                        (MethodSpec("On", "switch the laser on"), MethodSpec("Off", "switch the laser off"),
+                         MethodSpec("Distance", "the measured distance", returns=LENGTH),
+                         MethodSpec("EdgeDetected", "TRUE while an edge is under the laser", returns="bool")),
+                        is_sensor=True),
+    ]
+    for kind in kinds:
+        registry.add_install_kind(InstallKindSpec(kind.name, kind.doc, kind.attributes, kind.methods, kind.is_sensor, ORIGIN))
