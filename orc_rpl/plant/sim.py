@@ -61,11 +61,15 @@ class SimCell:
     @property
     def q(self) -> np.ndarray:
         """Measured joint angles (rad), a copy."""
+        if self._contiguous:
+            return self._data.qpos[: self.n_joints].copy()
         return self._data.qpos[self._qpos]
 
     @property
     def qd(self) -> np.ndarray:
         """Measured joint speeds (rad/s), a copy."""
+        if self._contiguous:
+            return self._data.qvel[: self.n_joints].copy()
         return self._data.qvel[self._qvel]
 
     @property
@@ -88,7 +92,7 @@ class SimCell:
     # -- stepping -------------------------------------------------------------
 
     def reset(self, q: Any = None, qd: Any = None) -> None:
-        """Back to time 0 at q (the robot's home if None) at rest or at qd; IO cleared."""
+        """Back to time 0 at q (the robot's home if None) at rest or at qd; IO cleared, the payload kept."""
         mujoco.mj_resetData(self._model, self._data)
         q0 = self.description.robot_spec.home_q_rad if q is None else q
         self._data.qpos[self._qpos] = self._checked(q0, "q")

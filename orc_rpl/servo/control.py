@@ -45,6 +45,8 @@ class JointServo:
         self._tau_max = np.array(arm.tau_max)
         self._integral_max = gains.integral_limit * self._tau_max
         self._inertia = np.diag(arm.mass_matrix(arm.home_q))
+        self._kv = self._inertia * gains.velocity_bw_rad_s
+        self._ki_dt = self._kv * (gains.integral_bw_rad_s * period_s)
         self._steps = 0
         # Internal signals (software sensors), overwritten each cycle; read them, do not keep them.
         self.position_error = np.zeros(n)     #: q_ref - q (rad)
@@ -67,15 +69,20 @@ class JointServo:
         g = self.gains
         if self._steps % g.inertia_every_steps == 0:
             self._inertia = self.arm.mass_matrix_diagonal_unchecked(q)
+            self._kv = self._inertia * g.velocity_bw_rad_s
+            self._ki_dt = self._kv * (g.integral_bw_rad_s * self.period_s)
         self._steps += 1
         error = q_ref - q
-        velocity_error = qd_ref + g.position_gain_1_s * error - qd
-        scale = self._inertia * g.velocity_bw_rad_s
-        integral = self.integral + (scale * g.integral_bw_rad_s * self.period_s) * velocity_error
-        np.clip(integral, -self._integral_max, self._integral_max, out=integral)
+        velocity_error = qd_ref - qd
+        velocity_error += g.position_gain_1_s * error
+        integral = self.integral + self._ki_dt * velocity_error
+        # np.minimum/np.maximum: several times cheaper than np.clip on six numbers.
+        integral = np.maximum(np.minimum(integral, self._integral_max), -self._integral_max)
         tau_ff = self.arm.inverse_dynamics_unchecked(q_ref, qd_ref, qdd_ref)
-        demand = tau_ff + scale * velocity_error + integral
-        tau = np.clip(demand, -self._tau_max, self._tau_max)
+        demand = self._kv * velocity_error
+        demand += tau_ff
+        demand += integral
+        tau = np.maximum(np.minimum(demand, self._tau_max), -self._tau_max)
         saturated = tau != demand
         if saturated.any():
             # Anti-windup: do not integrate further into a saturated motor.

@@ -66,10 +66,12 @@ class ServoLoop:
         servo, cell, dt = self.servo, self.cell, self.period_s
         for k in range(n_steps):
             if q_ref.ndim == 1:
-                t = k * dt
-                q_r = q_ref + qd_ref * t + (0.5 * t * t) * qdd_ref
-                qd_r = qd_ref + qdd_ref * t
-                qdd_r = qdd_ref
+                if k == 0:
+                    q_r, qd_r, qdd_r = q_ref, qd_ref, qdd_ref
+                else:
+                    t = k * dt
+                    q_r = q_ref + qd_ref * t + (0.5 * t * t) * qdd_ref
+                    qd_r = qd_ref + qdd_ref * t
             else:
                 q_r, qd_r, qdd_r = q_ref[k], qd_ref[k], qdd_ref[k]
             tau = servo.update(q_r, qd_r, qdd_r, cell.q, cell.qd)
