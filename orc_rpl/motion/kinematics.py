@@ -1,0 +1,108 @@
+"""The motion layer's view of the arm: the arm services it uses (FK, Jacobian, IK, dynamics) behind one Protocol."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Protocol
+
+import numpy as np
+
+from orc_rpl.errors import JointLimit, OrcError, Unreachable
+
+
+class ArmLike(Protocol):
+    """What the motion layer needs from `orc_rpl.arm` (an `ArmModel` satisfies it)."""
+
+    q_min: np.ndarray
+    q_max: np.ndarray
+    qd_max: np.ndarray
+    qdd_max: np.ndarray
+    tau_max: np.ndarray
+
+    def fk(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray: ...
+
+    def jacobian(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray: ...
+
+    def inverse_dynamics(
+        self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, payload_kg: float = 0.0
+    ) -> np.ndarray: ...
+
+
+IkSolver = Callable[[ArmLike, np.ndarray, np.ndarray, np.ndarray | None], np.ndarray]
+
+
+class Kinematics:
+    """Arm services as the planners use them; errors from the arm come out as the project's errors."""
+
+    def __init__(self, arm: ArmLike, ik: IkSolver, joint_step_limit_rad: float = 0.35) -> None:
+        self.arm = arm
+        self._ik = ik
+        self.n = len(arm.q_min)
+        #: largest joint change between neighbouring IK samples before we call it a configuration flip
+        self.joint_step_limit_rad = joint_step_limit_rad
+
+    def fk(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray:
+        """TCP pose (4x4) at q."""
+        return self.arm.fk(np.asarray(q, dtype=float), tool)
+
+    def tcp_positions(self, qs: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray:
+        """TCP positions (N, 3) of joint samples (N, n)."""
+        return np.array([self.arm.fk(q, tool)[:3, 3] for q in qs])
+
+    def check_limits(self, q: np.ndarray, what: str) -> None:
+        """Raise JointLimit naming the joint if q leaves the joint ranges."""
+        q = np.asarray(q, dtype=float)
+        if not np.all(np.isfinite(q)):
+            raise JointLimit(f"{what}: joint values are not finite numbers: {q.tolist()}")
+        low = q < self.arm.q_min - 1e-9
+        high = q > self.arm.q_max + 1e-9
+        if low.any() or high.any():
+            j = int(np.argmax(low | high))
+            bound = self.arm.q_min[j] if low[j] else self.arm.q_max[j]
+            raise JointLimit(
+                f"{what}: joint {j + 1} at {np.degrees(q[j]):.2f} deg is beyond its limit "
+                f"{np.degrees(bound):.2f} deg"
+            )
+
+    def ik(self, target: np.ndarray, q_seed: np.ndarray, tool: np.ndarray | None = None, what: str = "target") -> np.ndarray:
+        """A joint solution near q_seed for the 4x4 TCP pose `target`."""
+        try:
+            q = np.asarray(self._ik(self.arm, target, np.asarray(q_seed, dtype=float), tool), dtype=float)
+        except (Unreachable, JointLimit):
+            raise
+        except OrcError:
+            raise
+        except Exception as exc:  # the IK library's own failure: translate it here, at the one call site
+            raise Unreachable(f"{what}: inverse kinematics failed ({exc})") from exc
+        self.check_limits(q, what)
+        return q
+
+    def ik_along(self, poses: np.ndarray, q_start: np.ndarray, tool: np.ndarray | None, what: str) -> np.ndarray:
+        """Joint samples (N, n) for TCP poses (N, 4, 4), each IK seeded from the previous; flips are errors."""
+        qs = np.empty((len(poses), self.n))
+        qs[0] = q_start
+        prev = np.asarray(q_start, dtype=float)
+        for i in range(1, len(poses)):
+            try:
+                q = self.ik(poses[i], prev, tool, what=f"{what} at {100.0 * i / (len(poses) - 1):.0f} % of the path")
+            except Unreachable as exc:
+                raise Unreachable(f"{exc}; the path leaves the workspace") from None
+            jump = float(np.max(np.abs(q - prev)))
+            if jump > self.joint_step_limit_rad:
+                j = int(np.argmax(np.abs(q - prev)))
+                raise Unreachable(
+                    f"{what}: configuration flip at {100.0 * i / (len(poses) - 1):.0f} % of the path "
+                    f"(joint {j + 1} jumps {np.degrees(jump):.1f} deg between neighbouring points); "
+                    "the straight path passes a singularity; use a joint motion or a via point"
+                )
+            qs[i] = q
+            prev = q
+        return qs
+
+    def jacobian_linear(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray:
+        """The (3, n) linear part of the world-aligned Jacobian at q."""
+        return self.arm.jacobian(q, tool)[:3]
+
+    def inverse_dynamics(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, payload_kg: float = 0.0) -> np.ndarray:
+        """Joint torques for a motion state, payload included."""
+        return self.arm.inverse_dynamics(q, qd, qdd, payload_kg)

@@ -1,0 +1,207 @@
+"""Planning: motion specs and parameters into dense paths, limits and trajectories; the store of saved plans."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from orc_rpl.errors import PlanningError, UsageError
+from orc_rpl.motion.kinematics import Kinematics
+from orc_rpl.motion.paths import DensePath, cartesian_path, function_path, joint_segments
+from orc_rpl.motion.blending import blend
+from orc_rpl.motion.short_move import DEFAULT_JERK_PER_S, ShortLimits, constant_dynamics_accel
+from orc_rpl.motion.specs import CartesianMotion, FunctionMotion, JointMotion, Known, Motion, Params
+from orc_rpl.motion.timing import TimingLimits, parameterize
+from orc_rpl.motion.trajectory import SplinePath, Trajectory
+
+#: share of the torque limits the planner may use; the rest is the servo's, for feedback
+TORQUE_SHARE = 0.9
+#: limits left for sensor corrections when a motion is only `almost` known
+ALMOST_SHARE = 0.9
+
+
+@dataclass(slots=True)
+class Plan:
+    """A planned move: its path pieces (stops between them), its limits and, when saved, its first trajectory."""
+
+    owner: int
+    motion: Motion
+    params: Params
+    pieces: list[DensePath]              #: consecutive paths; the robot stops between them (FINE via points)
+    limits: TimingLimits
+    start_q: np.ndarray
+    end_q: np.ndarray
+    tool: np.ndarray | None
+    timed: Trajectory | None = None      #: a trajectory fixed in time (function of t), not re-timed
+    saved_first: Trajectory | None = None  #: the first piece timed from rest (computation=save)
+    notes: list[str] = field(default_factory=list)
+
+
+class Planner:
+    """Turns motion requests into plans and trajectories for one arm at one motion-cycle period."""
+
+    def __init__(self, kin: Kinematics, dt_s: float, sub: int) -> None:
+        self.kin = kin
+        self.arm = kin.arm
+        self.dt_s = dt_s
+        self.sub = sub
+        self._saved: dict[int, Plan] = {}
+
+    # -- limits -----------------------------------------------------------------
+
+    def limits(self, params: Params, tool: np.ndarray | None = None) -> TimingLimits:
+        """The timing limits a move's parameters ask for."""
+        share = ALMOST_SHARE if params.known is Known.ALMOST else 1.0
+        load = params.load_kg
+        arm = self.arm
+
+        def inverse_dynamics(q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+            return np.array(arm.inverse_dynamics(q, qd, qdd, load))
+
+        speed = params.speed_m_s
+        frac = params.speed_fraction
+        tcp = None
+        if speed is not None:
+            tcp = lambda owner, s: np.array([params.speed_m_s_at(float(v)) * params.speed_fraction_at(float(v)) for v in s])  # noqa: E731
+        frac_fn = None if not callable(frac) and frac == 1.0 else (lambda owner, s: np.array([params.speed_fraction_at(float(v)) for v in s]))
+        return TimingLimits(
+            qd_max=arm.qd_max * share,
+            qdd_max=arm.qdd_max * params.accel_fraction * share,
+            tau_max=arm.tau_max * TORQUE_SHARE * share,
+            inverse_dynamics=inverse_dynamics,
+            tcp_jacobian=(lambda q: arm.jacobian(q, tool)[:3]) if tcp is not None else None,
+            tcp_speed_m_s=tcp,
+            speed_fraction=frac_fn,
+            load_kg=load,
+        )
+
+    def short_limits(self, q: np.ndarray, params: Params) -> ShortLimits:
+        """Short-move limits: the dynamics at the start taken as constant for the whole move."""
+        arm = self.arm
+        gravity = np.array(arm.inverse_dynamics(q, np.zeros_like(q), np.zeros_like(q), params.load_kg))
+        inertia = np.diag(arm.mass_matrix(q, params.load_kg))
+        qdd = constant_dynamics_accel(arm.qdd_max * params.accel_fraction, arm.tau_max * TORQUE_SHARE, gravity, inertia)
+        frac = params.speed_fraction_at(0.0)
+        return ShortLimits(arm.qd_max * frac, qdd, qdd * DEFAULT_JERK_PER_S)
+
+    # -- geometry -----------------------------------------------------------------
+
+    def plan(self, owner: int, motion: Motion, params: Params, q_start: np.ndarray) -> Plan | None:
+        """The plan of a move starting at q_start; None for a zero-length move."""
+        q_start = np.asarray(q_start, dtype=float)
+        tool = motion.tool
+        limits = self.limits(params, tool)
+        timed = None
+        if isinstance(motion, JointMotion):
+            if len(motion.target_rad) != self.kin.n:
+                raise UsageError(f"joint target has {len(motion.target_rad)} values; the robot has {self.kin.n} joints")
+            segs = joint_segments(self.kin, q_start, motion, owner)
+            pieces = self._join(segs, params.zone_m, tool)
+        elif isinstance(motion, CartesianMotion):
+            dense = cartesian_path(self.kin, q_start, motion, owner)
+            pieces = [] if dense is None else [dense]
+        elif isinstance(motion, FunctionMotion):
+            if motion.variable == "t":
+                timed = self._function_of_time(motion, q_start, owner)
+                pieces = [timed.path.dense]
+            else:
+                pieces = [function_path(self.kin, q_start, motion, owner)]
+        else:
+            raise UsageError(f"move() takes a JointMotion, CartesianMotion or FunctionMotion, not {type(motion).__name__}")
+        if not pieces:
+            return None
+        end_q = timed.q_f[-1] if timed is not None else pieces[-1].q[-1]
+        return Plan(owner, motion, params, pieces, limits, q_start, np.array(end_q), tool, timed)
+
+    def _join(self, segs: list[DensePath], zone_m: float, tool: np.ndarray | None) -> list[DensePath]:
+        """Blend a motion's own via points with its zone; with FINE they become separate pieces."""
+        if not segs:
+            return []
+        pieces = [segs[0]]
+        for seg in segs[1:]:
+            joined = blend(self.kin, pieces[-1], seg, zone_m, 1, tool) if zone_m > 0 else None
+            if joined is None:
+                pieces.append(seg)
+            else:
+                pieces[-1] = joined
+        return pieces
+
+    def _function_of_time(self, motion: FunctionMotion, q_start: np.ndarray, owner: int) -> Trajectory:
+        """A motion whose pose is a function of time: IK every motion cycle, a spline in time between."""
+        cycles = max(1, math.ceil(motion.duration_s / self.dt_s - 1e-9))
+        t = np.linspace(0.0, motion.duration_s, cycles + 1)
+        poses = np.stack([motion.pose_at(float(v)) for v in t])
+        qs = self.kin.ik_along(poses, q_start, motion.tool, "function motion of time")
+        spline = CubicSpline(t, qs, bc_type="clamped")
+        tf = np.minimum(np.arange(cycles * self.sub + 1) * (self.dt_s / self.sub), motion.duration_s)
+        q, qd, qdd = spline(tf), spline(tf, 1), spline(tf, 2)
+        over = np.max(np.abs(qd) / self.arm.qd_max)
+        if over > 1.0 + 1e-6:
+            raise PlanningError(f"function motion of time: it asks for {100 * over:.0f} % of a joint's speed limit; give it more time")
+        s = t / motion.duration_s
+        dense = DensePath(qs, poses[:, :3, 3].copy(), np.full(len(qs), owner), s)
+        return Trajectory(
+            self.dt_s, self.sub, SplinePath(dense), tf / motion.duration_s, np.zeros(len(tf)), q, qd, qdd,
+            np.full(cycles + 1, owner), s, motion.duration_s, blendable=False, kind="timed",
+        )
+
+    # -- timing -------------------------------------------------------------------
+
+    def time(self, dense: DensePath, limits: TimingLimits, sd_start: float = 0.0, min_duration_s: float | None = None) -> Trajectory:
+        """Time a dense path (time-optimal, or the fallback profile if toppra fails)."""
+        traj, _ = parameterize(SplinePath(dense), limits, self.dt_s, self.sub, sd_start, 0.0, min_duration_s)
+        return traj
+
+    # -- computation = save / done ---------------------------------------------------
+
+    def save(self, descriptor: int, plan: Plan) -> None:
+        """Store a plan (its first piece timed from rest) under a descriptor, replacing what was there."""
+        if plan.timed is None:
+            plan.saved_first = self.time(plan.pieces[0], plan.limits, 0.0, plan.params.time_s)
+        self._saved[descriptor] = plan
+
+    def recall(self, descriptor: int, motion: Motion, q_start: np.ndarray) -> Plan | None:
+        """The saved plan if it is for the same motion from the same start; else None (plan `during`)."""
+        plan = self._saved.get(descriptor)
+        if plan is None or plan.motion != motion or not np.allclose(plan.start_q, q_start, atol=1e-9, rtol=0.0):
+            return None
+        return plan
+
+
+def combine(limits: dict[int, TimingLimits]) -> TimingLimits:
+    """Limits for a path shared by several moves (a blend): joint limits the tightest, speeds per owning move."""
+    if len(limits) == 1:
+        return next(iter(limits.values()))
+    items = list(limits.values())
+
+    def per_owner(attr: str, default: float):  # type: ignore[no-untyped-def]
+        if all(getattr(lim, attr) is None for lim in items):
+            return None
+
+        def fn(owner: np.ndarray, s: np.ndarray) -> np.ndarray:
+            out = np.full(len(s), default)
+            for o, lim in limits.items():
+                f = getattr(lim, attr)
+                mask = owner == o
+                if f is not None and mask.any():
+                    out[mask] = f(owner[mask], s[mask])
+            return out
+
+        return fn
+
+    heavy = max(items, key=lambda lim: lim.load_kg)  # the heavier payload bounds the torques of both
+    jac = next((lim.tcp_jacobian for lim in items if lim.tcp_jacobian is not None), None)
+    return TimingLimits(
+        qd_max=np.min([lim.qd_max for lim in items], axis=0),
+        qdd_max=np.min([lim.qdd_max for lim in items], axis=0),
+        tau_max=np.min([lim.tau_max for lim in items if lim.tau_max is not None], axis=0),
+        inverse_dynamics=heavy.inverse_dynamics,
+        tcp_jacobian=jac,
+        tcp_speed_m_s=per_owner("tcp_speed_m_s", math.inf),
+        speed_fraction=per_owner("speed_fraction", 1.0),
+        load_kg=heavy.load_kg,
+    )
+

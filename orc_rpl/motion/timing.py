@@ -1,0 +1,187 @@
+"""Time-optimal path parameterisation with toppra (the one module that imports it) and its fallback profile."""
+
+from __future__ import annotations
+
+import functools
+import logging
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.errors import PlanningError
+from orc_rpl.motion.trajectory import SplinePath, Trajectory, sample, segment_times
+
+#: grid density of the planner (rad of joint chord per grid interval) and its bounds
+GRID_STEP_RAD = 0.02
+GRID_MIN, GRID_MAX = 40, 200
+
+
+@dataclass(frozen=True, slots=True)
+class TimingLimits:
+    """The limits one parameterisation respects."""
+
+    qd_max: np.ndarray                    #: joint speed limits, rad/s
+    qdd_max: np.ndarray                   #: joint acceleration limits, rad/s^2
+    tau_max: np.ndarray | None = None     #: joint torque limits, N m (None: no torque constraint)
+    inverse_dynamics: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None
+    tcp_jacobian: Callable[[np.ndarray], np.ndarray] | None = None   #: (3, n) linear Jacobian at q
+    #: TCP speed limit (m/s, inf: none) for arrays of (owning motion id, its s)
+    tcp_speed_m_s: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+    #: joint speed override in (0, 1] for arrays of (owning motion id, its s)
+    speed_fraction: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+    load_kg: float = 0.0                  #: payload the torque model includes
+
+
+@functools.cache
+def _toppra() -> Any:
+    """Import toppra on first use (it imports matplotlib) and build our two adapter classes."""
+    import toppra
+    import toppra.algorithm
+    import toppra.constraint
+    import toppra.interpolator
+
+    logging.getLogger("toppra").setLevel(logging.ERROR)  # failures are reported by us, as PlanningError
+
+    class GeometricPath(toppra.interpolator.AbstractGeometricPath):
+        """Our SplinePath seen as a toppra geometric path."""
+
+        def __init__(self, path: SplinePath) -> None:
+            self._p = path
+
+        def __call__(self, ss: Any, order: int = 0) -> np.ndarray:
+            return self._p(ss, order)
+
+        @property
+        def dof(self) -> int:
+            return self._p.dof
+
+        @property
+        def path_interval(self) -> np.ndarray:
+            return np.array([0.0, self._p.length])
+
+    class SpeedBound(toppra.constraint.LinearConstraint):
+        """Joint and TCP speed limits as a pure bound on x = sd^2 (NOTES.md: no Cartesian constraint in toppra)."""
+
+        def __init__(self, xmax_at: Callable[[np.ndarray], np.ndarray], dof: int) -> None:
+            super().__init__()
+            self._xmax_at = xmax_at
+            self.dof = dof
+            self.identical = True
+
+        def compute_constraint_params(self, path: Any, gridpoints: np.ndarray) -> tuple:
+            xb = np.zeros((len(gridpoints), 2))
+            xb[:, 1] = self._xmax_at(gridpoints)
+            return None, None, None, None, None, None, xb
+
+    return toppra, GeometricPath, SpeedBound
+
+
+def xmax(path: SplinePath, grid: np.ndarray, limits: TimingLimits) -> np.ndarray:
+    """Upper bound on sd^2 at each grid point from joint and TCP speed limits."""
+    d1 = np.abs(path(grid, 1))
+    owner, s = path.owner_and_s(grid)
+    frac = limits.speed_fraction(owner, s) if limits.speed_fraction is not None else np.ones(len(grid))
+    vmax = limits.qd_max[None, :] * frac[:, None]
+    with np.errstate(divide="ignore"):
+        out = np.min(np.where(d1 > 1e-12, (vmax / np.maximum(d1, 1e-12)) ** 2, np.inf), axis=1)
+    if limits.tcp_speed_m_s is not None and limits.tcp_jacobian is not None:
+        v = limits.tcp_speed_m_s(owner, s)
+        q, d1s = path(grid), path(grid, 1)
+        for i in range(len(grid)):
+            if np.isfinite(v[i]):
+                lin = float(np.linalg.norm(limits.tcp_jacobian(q[i]) @ d1s[i]))
+                if lin > 1e-12:
+                    out[i] = min(out[i], (v[i] / lin) ** 2)
+    return np.minimum(out, 1e8)
+
+
+def grid_for(path: SplinePath, points: int | None = None) -> np.ndarray:
+    """Grid points along the path (uniform in x), dense enough for the collocation to hold between them."""
+    n = points or int(min(GRID_MAX, max(GRID_MIN, math.ceil(path.length / GRID_STEP_RAD))))
+    return np.linspace(0.0, path.length, n + 1)
+
+
+def toppra_profile(
+    path: SplinePath, limits: TimingLimits, sd_start: float = 0.0, sd_end: float = 0.0, points: int | None = None
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """(grid, sd) of the time-optimal profile, or None when toppra finds none (never raises for toppra's sake)."""
+    toppra, GeometricPath, SpeedBound = _toppra()
+    grid = grid_for(path, points)
+    cons: list[Any] = [
+        SpeedBound(lambda g: xmax(path, g, limits), path.dof),
+        toppra.constraint.JointAccelerationConstraint(np.stack([-limits.qdd_max, limits.qdd_max], axis=1)),
+    ]
+    if limits.tau_max is not None and limits.inverse_dynamics is not None:
+        cons.append(
+            toppra.constraint.JointTorqueConstraint(
+                limits.inverse_dynamics, np.stack([-limits.tau_max, limits.tau_max], axis=1), np.zeros(path.dof)
+            )
+        )
+    try:
+        algo = toppra.algorithm.TOPPRA(cons, GeometricPath(path), gridpoints=grid, solver_wrapper="seidel")
+        result = algo.compute_parameterization(sd_start, sd_end, return_data=True)
+        data = algo.problem_data
+        if data.return_code != toppra.algorithm.algorithm.ParameterizationReturnCode.Ok:
+            k = result[3] if len(result) > 3 else None
+            # A replan from a moving state can sit a hair above the controllable set: retry at its edge.
+            if k is not None and np.all(np.isfinite(k)) and sd_start > 0 and sd_start**2 > k[0, 1] >= 0.95 * sd_start**2:
+                algo.compute_parameterization(math.sqrt(k[0, 1]), sd_end)
+                data = algo.problem_data
+            if data.return_code != toppra.algorithm.algorithm.ParameterizationReturnCode.Ok:
+                return None
+        sd = np.asarray(data.sd_vec, dtype=float).reshape(-1)
+    except (ValueError, ArithmeticError, AssertionError, IndexError):
+        return None
+    if not np.all(np.isfinite(sd)) or np.any(sd < -1e-9):
+        return None
+    return np.asarray(data.gridpoints, dtype=float).reshape(-1), np.maximum(sd, 0.0)
+
+
+def fallback_profile(path: SplinePath, limits: TimingLimits, sd_start: float, sd_end: float) -> tuple[np.ndarray, np.ndarray]:
+    """A conservative profile without toppra: speed bounds, half the acceleration limits, forward/backward passes."""
+    grid = grid_for(path, GRID_MAX)
+    x_cap = xmax(path, grid, limits)
+    d1 = np.maximum(np.abs(path(grid, 1)), 1e-9)
+    d2 = np.abs(path(grid, 2))
+    # path acceleration bound ignoring the curvature term, then keep the curvature term under half the limit
+    u_max = 0.5 * np.min(limits.qdd_max[None, :] / d1, axis=1)
+    x_cap = np.minimum(x_cap, np.min(0.5 * limits.qdd_max[None, :] / np.maximum(d2, 1e-9), axis=1))
+    dx = np.diff(grid)
+    x = np.minimum(x_cap, np.inf)
+    x[0] = min(x_cap[0], sd_start**2)
+    for i in range(len(dx)):
+        x[i + 1] = min(x[i + 1], x[i] + 2.0 * u_max[i] * dx[i])
+    x[-1] = min(x[-1], sd_end**2)
+    for i in range(len(dx) - 1, -1, -1):
+        x[i] = min(x[i], x[i + 1] + 2.0 * u_max[i] * dx[i])
+    return grid, np.sqrt(np.maximum(x, 0.0))
+
+
+def parameterize(
+    path: SplinePath,
+    limits: TimingLimits,
+    dt_s: float,
+    sub: int = 4,
+    sd_start: float = 0.0,
+    sd_end: float = 0.0,
+    min_duration_s: float | None = None,
+    points: int | None = None,
+) -> tuple[Trajectory, bool]:
+    """The trajectory along `path` at the motion-cycle period, and whether toppra (not the fallback) timed it."""
+    prof = toppra_profile(path, limits, sd_start, sd_end, points)
+    optimal = prof is not None
+    if prof is None:
+        prof = fallback_profile(path, limits, sd_start, sd_end)
+        if prof[1][0] < sd_start - 1e-6:
+            raise PlanningError(
+                "the path cannot be timed from the current speed within the limits (toppra failed and so did the fallback)"
+            )
+    grid, sd = prof
+    if min_duration_s and sd_start == 0.0:
+        total = float(np.sum(segment_times(grid, sd)))
+        if total < min_duration_s:
+            sd = sd * (total / min_duration_s)  # uniform time scaling keeps every limit (the torque box is convex)
+    return sample(path, grid, sd, dt_s, sub), optimal

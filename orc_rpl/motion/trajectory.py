@@ -1,0 +1,134 @@
+"""Joint splines over dense paths and trajectories sampled at the motion-cycle period from a path-velocity profile."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from orc_rpl.errors import PlanningError
+from orc_rpl.motion.paths import DensePath
+
+
+class SplinePath:
+    """A C2 joint path q(x) through a dense path's samples, x being the joint-space chord length (rad)."""
+
+    def __init__(self, dense: DensePath) -> None:
+        steps = np.linalg.norm(np.diff(dense.q, axis=0), axis=1)
+        keep = np.concatenate([[True], steps > 1e-10])  # repeated samples would stall the chord parameter
+        self.dense = DensePath(dense.q[keep], dense.tcp[keep], dense.owner[keep], dense.s[keep])
+        q = self.dense.q
+        if len(q) < 2:
+            raise PlanningError("the path has no length")
+        self.x_knots = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(q, axis=0), axis=1))])
+        self.length = float(self.x_knots[-1])
+        if len(q) == 2:  # a two-point spline is the straight line it should be
+            self.spline = CubicSpline(self.x_knots, q, bc_type=((2, np.zeros(q.shape[1])), (2, np.zeros(q.shape[1]))))
+        else:
+            self.spline = CubicSpline(self.x_knots, q, bc_type="not-a-knot")
+        self.dof = q.shape[1]
+
+    def __call__(self, x: np.ndarray | float, order: int = 0) -> np.ndarray:
+        return self.spline(x, order)
+
+    def owner_and_s(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The owning motion id and its path coordinate s at path parameters x."""
+        k = self.x_knots
+        i = np.clip(np.searchsorted(k, x, side="right") - 1, 0, len(k) - 2)
+        frac = np.clip((x - k[i]) / np.maximum(k[i + 1] - k[i], 1e-15), 0.0, 1.0)
+        own, s = self.dense.owner, self.dense.s
+        same = own[i] == own[i + 1]
+        s_x = np.where(same, s[i] + frac * (s[i + 1] - s[i]), s[i])
+        return own[i], s_x
+
+    def x_of_index(self, idx: int) -> float:
+        """The parameter x of dense sample idx."""
+        return float(self.x_knots[idx])
+
+
+@dataclass(slots=True)
+class Trajectory:
+    """References at every servo step (the `_f` arrays), grouped in motion cycles of `sub` steps.
+
+    Sample 0 is the state the trajectory starts from (already commanded); motion cycle k
+    (1..cycles) commands fine rows (k-1)*sub+1 .. k*sub.
+    """
+
+    dt_s: float               #: motion-cycle period
+    sub: int                  #: servo steps per motion cycle
+    path: SplinePath
+    x_f: np.ndarray           #: path parameter per servo step
+    sd_f: np.ndarray          #: path velocity per servo step
+    q_f: np.ndarray           #: (cycles*sub+1, n)
+    qd_f: np.ndarray
+    qdd_f: np.ndarray
+    owner: np.ndarray         #: (cycles+1,) motion id per motion-cycle sample
+    s: np.ndarray             #: (cycles+1,) that motion's s per motion-cycle sample
+    exact_duration_s: float   #: the profile's duration before rounding up to whole cycles
+    blendable: bool = True    #: a zone motion may replan from inside it
+    kind: str = "path"        #: "path" (timed along path), "short" (ruckig), "timed" (function of t), "brake"
+
+    @property
+    def cycles(self) -> int:
+        return len(self.owner) - 1
+
+    @property
+    def duration_s(self) -> float:
+        """Duration in whole motion cycles."""
+        return self.cycles * self.dt_s
+
+    @property
+    def q(self) -> np.ndarray:
+        return self.q_f[:: self.sub]
+
+    @property
+    def qd(self) -> np.ndarray:
+        return self.qd_f[:: self.sub]
+
+    @property
+    def qdd(self) -> np.ndarray:
+        return self.qdd_f[:: self.sub]
+
+    @property
+    def x(self) -> np.ndarray:
+        return self.x_f[:: self.sub]
+
+    def rows(self, k: int) -> slice:
+        """The fine rows commanded in motion cycle k."""
+        return slice((k - 1) * self.sub + 1, k * self.sub + 1)
+
+
+def segment_times(x_grid: np.ndarray, sd_grid: np.ndarray) -> np.ndarray:
+    """Durations of the constant-acceleration segments between grid points."""
+    dx = np.diff(x_grid)
+    vsum = sd_grid[:-1] + sd_grid[1:]
+    if np.any(vsum <= 1e-12):
+        raise PlanningError("the velocity profile stalls inside the path (limits leave no admissible speed)")
+    return 2.0 * dx / vsum
+
+
+def sample(path: SplinePath, x_grid: np.ndarray, sd_grid: np.ndarray, dt_s: float, sub: int) -> Trajectory:
+    """Sample a piecewise constant-acceleration profile (x_grid, sd_grid) at every servo step."""
+    seg_t = segment_times(x_grid, sd_grid)
+    t_grid = np.concatenate([[0.0], np.cumsum(seg_t)])
+    total = float(t_grid[-1])
+    cycles = max(1, math.ceil(total / dt_s - 1e-9))
+    t = np.minimum(np.arange(cycles * sub + 1) * (dt_s / sub), total)
+    i = np.clip(np.searchsorted(t_grid, t, side="right") - 1, 0, len(seg_t) - 1)
+    acc = (sd_grid[1:] ** 2 - sd_grid[:-1] ** 2) / (2.0 * np.maximum(np.diff(x_grid), 1e-15))
+    tau = t - t_grid[i]
+    sd = np.maximum(sd_grid[i] + acc[i] * tau, 0.0)
+    x = np.minimum(x_grid[i] + sd_grid[i] * tau + 0.5 * acc[i] * tau**2, x_grid[-1])
+    sdd = acc[i].copy()
+    ended = t >= total
+    x[ended], sd[ended] = x_grid[-1], sd_grid[-1]
+    if sd_grid[-1] == 0.0:
+        sdd[ended] = 0.0
+    d1, d2 = path(x, 1), path(x, 2)
+    q = path(x)
+    qd = d1 * sd[:, None]
+    qdd = d2 * (sd**2)[:, None] + d1 * sdd[:, None]
+    owner, s = path.owner_and_s(x[::sub])
+    return Trajectory(dt_s, sub, path, x, sd, q, qd, qdd, owner, s, total)

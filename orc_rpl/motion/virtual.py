@@ -1,0 +1,87 @@
+"""The virtual robot: a motion layer wired to the arm model, the servo loop and the MuJoCo cell (or a kinematic follower)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.errors import UsageError
+from orc_rpl.motion.backend import KinematicBackend
+from orc_rpl.motion.kinematics import Kinematics
+from orc_rpl.motion.layer import MotionLayer
+
+
+class ServoBackend:
+    """The servo loop and plant below the motion layer (`orc_rpl.servo.ServoLoop`) as a motion Backend."""
+
+    def __init__(self, loop: Any) -> None:
+        self.loop = loop
+        self.servo_period_s = float(loop.period_s)
+        self._state = loop.state()
+
+    def advance(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
+        self._state = self.loop.run(q_ref, qd_ref, qdd_ref, len(q_ref))
+
+    def q(self) -> np.ndarray:
+        return self._state.q
+
+    def qd(self) -> np.ndarray:
+        return self._state.qd
+
+    def torque(self) -> np.ndarray:
+        return self._state.tau
+
+    def position_error(self) -> np.ndarray:
+        return self._state.position_error
+
+    def time_s(self) -> float:
+        return self._state.time_s
+
+    def reset(self, q: np.ndarray) -> None:
+        self._state = self.loop.reset(q)
+
+
+def make_virtual_motion_layer(
+    robot: str = "irb2400",
+    motion_period_s: float = 0.004,
+    realtime: bool = False,
+    logger: Any = None,
+    backend: str = "servo",
+    q0: np.ndarray | None = None,
+    record: bool = False,
+) -> MotionLayer:
+    """A motion layer on the virtual robot.
+
+    backend "servo": ServoLoop + MuJoCo SimCell (1 ms steps); "kinematic": the reference is followed
+    perfectly (fast; no plant). `record=True` makes a signals Logger with q_ref, q, qd_ref, tau, tcp
+    and s (available as `layer.logger`); pass your own `logger` to choose the signals yourself.
+    """
+    from orc_rpl.arm import load_robot, solve_ik
+
+    arm = load_robot(robot)
+    kin = Kinematics(arm, solve_ik)
+    start = np.array(arm.home_q if q0 is None else q0, dtype=float)
+    kin.check_limits(start, "start position")
+    if backend == "servo":
+        from orc_rpl.servo.loop import ServoLoop
+
+        loop = ServoLoop(arm)
+        loop.reset(start)
+        be: Any = ServoBackend(loop)
+    elif backend == "kinematic":
+        be = KinematicBackend(start, 0.001, lambda q, qd, qdd: np.array(arm.inverse_dynamics(q, qd, qdd)))
+    else:
+        raise UsageError(f"backend must be 'servo' or 'kinematic', not {backend!r}")
+    layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
+    if record and logger is None:
+        from orc_rpl.signals.logger import Logger
+
+        log = Logger(layer.now_s)
+        log.submit("q_ref", layer.reference_q)
+        log.submit("q", layer.current_q)
+        log.submit("tau", be.torque)
+        log.submit("tcp", lambda: layer.tcp_pose()[:3, 3])
+        log.submit("s", lambda: layer.progress_s())
+        layer.logger = log
+    return layer
