@@ -43,10 +43,10 @@ class ServoLoop:
         if self.cell.robot != self.arm.name:
             raise UsageError(f"the cell drives robot {self.cell.robot!r} but the arm model is {self.arm.name!r}")
         self.period_s: float = self.cell.timestep_s
-        self.servo = JointServo(self.arm, self.period_s, gains)
+        # The servo gets its own model: the motion layer's calls on `arm` (another payload, say)
+        # must never change the feed-forward in the middle of a motion.
+        self.servo = JointServo(ArmModel(self.arm.spec), self.period_s, gains)
         self.on_step: list[Callable[[], None]] = []  #: called after every servo step (loggers, sensors)
-        n = self.arm.n_joints
-        self._q_ref, self._qd_ref, self._qdd_ref = self.cell.q, np.zeros(n), np.zeros(n)
 
     # -- the seam -------------------------------------------------------------
 
@@ -78,7 +78,6 @@ class ServoLoop:
             cell.step(tau)
             for callback in self.on_step:
                 callback()
-        self._q_ref, self._qd_ref, self._qdd_ref = q_r, qd_r, qdd_r
         return self.state()
 
     def hold(self, q_ref: Any, n_steps: int) -> ServoState:
@@ -97,13 +96,12 @@ class ServoLoop:
         """Plant and servo back to time 0 at rest at q (home if None)."""
         self.cell.reset(q)
         self.servo.reset()
-        self._q_ref = self.cell.q
         return self.state()
 
     def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0), known: bool = True) -> None:
         """Put a payload on the flange; `known` also tells the feed-forward (False: the plant only, for identification)."""
         self.cell.set_payload(mass_kg, com_m)
-        self.arm.set_payload(mass_kg if known else 0.0, com_m if known else None)
+        self.servo.arm.set_payload(mass_kg if known else 0.0, com_m if known else None)
 
     def attach_logger(self, logger: Logger, every_steps: int = 1, tool: Any = None) -> None:
         """Record q, qd, tau, position_error, tau_ff and the TCP position ("tcp", m) every so many servo steps."""

@@ -119,3 +119,13 @@ def test_render_png_writes_a_picture(tmp_path) -> None:
     finally:
         cell.close()
     assert path.stat().st_size > 1000
+
+
+def test_realtime_mode_keeps_pace_with_the_wall_clock() -> None:
+    import time
+
+    cell = SimCell(realtime=True)
+    start = time.perf_counter()
+    for _ in range(60):
+        cell.step(np.zeros(6))
+    assert time.perf_counter() - start >= 0.055

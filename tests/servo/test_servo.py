@@ -106,3 +106,27 @@ def test_bad_references_are_usage_errors() -> None:
         loop.run(np.zeros(5), np.zeros(5), np.zeros(5))
     with pytest.raises(UsageError, match="velocity_bw"):
         ServoGains(velocity_bw_rad_s=-1.0)
+
+
+def test_motion_layer_calls_on_the_arm_do_not_change_the_feed_forward() -> None:
+    loop = ServoLoop()
+    q0 = loop.arm.home_q
+    loop.reset(q0)
+    loop.set_payload(10.0)
+    zero = np.zeros(6)
+    loop.arm.inverse_dynamics(q0, zero, zero, payload_kg=0.0)  # a planner's query without payload
+    state = loop.hold(q0, 50)
+    mm, _ = _tcp_miss(loop, state.q, q0)
+    assert mm < 1e-6, "the servo keeps its own model with the 10 kg payload"
+
+
+def test_logger_attached_to_the_loop_samples_at_the_chosen_rate() -> None:
+    from orc_rpl.signals import Logger
+
+    loop = ServoLoop()
+    logger = Logger(lambda: loop.time_s)
+    loop.attach_logger(logger, every_steps=4)
+    loop.hold(loop.arm.home_q, 40)
+    rec = logger.recording()
+    assert len(rec) == 10 and rec["tcp"].shape == (10, 3)
+    np.testing.assert_allclose(rec.time_s, 0.001 + 0.004 * np.arange(10))
