@@ -55,7 +55,9 @@ class _Reader:
                 robot = self.robot(top["robot"][1])
             if "world" in top:
                 world_node = top["world"][1]
-                if not self.is_block(world_node, "'world' is a block mapping of objects, one per name"):
+                if isinstance(world_node, ScalarNode) and world_node.tag.endswith(":null"):
+                    world_node = None   # `world:` with nothing under it yet
+                elif not self.is_block(world_node, "'world' is a block mapping of objects, one per name"):
                     world_node = None
                 seen: dict[str, ScalarNode] = {}
                 for key, value in world_node.value if world_node is not None else ():
