@@ -26,10 +26,11 @@ class SimCell:
     unless `realtime=True` paces it to the wall clock.
     """
 
-    def __init__(self, robot: str = "irb2400", cell: CellDescription | None = None, realtime: bool = False) -> None:
-        self.description = cell if cell is not None else default_cell(robot)
-        if cell is not None and robot != cell.robot and robot != "irb2400":
+    def __init__(self, robot: str | None = None, cell: CellDescription | None = None, realtime: bool = False) -> None:
+        """The default cell with `robot` ("irb2400" if None), or the given cell description."""
+        if cell is not None and robot is not None and robot != cell.robot:
             raise UsageError(f"robot {robot!r} differs from the cell description's robot {cell.robot!r}")
+        self.description = cell if cell is not None else default_cell(robot or "irb2400")
         self.robot: str = self.description.robot
         try:
             self._spec = build_spec(self.description)

@@ -55,12 +55,16 @@ class JointServo:
         self.torque_ff = np.zeros(n)          #: inverse-dynamics feed-forward (N m)
         self.integral = np.zeros(n)           #: integral torque of the velocity loop (N m)
         self.saturated = np.zeros(n, dtype=bool)  #: joints whose demand exceeded tau_max
+        # Set from above (thesis 5.3: "feed forward signals to torque references can be set"), e.g. by
+        # a force controller; added to every cycle's demand until changed.
+        self.torque_offset = np.zeros(n)      #: extra torque reference (N m)
 
     def reset(self) -> None:
         """Forget the integral and the signals (after a plant reset)."""
         for signal in (self.position_error, self.velocity, self.torque, self.torque_ff, self.integral):
             signal[:] = 0.0
         self.saturated[:] = False
+        self.torque_offset = np.zeros(self.arm.n_joints)
         self._steps = 0
 
     def update(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
@@ -82,6 +86,7 @@ class JointServo:
         demand = self._kv * velocity_error
         demand += tau_ff
         demand += integral
+        demand += self.torque_offset
         tau = np.maximum(np.minimum(demand, self._tau_max), -self._tau_max)
         saturated = tau != demand
         if saturated.any():

@@ -103,6 +103,13 @@ class ServoLoop:
         self.cell.set_payload(mass_kg, com_m)
         self.servo.arm.set_payload(mass_kg if known else 0.0, com_m if known else None)
 
+    def set_torque_offset(self, tau_nm: Any) -> None:
+        """Add a torque to the servo's reference from now on (force control, friction compensation); zeros to stop."""
+        tau = np.asarray(tau_nm, dtype=float).reshape(-1)
+        if tau.shape != (self.arm.n_joints,) or not np.all(np.isfinite(tau)):
+            raise UsageError(f"torque offset must be {self.arm.n_joints} finite numbers (N m), got {tau_nm!r}")
+        self.servo.torque_offset = tau
+
     def attach_logger(self, logger: Logger, every_steps: int = 1, tool: Any = None) -> None:
         """Record q, qd, tau, position_error, tau_ff and the TCP position ("tcp", m) every so many servo steps."""
         if every_steps < 1:

@@ -130,3 +130,13 @@ def test_logger_attached_to_the_loop_samples_at_the_chosen_rate() -> None:
     rec = logger.recording()
     assert len(rec) == 10 and rec["tcp"].shape == (10, 3)
     np.testing.assert_allclose(rec.time_s, 0.001 + 0.004 * np.arange(10))
+
+
+def test_torque_offset_pushes_the_joint_against_its_servo() -> None:
+    loop = ServoLoop()
+    q0 = loop.arm.home_q
+    loop.reset(q0)
+    loop.set_torque_offset([0, 0, 0, 0, 0, 5.0])
+    state = loop.hold(q0, 20)
+    assert state.q[5] > q0[5], "the offset turns j6 before the loops catch it"
+    assert loop.servo.torque[5] < 5.0, "and the loops answer"
