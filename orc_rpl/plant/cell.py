@@ -5,7 +5,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from orc_rpl.arm.robots import ROBOTS, RobotSpec
+from orc_rpl.world.pose import rotation_zyx
 
 #: Prefix of every robot element in the built scene ("robot/j1", "robot/flange").
 ROBOT_PREFIX = "robot/"
@@ -13,12 +16,13 @@ ROBOT_PREFIX = "robot/"
 
 @dataclass(frozen=True, slots=True)
 class Box:
-    """A fixed box in the cell (a table top, a leg, a fixture), world frame, axis-aligned."""
+    """A fixed box in the cell (a table top, a leg, a fixture), placed in the world frame."""
 
     name: str
     center_m: tuple[float, float, float]
     half_size_m: tuple[float, float, float]
     rgba: tuple[float, float, float, float] = (0.55, 0.45, 0.35, 1.0)
+    angles_rad: tuple[float, float, float] = (0.0, 0.0, 0.0)  #: (a, b, c): Rz(a)·Ry(b)·Rx(c), as in Pose
 
 
 @dataclass(frozen=True, slots=True)
@@ -67,8 +71,6 @@ def _camera_position(cell: CellDescription) -> tuple[float, float, float]:
 
 def _camera_axes(cell: CellDescription) -> tuple[float, ...]:
     """MuJoCo's xyaxes for a camera at _camera_position looking at camera_lookat_m, image up towards +z."""
-    import numpy as np
-
     forward = np.subtract(cell.camera_lookat_m, _camera_position(cell))
     forward /= np.linalg.norm(forward)
     right = np.cross(forward, (0.0, 0.0, 1.0))
@@ -94,7 +96,9 @@ def build_spec(cell: CellDescription) -> Any:
     world.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[4.0, 4.0, 0.05],
                    rgba=[0.82, 0.84, 0.86, 1.0], contype=0, conaffinity=0)
     for box in cell.boxes:
-        world.add_geom(name=box.name, type=mujoco.mjtGeom.mjGEOM_BOX, pos=list(box.center_m),
+        quat = np.zeros(4)
+        mujoco.mju_mat2Quat(quat, rotation_zyx(*box.angles_rad).reshape(-1))
+        world.add_geom(name=box.name, type=mujoco.mjtGeom.mjGEOM_BOX, pos=list(box.center_m), quat=list(quat),
                        size=list(box.half_size_m), rgba=list(box.rgba), contype=0, conaffinity=0)
     world.add_camera(name="overview", pos=list(_camera_position(cell)), xyaxes=list(_camera_axes(cell)))
 

@@ -129,3 +129,16 @@ def test_realtime_mode_keeps_pace_with_the_wall_clock() -> None:
     for _ in range(60):
         cell.step(np.zeros(6))
     assert time.perf_counter() - start >= 0.055
+
+
+def test_a_turned_box_is_placed_with_the_pose_angle_convention() -> None:
+    import math
+
+    from orc_rpl.plant import Box, CellDescription
+    from orc_rpl.world.pose import rotation_zyx
+
+    angles = (math.radians(90), 0.0, math.radians(10))
+    cell = SimCell(cell=CellDescription(boxes=(Box("fixture", (1.0, 0.1, 0.36), (0.15, 0.1, 0.01), angles_rad=angles),)))
+    model, data = cell._model, cell._data
+    geom = next(i for i in range(model.ngeom) if model.geom(i).name == "fixture")
+    np.testing.assert_allclose(data.geom_xmat[geom].reshape(3, 3), rotation_zyx(*angles), atol=1e-12)
