@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import time as wallclock
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
 from orc_rpl.errors import PlanningError, UsageError
+from orc_rpl.motion import services
 from orc_rpl.motion.actions import Actions, MotionData, MoveSignal
 from orc_rpl.motion.backend import Backend
 from orc_rpl.motion.blending import blend
@@ -444,6 +445,29 @@ class MotionLayer:
         end = self.now_s() + duration_s - 1e-12
         while self.now_s() < end:
             self.tick()
+
+    # -- acquire services (thesis 5.2) --------------------------------------------------
+
+    def fk(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray:
+        """Kinematics: the TCP pose (4x4) at q."""
+        return self.kin.fk(q, tool)
+
+    def ik(self, pose: np.ndarray, q_seed: np.ndarray | None = None, tool: np.ndarray | None = None) -> np.ndarray:
+        """Inverse kinematics: joints for a TCP pose (4x4) near q_seed (default: the current reference)."""
+        return self.kin.ik(pose, self._q_ref if q_seed is None else q_seed, tool)
+
+    def dynamics(self, q: np.ndarray, qd: np.ndarray | None = None, qdd: np.ndarray | None = None,
+                 load_kg: float = 0.0) -> services.Dynamics:
+        """Dynamics at a configuration: torque, mass matrix, gravity."""
+        return services.dynamics(self, q, qd, qdd, load_kg)
+
+    def simulate(self, moves: Sequence[Motion | tuple[Motion, Params]], q_start: np.ndarray | None = None) -> services.Simulation:
+        """Predicted references and duration of a sequence of moves (blends included), without moving the robot."""
+        return services.simulate(self, moves, q_start)
+
+    def path_left(self, what: MoveHandle | Motion, s: float) -> Motion:
+        """PathLeft: the rest of a move's path from s, as a motion to request next."""
+        return services.path_left(what, s)
 
 
 def _reowned(plan: Any, owner: int) -> Any:
