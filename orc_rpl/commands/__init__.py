@@ -1,0 +1,1 @@
+"""The `orc` subcommands, one module each: `add_parser(subparsers)` and `run(args) -> exit code`."""
