@@ -19,8 +19,8 @@ def _relative_to(world: World, pose: Pose, node: str) -> Pose:
         return pose
     if pose.frame not in world:
         raise WorldError(f"a pose relative to '{pose.frame}', which is not in {world.path}")
-    frame_in_node = world.relative_pose(pose.frame, node)
-    return frame_in_node.compose(pose.with_frame(node)).with_frame(node)
+    # (frame in node) * (pose in frame); compose keeps the left operand's frame, `node`.
+    return world.relative_pose(pose.frame, node).compose(pose)
 
 
 def _check_name(name: str, what: str) -> None:

@@ -50,6 +50,7 @@ class _Reader:
         if root is not None and not isinstance(root, MappingNode):
             raise self.src.error(root, "a world file is a mapping with the keys 'robot' and 'world'")
         if root is not None:
+            self.check_no_anchors(root)
             top = self.mapping(root, TOP_KEYS, "top-level key")
             if "robot" in top:
                 robot = self.robot(top["robot"][1])
@@ -79,6 +80,19 @@ class _Reader:
             self.diags.sort(key=lambda d: (d.location.line, d.location.column))
             raise SourceError(self.diags, self.src.text)
         return Parsed(self.src, root, robot, tuple(objects), nodes)
+
+    def check_no_anchors(self, node: Node, seen: set[int] | None = None) -> None:
+        """Anchors share one node between places: an edit of one place would silently change the other."""
+        seen = set() if seen is None else seen
+        if id(node) in seen:
+            return
+        seen.add(id(node))
+        if getattr(node, "anchor", None):
+            self.bad(node, f"anchor '&{node.anchor}': world files do not use anchors and aliases", "write the value out at each place")
+        children = node.value if isinstance(node, (MappingNode, SequenceNode)) else ()
+        for child in children:
+            for sub in child if isinstance(child, tuple) else (child,):
+                self.check_no_anchors(sub, seen)
 
     def is_block(self, node: Node, message: str) -> bool:
         if isinstance(node, MappingNode) and not node.flow_style:

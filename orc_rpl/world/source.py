@@ -11,7 +11,7 @@ from ruamel.yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from orc_rpl.errors import Diagnostic, Location, SourceError
 
-__all__ = ["MappingNode", "Node", "ScalarNode", "SequenceNode", "SourceText", "did_you_mean"]
+__all__ = ["MappingNode", "Node", "ScalarNode", "SequenceNode", "SourceText", "did_you_mean", "find"]
 
 
 @dataclass(frozen=True)
@@ -88,11 +88,6 @@ class SourceText:
     def text_of(self, node: Node) -> str:
         """The exact source text of a node."""
         return self.text[self.index(node.start_mark.line, node.start_mark.column) : self.index(node.end_mark.line, node.end_mark.column)]
-
-
-def entries(node: MappingNode) -> list[tuple[ScalarNode, Node]]:
-    """Key and value nodes of a mapping, in file order."""
-    return list(node.value)
 
 
 def find(node: MappingNode, key: str) -> tuple[ScalarNode, Node] | None:

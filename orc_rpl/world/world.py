@@ -117,8 +117,9 @@ class World:
         return tuple(out)
 
     def children(self, name: str) -> tuple[str, ...]:
-        """Objects whose parent is `name`, in file order."""
-        return tuple(o.name for o in self.objects if o.parent == name)
+        """What hangs directly on `name`: objects in file order (and `robot` on world, `flange` on robot)."""
+        fixed = {WORLD: (ROBOT,), ROBOT: (FLANGE,)}.get(name, ())
+        return fixed + tuple(o.name for o in self.objects if o.parent == name)
 
     def descendants(self, name: str) -> tuple[str, ...]:
         """Every object below `name`, depth first in file order."""
@@ -218,11 +219,25 @@ class World:
     def online_frames(self) -> tuple[OnlineFrame, ...]:
         """Every tagged on-line frame, parents before children, with its enclosing on-line frame."""
         out = []
-        for name in self.descendants(WORLD) + self.descendants(ROBOT):
-            if self.object(name).online_frame:
+        for name in self.descendants(WORLD):
+            if name not in PREDEFINED and self.object(name).online_frame:
                 outer = self.online_frame_of(name)
                 out.append(OnlineFrame(name, outer, self.relative_pose(name, outer)))
         return tuple(out)
+
+    def positions(self) -> tuple[str, ...]:
+        """Dotted names of every named frame and path element, objects in file order (what programs move to)."""
+        out = []
+        for obj in self.objects:
+            out += [f"{obj.name}.{f.name}" for f in obj.frames]
+            out += [f"{obj.name}.{p.name}[{i}]" for p in obj.paths for i in range(1, len(p.points) + 1)]
+        return tuple(out)
+
+    def robot_model_file(self) -> str | None:
+        """The robot's MJCF file: `<model>.xml` next to the world file (worlds/irb2400.xml)."""
+        if self.robot is None:
+            return None
+        return os.path.join(os.path.dirname(self.path), f"{self.robot.model}.xml")
 
     def tools(self) -> tuple[str, ...]:
         """Objects tagged as tools, in file order."""

@@ -158,6 +158,32 @@ CASES = {
             7 |       edge: [e1, e3]
               |                  ^^""",
     ),
+    "anchor": (
+        """\
+        world:
+          a:
+            pose: &here [1m, 0, 0, 0, 0, 0]
+          b:
+            pose: *here
+        """,
+        """\
+        {f}:3:11: anchor '&here': world files do not use anchors and aliases
+            3 |     pose: &here [1m, 0, 0, 0, 0, 0]
+              |           ^^^^^^^^^^^^^^^^^^^^^^^^^
+              = hint: write the value out at each place""",
+    ),
+    "mesh_without_file": (
+        """\
+        world:
+          casting:
+            model:
+              geometry: mesh
+        """,
+        """\
+        {f}:4:7: geometry 'mesh' needs 'mesh: <file>'
+            4 |       geometry: mesh
+              |       ^""",
+    ),
 }
 
 

@@ -111,3 +111,12 @@ def test_model_spatial_and_soft_attributes_are_apart() -> None:
     assert world.lookup("drop_station.DropPositions[2]") == world.lookup("drop_station.bolt_bin").pose
     grinder = load_world(WORLDS / "deburring.yaml").soft("grinder")
     assert grinder["grinding_time"] == Quantity(0, grinder["grinding_time"].dim)
+
+
+def test_positions_children_and_the_robot_model(thesis) -> None:
+    assert thesis.positions() == ("base_plate.pos1", "base_plate.pos2")
+    assert thesis.children("world")[:2] == ("robot", "table")
+    assert thesis.children("flange") == ("holder",)
+    assert thesis.descendants("fixture") == ("base_plate",)
+    assert thesis.ancestors("grinder") == ("holder", "flange", "robot", "world")
+    assert thesis.robot_model_file() == str(WORLDS / "irb2400.xml")
