@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from orc_rpl.errors import Diagnostic, SourceError
 from orc_rpl.world.objects import FLANGE, NAME_RE, PREDEFINED, ModelAttributes, PathAttribute, Position, RobotEntry, WorldObject
@@ -23,10 +23,11 @@ class Parsed:
     """A checked world file: its text, nodes (kept for exact edits) and objects in file order."""
 
     src: SourceText
-    root: MappingNode | None
+    root: MappingNode | None = field(compare=False, repr=False)
     robot: RobotEntry | None
     objects: tuple[WorldObject, ...]
-    object_nodes: dict[str, tuple[ScalarNode, MappingNode]]   #: name -> (key node, attribute mapping)
+    #: name -> (key node, attribute mapping); nodes compare by identity, so they stay out of equality
+    object_nodes: dict[str, tuple[ScalarNode, MappingNode]] = field(compare=False, repr=False)
 
 
 def parse_world(text: str, path: str = "<world>") -> Parsed:

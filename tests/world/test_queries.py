@@ -120,3 +120,9 @@ def test_positions_children_and_the_robot_model(thesis) -> None:
     assert thesis.descendants("fixture") == ("base_plate",)
     assert thesis.ancestors("grinder") == ("holder", "flange", "robot", "world")
     assert thesis.robot_model_file() == str(WORLDS / "irb2400.xml")
+
+
+def test_two_loads_of_one_file_are_equal_and_an_edit_is_not(thesis) -> None:
+    again = load_world(WORLDS / "cell_thesis.yaml")
+    assert again == thesis
+    assert thesis.with_soft("table", "cycles", 1) != thesis
