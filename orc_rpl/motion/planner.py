@@ -58,8 +58,14 @@ class Planner:
         load = params.load_kg
         arm = self.arm
 
+        fast = getattr(arm, "inverse_dynamics_unchecked", None)
+
         def inverse_dynamics(q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
-            return np.array(arm.inverse_dynamics(q, qd, qdd, load))
+            if fast is None:
+                return np.array(arm.inverse_dynamics(q, qd, qdd, load))
+            # The planner's own model (virtual.py gives the servo another): its payload may be set here.
+            arm.set_payload(load)
+            return np.array(fast(q, qd, qdd))
 
         speed = params.speed_m_s
         frac = params.speed_fraction

@@ -15,8 +15,8 @@ from orc_rpl.errors import PlanningError
 from orc_rpl.motion.trajectory import SplinePath, Trajectory, sample, segment_times
 
 #: grid density of the planner (rad of joint chord per grid interval) and its bounds
-GRID_STEP_RAD = 0.02
-GRID_MIN, GRID_MAX = 40, 200
+GRID_STEP_RAD = 0.03
+GRID_MIN, GRID_MAX = 40, 150
 
 
 @dataclass(frozen=True, slots=True)

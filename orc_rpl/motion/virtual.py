@@ -66,7 +66,9 @@ def make_virtual_motion_layer(
     if backend == "servo":
         from orc_rpl.servo.loop import ServoLoop
 
-        loop = ServoLoop(arm)
+        # The servo gets its own model: a payload is state of an ArmModel, and the planner's
+        # what-if torque computations must not change the servo's feed-forward.
+        loop = ServoLoop(load_robot(robot))
         loop.reset(start)
         be: Any = ServoBackend(loop)
     elif backend == "kinematic":

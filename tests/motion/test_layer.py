@@ -23,7 +23,7 @@ from orc_rpl.motion import (
 )
 from orc_rpl.world.pose import Pose
 
-from motion_helpers import pose_here, tcp_error
+from .motion_helpers import pose_here, tcp_error
 
 pytestmark = pytest.mark.sim
 

@@ -1,0 +1,199 @@
+"""Motion-core benchmark: simulation speed, time optimality, gain over a naive profile, LMOVE path accuracy.
+
+Run: python benchmarks/bench_motion.py [--robot irb2400] [--seconds 60]
+The last lines are `key=value` figures (targets: sim_speed_x_realtime >= 50,
+time_optimality_ratio <= 1.03, vs_naive_ratio <= 0.8, lmove_path_deviation_mm <= 1).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+from orc_rpl.motion import CartesianMotion, JointMotion, MotionLayer, Params, make_virtual_motion_layer
+from orc_rpl.motion.planner import TORQUE_SHARE
+from orc_rpl.motion.timing import toppra_profile
+from orc_rpl.motion.trajectory import SplinePath, segment_times
+from orc_rpl.world.pose import Pose
+
+FINE_GRID_POINTS = 2000  #: grid of the reference TOPP-RA solution (the planner uses 40..200)
+
+
+def offsets(layer: MotionLayer, dx: float, dy: float, dz: float) -> Pose:
+    p = Pose.from_matrix(layer.fk(layer.kin.arm.home_q))
+    return Pose(p.x + dx, p.y + dy, p.z + dz, p.a, p.b, p.c)
+
+
+def joint_targets(layer: MotionLayer) -> list[np.ndarray]:
+    home = np.array(layer.kin.arm.home_q)
+    deltas = [
+        [0.8, 0.3, -0.2, 0.5, -0.3, 1.0],
+        [-0.6, -0.2, 0.3, -0.8, 0.4, -1.5],
+        [1.5, 0.1, 0.1, 0.0, 0.2, 0.5],
+        [0.3, -0.4, 0.4, 1.2, -0.5, 0.0],
+        [-1.2, 0.35, -0.3, -0.4, 0.3, 2.0],
+    ]
+    return [home + np.array(d) for d in deltas]
+
+
+def cart_targets(layer: MotionLayer) -> list[Pose]:
+    return [offsets(layer, *d) for d in [(0.0, 0.4, -0.2), (-0.2, -0.3, -0.3), (0.1, 0.3, 0.1), (-0.25, 0.0, -0.35), (0.05, -0.45, 0.0)]]
+
+
+def program_step(layer: MotionLayer, i: int) -> None:
+    """One block of the mixed program, issued the way the executive will: zone moves look ahead by one."""
+    joints, carts = joint_targets(layer), cart_targets(layer)
+    home = np.array(layer.kin.arm.home_q)
+    steps = [
+        (JointMotion(tuple(joints[i % 5])), Params(zone_m=0.05)),
+        (JointMotion(tuple(home)), Params()),
+        (CartesianMotion(carts[i % 5]), Params(zone_m=0.02)),
+        (CartesianMotion(carts[(i + 1) % 5]), Params(zone_m=0.02, speed_m_s=0.8)),
+        (CartesianMotion(offsets(layer, 0.0, -0.1, -0.1)), Params(zone_m=0.01)),
+        (CartesianMotion(offsets(layer, 0.0, 0.1, -0.1), "circular", via=offsets(layer, 0.1, 0.0, -0.1)), Params()),
+        (CartesianMotion(offsets(layer, 0.0, 0.0, 0.0)), Params(load_kg=10.0)),
+    ]
+    for motion, params in steps:
+        h = layer.move(motion, params)
+        if params.zone_m > 0:
+            layer.wait_for_room(1)
+        else:
+            layer.wait(h)
+
+
+def bench_speed(robot: str, seconds: float) -> tuple[float, float, float, float]:
+    """(x real time of the whole stack, x real time of raw mj_step, their ratio, share of wall time in servo+plant)."""
+    layer = make_virtual_motion_layer(robot, backend="servo", record=True)
+    program_step(layer, 0)  # warm-up: imports (toppra pulls in matplotlib), caches
+    layer = make_virtual_motion_layer(robot, backend="servo", record=True)
+    below = [0.0]
+    advance = layer.backend.advance
+
+    def timed_advance(q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> None:
+        t = time.perf_counter()
+        advance(q, qd, qdd)
+        below[0] += time.perf_counter() - t
+
+    layer.backend.advance = timed_advance  # type: ignore[method-assign]
+    t0 = time.perf_counter()
+    i = 0
+    while layer.now_s() < seconds:
+        program_step(layer, i)
+        i += 1
+    wall = time.perf_counter() - t0
+    ours = layer.now_s() / wall
+
+    import mujoco
+
+    from orc_rpl.plant import build_spec, default_cell
+
+    model = build_spec(default_cell(robot)).compile()
+    data = mujoco.MjData(model)
+    steps = 20000
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        mujoco.mj_step(model, data)
+    raw = steps * model.opt.timestep / (time.perf_counter() - t0)
+    return ours, raw, ours / raw, below[0] / wall
+
+
+def naive_quintic_time(layer: MotionLayer, q0: np.ndarray, q1: np.ndarray) -> float:
+    """Shortest duration of q0 + (q1-q0) * (10t^3 - 15t^4 + 6t^5) that keeps speed, acceleration and torque limits."""
+    arm = layer.kin.arm
+    d = np.abs(q1 - q0)
+    t = max(float(np.max(1.875 * d / arm.qd_max)), math.sqrt(float(np.max(5.7735 * d / arm.qdd_max))))
+    u = np.linspace(0.0, 1.0, 201)
+    p1 = 30 * u**2 - 60 * u**3 + 30 * u**4
+    p2 = 60 * u - 180 * u**2 + 120 * u**3
+    p0 = 10 * u**3 - 15 * u**4 + 6 * u**5
+
+    def torque_ok(T: float) -> bool:
+        for a, b, c in zip(p0, p1, p2):
+            tau = arm.inverse_dynamics(q0 + (q1 - q0) * a, (q1 - q0) * b / T, (q1 - q0) * c / T**2)
+            if np.any(np.abs(tau) > arm.tau_max * TORQUE_SHARE):
+                return False
+        return True
+
+    if torque_ok(t):
+        return t
+    lo, hi = t, 2 * t
+    while not torque_ok(hi):
+        lo, hi = hi, 2 * hi
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if torque_ok(mid) else (mid, hi)
+    return hi
+
+
+def bench_optimality(robot: str) -> tuple[float, float, float]:
+    """(worst executed/TOPP-RA-bound ratio, mean, our time over the naive quintic on the joint moves)."""
+    layer = make_virtual_motion_layer(robot, backend="servo")
+    ratios, ours_joint, naive_joint = [], [], []
+    moves = [(JointMotion(tuple(q)), True) for q in joint_targets(layer)]
+    moves += [(CartesianMotion(p), False) for p in cart_targets(layer)]
+    for motion, is_joint in moves:
+        q_start = layer.current_q()
+        h = layer.move(motion, Params())
+        traj = layer._traj
+        path, limits = SplinePath(traj.path.dense), h.plan.limits
+        layer.wait(h)
+        executed = h.t_end_s - h.start_time_s  # reference time from start to the end of the path
+        grid, sd = toppra_profile(path, limits, points=FINE_GRID_POINTS)
+        bound = float(np.sum(segment_times(grid, sd)))
+        ratios.append(executed / bound)
+        if is_joint:
+            ours_joint.append(executed)
+            naive_joint.append(naive_quintic_time(layer, q_start, np.array(motion.target_rad)))
+    return max(ratios), float(np.mean(ratios)), sum(ours_joint) / sum(naive_joint)
+
+
+def bench_lmove_deviation(robot: str) -> float:
+    """Largest distance (mm) of the measured TCP from the programmed line, every servo step, LMOVEs at full speed."""
+    layer = make_virtual_motion_layer(robot, backend="servo")
+    loop = layer.backend.loop
+    worst = 0.0
+    line: list[np.ndarray] = []
+
+    def measure() -> None:
+        nonlocal worst
+        if not line:
+            return
+        a, b = line
+        p = layer.kin.fk(loop.cell.q)[:3, 3]
+        u = np.clip((p - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
+        worst = max(worst, float(np.linalg.norm(p - (a + u * (b - a)))))
+
+    loop.on_step.append(measure)
+    for target in cart_targets(layer):
+        a = layer.tcp_pose()[:3, 3]
+        h = layer.move(CartesianMotion(target), Params())
+        line[:] = [a, target.matrix()[:3, 3]]
+        layer.wait(h)
+        line.clear()
+    return worst * 1000.0
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--robot", default="irb2400")
+    ap.add_argument("--seconds", type=float, default=60.0)
+    args = ap.parse_args()
+    ours, raw, ratio, servo_share = bench_speed(args.robot, args.seconds)
+    worst, mean, naive = bench_optimality(args.robot)
+    dev = bench_lmove_deviation(args.robot)
+    print(f"robot={args.robot}")
+    print(f"raw_mujoco_x_realtime={raw:.0f}")
+    print(f"time_optimality_mean={mean:.4f}")
+    print(f"servo_plant_share_of_wall_time={servo_share:.3f}")
+    print(f"sim_speed_x_realtime={ours:.1f}")
+    print(f"sim_vs_raw_mujoco_ratio={ratio:.3f}")
+    print(f"time_optimality_ratio={worst:.4f}")
+    print(f"vs_naive_ratio={naive:.3f}")
+    print(f"lmove_path_deviation_mm={dev:.3f}")
+
+
+if __name__ == "__main__":
+    main()
