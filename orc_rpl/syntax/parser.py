@@ -97,9 +97,11 @@ def _diagnostic(path: str, error: Exception, lines: list[str]) -> tuple[Diagnost
         message = f"unexpected {describe_token(token)}" + (f"; expected {expected}" if expected else "")
         hint = ""
         if token.type == "CONT":
-            message = "a WITH, VIA or UNTIL line continues only a motion or INSTALL statement"
-        elif token.type == "NAME" and str(token).upper() == str(token) and str(token) in _lark().terminals_by_name:
-            hint = ""
+            # Point at the WITH/VIA/UNTIL word that starts the continuation line.
+            line, column = token.end_line or line, token.end_column or column
+            keyword = lines[line - 1][column - 1:].split()[0] if 0 < line <= len(lines) else "WITH"
+            width = len(keyword)
+            message = f"a line starting with {keyword} continues only a motion or an INSTALL statement"
         return Diagnostic(Location(path, line, column, line, column + width), message, hint), line
     if isinstance(error, UnexpectedCharacters):
         char = lines[error.line - 1][error.column - 1] if 0 < error.line <= len(lines) and error.column <= len(lines[error.line - 1]) else "?"

@@ -62,7 +62,9 @@ def expression(expr: n.Expression) -> str:
         needed = precedence(expr.operand) < _UNARY_MINUS or operand.startswith(("-", "+"))
         return expr.op + _wrap(operand, needed)
     if isinstance(expr, n.Field):
-        return _wrap(expression(expr.value), precedence(expr.value) < _POSTFIX) + "." + expr.name.id
+        # `(0).a`: a number right before `.` would swallow the dot.
+        needed = precedence(expr.value) < _POSTFIX or isinstance(expr.value, n.Number)
+        return _wrap(expression(expr.value), needed) + "." + expr.name.id
     if isinstance(expr, n.Index):
         return _wrap(expression(expr.value), precedence(expr.value) < _POSTFIX) + "[" + expression(expr.index) + "]"
     if isinstance(expr, n.Call):
