@@ -37,7 +37,7 @@ class Checker:
     def declare(self, scope: Scope, name_node: n.Name, kind: str, type_: StaticType, node: n.Node,
                 params: int | None = None) -> None:
         existing = scope.symbols.get(name_node.id)
-        if existing is not None and existing.node is not None and existing.kind not in ("var", "binding", "loop", "local"):
+        if existing is not None and existing.node is not None and existing.kind != "assigned":
             line = existing.node.span.line
             self.report(name_node, f"'{name_node.id}' is already declared at line {line}")
             return
@@ -71,7 +71,7 @@ class Checker:
         for name, node in assigned_names(body):
             if scope.lookup(name) is None or (scope.routine is not None and name not in scope.symbols
                                               and (scope.parent is None or scope.parent.lookup(name) is None)):
-                scope.symbols[name] = Symbol(name, "var", ANY, node)
+                scope.symbols[name] = Symbol(name, "assigned", ANY, node)
 
     def declared_type(self, stmt: n.Declaration) -> StaticType:
         frame = stmt.frame.id if stmt.frame is not None else WORLD
@@ -192,7 +192,7 @@ class Checker:
             guess = suggest(stmt.tool.id, [*tools, "ARM"])
             self.report(stmt.tool, f"unknown tool '{stmt.tool.id}'" + (f"; did you mean '{guess}'?" if guess else ""),
                         "declare it with TOOL name = POSE(...), or move the bare flange with ARM")
-        elif symbol.kind not in ("tool", "install", "param", "var") and stmt.tool.id != "ARM":
+        elif symbol.kind not in ("tool", "install", "param", "var", "assigned") and stmt.tool.id != "ARM":
             self.report(stmt.tool, f"'{stmt.tool.id}' is not a tool")
 
     def check_target(self, expr: n.Expression, scope: Scope, frame: str, role: str) -> None:
