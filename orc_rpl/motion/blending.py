@@ -15,27 +15,32 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / n if n > 1e-12 else v * 0.0
 
 
-def entry_index(path: DensePath, zone_m: float) -> int:
-    """Where a path ending at a corner enters the zone: the last sample at least zone_m from the end.
+def _chord(path: DensePath) -> np.ndarray:
+    """Cumulative joint-space chord length along a dense path."""
+    return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path.q, axis=0), axis=1))])
 
-    The blend never takes more than the second half of the ending motion's own samples, so two
-    short motions with a large zone still keep their middles.
+
+def entry_index(path: DensePath, zone_m: float, tail_chord_rad: float) -> int:
+    """Where a path ending at a corner enters the zone: the last sample at least zone_m (TCP) from the end.
+
+    The blend never takes more than the second half of the last segment (`tail_chord_rad` of joint
+    chord before the corner), so two short segments with a large zone still keep their middles.
     """
-    owner = path.owner[-1]
     d = np.linalg.norm(path.tcp - path.tcp[-1], axis=1)
     outside = np.nonzero(d >= zone_m)[0]
     i = int(outside[-1]) if len(outside) else 0
-    half = np.nonzero((path.owner == owner) & (path.s >= 0.5))[0]
-    return max(i, int(half[0]) if len(half) else len(path) - 1)
+    to_end = _chord(path)[-1] - _chord(path)
+    half = np.nonzero(to_end <= 0.5 * tail_chord_rad + 1e-12)[0]
+    return max(i, int(half[0]))
 
 
-def exit_index(path: DensePath, zone_m: float) -> int:
-    """Where a path starting at a corner leaves the zone, at most half-way along its motion."""
+def exit_index(path: DensePath, zone_m: float, head_chord_rad: float) -> int:
+    """Where a path starting at a corner leaves the zone, at most half-way along its first segment."""
     d = np.linalg.norm(path.tcp - path.tcp[0], axis=1)
     outside = np.nonzero(d >= zone_m)[0]
     i = int(outside[0]) if len(outside) else len(path) - 1
-    half = np.nonzero(path.s >= 0.5)[0]
-    return min(i, int(half[0]) if len(half) else len(path) - 1)
+    half = np.nonzero(_chord(path) <= 0.5 * head_chord_rad + 1e-12)[0]
+    return min(i, int(half[-1]))
 
 
 def blend(
@@ -45,6 +50,8 @@ def blend(
     zone_m: float,
     earliest: int,
     tool: np.ndarray | None,
+    tail_chord_rad: float,
+    head_chord_rad: float,
 ) -> DensePath | None:
     """`current` (ending at the corner) joined to `nxt` through a blend; None when the zone is already passed.
 
@@ -54,8 +61,8 @@ def blend(
     """
     if zone_m <= 0.0 or len(current) < 3 or len(nxt) < 3:
         return None
-    i_a = entry_index(current, zone_m)
-    i_b = exit_index(nxt, zone_m)
+    i_a = entry_index(current, zone_m, tail_chord_rad)
+    i_b = exit_index(nxt, zone_m, head_chord_rad)
     if i_a < earliest or i_a >= len(current) - 1 or i_b < 1:
         return None
     q_a, q_b = current.q[i_a], nxt.q[i_b]
@@ -71,10 +78,9 @@ def blend(
     qs = basis @ ctrl
     first = w[:, 0] < 0.5
     owner = np.where(first, current.owner[-1], nxt.owner[0])
-    s = np.where(
-        first,
-        current.s[i_a] + (1.0 - current.s[i_a]) * w[:, 0] / 0.5,
-        nxt.s[i_b] * (w[:, 0] - 0.5) / 0.5,
-    )
+    if current.owner[-1] == nxt.owner[0]:  # a via point inside one move: its s runs on through the blend
+        s = current.s[i_a] + (nxt.s[i_b] - current.s[i_a]) * w[:, 0]
+    else:
+        s = np.where(first, current.s[i_a] + (1.0 - current.s[i_a]) * w[:, 0] / 0.5, nxt.s[i_b] * (w[:, 0] - 0.5) / 0.5)
     curve = DensePath(qs, kin.tcp_positions(qs, tool), owner.astype(int), s)
     return current.cut(0, i_a).then(curve).then(nxt.cut(i_b))

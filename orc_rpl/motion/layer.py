@@ -210,7 +210,8 @@ class MotionLayer:
         current = DensePath(np.vstack([self._q_ref, dense.q[later]]), np.vstack([tcp_now, dense.tcp[later]]),
                             np.concatenate([owner_now.astype(int), dense.owner[later]]),
                             np.concatenate([s_now, dense.s[later]]))
-        joined = blend(self.kin, current, nxt.pieces_left[0], tail.zone_m, 1, tail.motion.tool)
+        joined = blend(self.kin, current, nxt.pieces_left[0], tail.zone_m, 1, tail.motion.tool,
+                       tail.plan.last_chord_rad, nxt.plan.first_chord_rad)
         if joined is None:
             return False
         handles = [h for h in self._in_traj if h.id in set(joined.owner.tolist())] + [nxt]

@@ -37,6 +37,8 @@ class Plan:
     tool: np.ndarray | None
     timed: Trajectory | None = None      #: a trajectory fixed in time (function of t), not re-timed
     saved_first: Trajectory | None = None  #: the first piece timed from rest (computation=save)
+    first_chord_rad: float = 0.0         #: joint chord of the first segment (a blend into it takes half at most)
+    last_chord_rad: float = 0.0          #: joint chord of the last segment (a blend out of it takes half at most)
     notes: list[str] = field(default_factory=list)
 
 
@@ -106,29 +108,33 @@ class Planner:
                 raise UsageError(f"joint target has {len(motion.target_rad)} values; the robot has {self.kin.n} joints")
             segs = joint_segments(self.kin, q_start, motion, owner)
             pieces = self._join(segs, params.zone_m, tool)
+            chords = [s.length_rad() for s in segs] or [0.0]
         elif isinstance(motion, CartesianMotion):
             dense = cartesian_path(self.kin, q_start, motion, owner)
             pieces = [] if dense is None else [dense]
+            chords = [dense.length_rad() if dense is not None else 0.0]
         elif isinstance(motion, FunctionMotion):
             if motion.variable == "t":
                 timed = self._function_of_time(motion, q_start, owner)
                 pieces = [timed.path.dense]
             else:
                 pieces = [function_path(self.kin, q_start, motion, owner)]
+            chords = [pieces[0].length_rad()]
         else:
             raise UsageError(f"move() takes a JointMotion, CartesianMotion or FunctionMotion, not {type(motion).__name__}")
         if not pieces:
             return None
         end_q = timed.q_f[-1] if timed is not None else pieces[-1].q[-1]
-        return Plan(owner, motion, params, pieces, limits, q_start, np.array(end_q), tool, timed)
+        return Plan(owner, motion, params, pieces, limits, q_start, np.array(end_q), tool, timed,
+                    first_chord_rad=chords[0], last_chord_rad=chords[-1])
 
     def _join(self, segs: list[DensePath], zone_m: float, tool: np.ndarray | None) -> list[DensePath]:
         """Blend a motion's own via points with its zone; with FINE they become separate pieces."""
         if not segs:
             return []
         pieces = [segs[0]]
-        for seg in segs[1:]:
-            joined = blend(self.kin, pieces[-1], seg, zone_m, 1, tool) if zone_m > 0 else None
+        for prev, seg in zip(segs, segs[1:]):
+            joined = blend(self.kin, pieces[-1], seg, zone_m, 1, tool, prev.length_rad(), seg.length_rad()) if zone_m > 0 else None
             if joined is None:
                 pieces.append(seg)
             else:
