@@ -1,0 +1,153 @@
+"""The run-time seam between the executive and the motion core: motion requests, tickets and the RobotInterface protocol."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+from orc_rpl.errors import OrcError
+from orc_rpl.world.pose import Joints, Pose
+
+class Fine:
+    """The zone value `FINE`: stop exactly at the target."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return "FINE"
+
+
+FINE = Fine()
+
+#: A parameter that may vary along the motion: a number, or a function of the path coordinate s in [0, 1].
+Varying = float | Callable[[float], float]
+
+
+@dataclass(frozen=True, slots=True)
+class MotionView:
+    """What an UNTIL condition or a function parameter sees in one motion cycle (read-only)."""
+
+    time_s: float          #: controller time
+    s: float               #: path coordinate of the move, 0..1
+
+
+@dataclass(frozen=True, slots=True)
+class MotionRequest:
+    """One motion as the application layer hands it to the robot: everything in world coordinates and SI units."""
+
+    keyword: str                                  #: MOVE, LMOVE, ... (for messages)
+    kind: str                                     #: "joint", "linear" or "circular"
+    target: Pose | Joints                         #: world pose of the TCP, or joint angles
+    via: tuple[Pose | Joints, ...] = ()           #: via points (CMOVE: the circle's auxiliary point)
+    tool: Pose = field(default_factory=lambda: Pose(0.0, 0.0, 0.0))  #: flange -> TCP
+    speed_m_s: Varying | None = None              #: TCP speed limit (None: the joints' limits only)
+    speed_fraction: Varying = 1.0                 #: fraction of the joint speed limits
+    accel_fraction: float = 1.0                   #: fraction of the joint acceleration limits
+    zone_m: float = 0.0                           #: blend radius, 0 = FINE
+    time_s: float | None = None                   #: requested duration
+    load_kg: float = 0.0                          #: payload
+    tuning: Any = None                            #: servo tuning (passed down)
+    until: Callable[[MotionView], bool] | None = None  #: stop on the path when it becomes true
+
+
+class MoveTicket(Protocol):
+    """The executive's handle on a submitted motion."""
+
+    @property
+    def done(self) -> bool: ...
+
+    @property
+    def outcome(self) -> str:
+        """"running", "reached", "stopped" (by UNTIL or a stop) or "fault"."""
+        ...
+
+    @property
+    def error(self) -> Exception | None: ...
+
+
+class IOBanks(Protocol):
+    """The cell's IO: banks named DigIn, DigOut, AnaIn, AnaOut, indexed from 1 (plant.io.CellIO)."""
+
+    def bank(self, name: str) -> Any: ...
+
+
+class RobotInterface(Protocol):
+    """What the executive needs from a robot: submit motions, advance time, read the TCP, the joints and the IO."""
+
+    dt_s: float                 #: one motion cycle
+    io: IOBanks
+
+    def time_s(self) -> float:
+        """The controller clock (simulated time on the virtual robot)."""
+        ...
+
+    def tick(self) -> None:
+        """Advance one motion cycle."""
+        ...
+
+    def submit(self, request: MotionRequest) -> MoveTicket:
+        """Plan and start (or queue, to blend) a motion; raises Unreachable/JointLimit/PlanningError when it cannot."""
+        ...
+
+    def pending(self) -> int:
+        """Motions not yet finished."""
+        ...
+
+    def stop(self) -> None:
+        """Stop every motion on its path (decelerating), cancelling queued ones."""
+        ...
+
+    def tcp_pose(self, tool: Pose | None) -> Pose:
+        """The measured TCP pose of `tool` (None: the flange), world frame."""
+        ...
+
+    def joints(self) -> tuple[float, ...]:
+        """Measured joint angles (rad)."""
+        ...
+
+    def torques(self) -> tuple[float, ...]:
+        """Joint torques (N m)."""
+        ...
+
+    def position_error_m(self) -> float:
+        """Distance between the commanded and the measured TCP position (m)."""
+        ...
+
+
+@dataclass(slots=True)
+class MotionCall:
+    """A motion statement evaluated by the executive, handed to the keyword's `execute` behaviour."""
+
+    keyword: str
+    target: Pose | Joints | None                  #: TO, in world coordinates (None for ALONG)
+    path: tuple[Pose | Joints, ...] | None        #: ALONG, in world coordinates
+    via: tuple[Pose | Joints, ...]                #: VIA points, in world coordinates
+    tool: Pose                                    #: flange -> TCP
+    attributes: dict[str, Any]                    #: WITH values by canonical name; FUNCs already made callables
+    until: Callable[[MotionView], bool] | None
+    speed_override: float = 1.0                   #: `--speed-override`, 0 < f <= 1
+
+
+class BehaviourError(OrcError):
+    """A behaviour refused its arguments; the executive reports the message at the statement."""
+
+
+@dataclass(slots=True)
+class InstallContext:
+    """What an INSTALL kind's factory gets: the object's name, its WITH attributes and the cell's IO."""
+
+    name: str
+    kind: str
+    attributes: dict[str, Any]                    #: canonical attribute names; IO channels as IOChannel values
+    read: Callable[[Any], Any]                    #: read an IO channel (digital: 0/1)
+    write: Callable[[Any, Any], None]             #: write an IO channel
+    robot: RobotInterface
+
+
+@dataclass(frozen=True, slots=True)
+class FunctionParam:
+    """An attribute given as a FUNC name: `fn(s)` gives the RPL value at path coordinate s in [0, 1]."""
+
+    name: str
+    fn: Callable[[float], Any]

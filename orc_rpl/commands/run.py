@@ -1,0 +1,135 @@
+"""`orc run FILE`: check a program, run it on the virtual robot, print its output, report a summary and recordings."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError
+
+#: The progress display is refreshed every this many motion cycles.
+PROGRESS_EVERY_TICKS = 125
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    parser = subparsers.add_parser(
+        "run", help="run a program on the virtual robot",
+        description="Check a program, then run it on the simulated cell. PRINT output goes to standard output, "
+                    "progress and a summary to standard error. Exit 0 when it ends, 1 on a run-time error, "
+                    "2 on usage, syntax or check errors.")
+    parser.add_argument("file", metavar="FILE", help="program file (.rpl)")
+    parser.add_argument("--world", metavar="DIR", help="folder with the program's simulated-IO script (<name>.sim.yaml)")
+    parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
+    parser.add_argument("--log", metavar="OUT.npz", help="write the recorded signals (q, q_ref, tau, tcp, s) as NPZ")
+    parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
+    parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints and error as JSON")
+    parser.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
+    parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
+                        help="scale every speed, e.g. 50%% (default 100%%)")
+    return parser
+
+
+def speed_override(text: str) -> float:
+    """`50%` or `0.5` -> 0.5; a UsageError naming the option otherwise."""
+    try:
+        value = float(text[:-1]) / 100.0 if text.endswith("%") else float(text)
+    except ValueError:
+        raise UsageError(f"--speed-override: expected a percentage such as 50%, got {text!r}") from None
+    if not (math.isfinite(value) and 0 < value <= 1):
+        raise UsageError(f"--speed-override must be above 0% and at most 100%, got {text!r}")
+    return value
+
+
+def check(program: Any, path: str, registry: Any) -> list[Diagnostic]:
+    """The static checks (the one place the run command calls the checker)."""
+    from orc_rpl.checking.checker import check_program
+
+    return check_program(program, path, registry)
+
+
+def _fail_usage(message: str) -> int:
+    sys.stderr.write(f"orc run: error: {message}\n")
+    return 2
+
+
+def run(args: argparse.Namespace) -> int:
+    from orc_rpl.application.standard_behaviour import runtime_registry
+    from orc_rpl.arm.robots import ROBOTS
+    from orc_rpl.syntax.files import parse_file
+
+    try:
+        override = speed_override(args.speed_override)
+        if args.robot not in ROBOTS:
+            raise UsageError(f"--robot: unknown robot {args.robot!r}; known robots: {', '.join(ROBOTS.names())}")
+        if args.world is not None and not Path(args.world).is_dir():
+            raise UsageError(f"--world: '{args.world}' is not a directory")
+        for option in ("log", "plot", "summary_json"):
+            target = getattr(args, option)
+            if target is not None and not Path(target).resolve().parent.is_dir():
+                raise UsageError(f"--{option.replace('_', '-')}: the folder of '{target}' does not exist")
+        source, program = parse_file(args.file)
+    except UsageError as error:
+        return _fail_usage(str(error))
+    except SourceError as error:
+        sys.stderr.write(error.format() + "\n")
+        return 2
+    registry = runtime_registry()
+    diagnostics = check(program, args.file, registry)
+    if diagnostics:
+        for diagnostic in diagnostics:
+            sys.stderr.write(diagnostic.format(source) + "\n")
+        sys.stderr.write(f"orc run: {len(diagnostics)} check error{'s' if len(diagnostics) != 1 else ''}; nothing moved\n")
+        return 2
+    try:
+        return _run(args, source, program, registry, override)
+    except UsageError as error:
+        return _fail_usage(str(error))
+    except OrcError as error:
+        sys.stderr.write(f"orc run: error: {error}\n")
+        return 1
+
+
+def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float) -> int:
+    from orc_rpl.executive.report import Progress, summary, write_summary_text
+    from orc_rpl.executive.cell_robot import CellRobot
+    from orc_rpl.executive.executive import Executive
+    from orc_rpl.executive.machine import Options
+    from orc_rpl.executive.sim_io import load_script, script_path
+
+    record = bool(args.log or args.plot)
+    robot = CellRobot.virtual(robot=args.robot, realtime=args.realtime, record=record)
+
+    def out(line: str) -> None:
+        sys.stdout.write(line + "\n")
+        sys.stdout.flush()
+
+    executive = Executive(program, robot, registry, path=args.file, source=source, output=out,
+                          options=Options(speed_override=override))
+    machine = executive.machine
+    io_script = script_path(args.file, args.world)
+    if io_script is not None:
+        load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool))
+    wall_start = time.perf_counter()
+    with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress:
+        machine.robot = progress.monitor(robot)
+        executive.run()
+    machine.robot = robot
+    wall_s = time.perf_counter() - wall_start
+    result = summary(executive, robot)
+    if executive.status == "failed":
+        sys.stderr.write(executive.report() + "\n")
+    write_summary_text(result, wall_s, sys.stderr)
+    if args.summary_json:
+        Path(args.summary_json).write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
+    if record and robot.layer.logger is not None:
+        recording = robot.layer.logger.recording()
+        if args.log:
+            recording.to_npz(args.log)
+        if args.plot:
+            recording.plot_png(args.plot)
+    return 1 if executive.status == "failed" else 0

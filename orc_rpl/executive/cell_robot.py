@@ -1,0 +1,162 @@
+"""The executive's robot on the motion layer: motion requests become MotionLayer.move calls on the virtual cell."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.application.runtime import MotionRequest, MotionView
+from orc_rpl.errors import OrcError, PlanningError
+from orc_rpl.motion import Actions, CartesianMotion, FuncParams, JointMotion, MotionData, MotionLayer, MoveStatus, Params
+from orc_rpl.plant.io import CellIO
+from orc_rpl.world.pose import Joints, Pose
+
+#: A VIA point of a straight-line motion is passed this close (a blended corner), unless the zone is larger.
+VIA_ZONE_M = 0.01
+
+
+class HandleTicket:
+    """A MoveHandle (or the handles of one statement's pieces) as the executive's MoveTicket."""
+
+    def __init__(self, handles: list[Any]) -> None:
+        self.handles = handles
+
+    @property
+    def done(self) -> bool:
+        return all(h.done for h in self.handles)
+
+    @property
+    def outcome(self) -> str:
+        if any(h.status is MoveStatus.FAULT for h in self.handles):
+            return "fault"
+        if any(h.status is MoveStatus.ACT_STOPPED for h in self.handles):
+            return "stopped"
+        return "reached" if self.done else "running"
+
+    @property
+    def error(self) -> Exception | None:
+        return next((h.error for h in self.handles if h.error is not None), None)
+
+
+class CellRobot:
+    """RobotInterface over a MotionLayer; IO from the simulated cell (or a plain CellIO with a kinematic backend)."""
+
+    def __init__(self, layer: MotionLayer, io: CellIO | None = None) -> None:
+        self.layer = layer
+        self.dt_s = layer.dt_s
+        loop = getattr(layer.backend, "loop", None)
+        self._own_io = io is None and loop is None
+        self.io = io if io is not None else loop.cell.io if loop is not None else CellIO()
+
+    @classmethod
+    def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False) -> CellRobot:
+        """The default simulated cell with `robot`, ready at its home position."""
+        from orc_rpl.motion import make_virtual_motion_layer
+
+        return cls(make_virtual_motion_layer(robot=robot, realtime=realtime, backend=backend, record=record))
+
+    # -- RobotInterface ------------------------------------------------------------------
+
+    def time_s(self) -> float:
+        return self.layer.now_s()
+
+    def tick(self) -> None:
+        self.layer.tick()
+        if self._own_io:
+            self.io.update(self.layer.now_s())
+
+    def pending(self) -> int:
+        return self.layer.pending()
+
+    def stop(self) -> None:
+        if not self.layer.idle():
+            self.layer.stop_move(by="program")
+
+    def tcp_pose(self, tool: Pose | None) -> Pose:
+        return Pose.from_matrix(self.layer.tcp_pose(_tool_matrix(tool)))
+
+    def joints(self) -> tuple[float, ...]:
+        return tuple(float(q) for q in self.layer.current_q())
+
+    def torques(self) -> tuple[float, ...]:
+        return tuple(float(t) for t in self.layer.backend.torque())
+
+    def position_error_m(self) -> float:
+        layer = self.layer
+        return float(np.linalg.norm(layer.fk(layer.reference_q())[:3, 3] - layer.fk(layer.current_q())[:3, 3]))
+
+    def submit(self, request: MotionRequest) -> HandleTicket:
+        """Plan and start the request's move(s); planning errors (Unreachable, JointLimit...) are raised here."""
+        tool = _tool_matrix(request.tool)
+        params = _params(request)
+        actions = _until_actions(request)
+        layer = self.layer
+        handles = []
+        if request.kind == "linear" and request.via:
+            corner = _params(request, zone_m=max(request.zone_m, VIA_ZONE_M))
+            for point in request.via:
+                handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, _until_actions(request)))
+            handles.append(layer.move(_motion(layer, request.target, "linear", None, tool), params, actions))
+        elif request.kind == "circular":
+            handles.append(layer.move(_motion(layer, request.target, "circular", request.via[0], tool), params, actions))
+        else:
+            handles.append(layer.move(_joint_motion(layer, request, tool), params, actions))
+        for h in handles:
+            if h.status is MoveStatus.FAULT and h.error is not None:
+                raise h.error
+            if h.status is MoveStatus.ILLEGAL:
+                raise PlanningError(f"the motion layer refused the move (mode {layer.get_mode().value})")
+        return HandleTicket(handles)
+
+
+def _tool_matrix(tool: Pose | None) -> np.ndarray | None:
+    if tool is None or (tool.x, tool.y, tool.z, tool.a, tool.b, tool.c) == (0.0, 0.0, 0.0, 0.0, 0.0, 0.0):
+        return None
+    return tool.matrix()
+
+
+def _params(request: MotionRequest, zone_m: float | None = None) -> Params:
+    varying = callable(request.speed_m_s) or callable(request.speed_fraction)
+    kind = FuncParams if varying else Params
+    try:
+        return kind(speed_m_s=request.speed_m_s, speed_fraction=request.speed_fraction,
+                    accel_fraction=request.accel_fraction, zone_m=request.zone_m if zone_m is None else zone_m,
+                    time_s=request.time_s, load_kg=request.load_kg,
+                    tuning=None if request.tuning is None else str(request.tuning))
+    except OrcError as error:
+        raise PlanningError(f"{request.keyword}: {error}") from None
+
+
+def _until_actions(request: MotionRequest) -> Actions | None:
+    """UNTIL as a during-action: the compiled condition is called every motion cycle."""
+    until = request.until
+    if until is None:
+        return None
+    from orc_rpl.motion import until as until_action
+
+    def condition(data: MotionData) -> bool:
+        return bool(until(MotionView(data.time_s, data.s)))
+    return until_action(condition, name="until")
+
+
+def _motion(layer: MotionLayer, point: Pose | Joints, kind: str, via: Pose | Joints | None, tool: np.ndarray | None) -> Any:
+    if type(point) is Joints:
+        point = Pose.from_matrix(layer.fk(np.array(point.values), tool))
+    if via is not None and type(via) is Joints:
+        via = Pose.from_matrix(layer.fk(np.array(via.values), tool))
+    return CartesianMotion(target=point, kind=kind, via=via, tool=tool)  # type: ignore[arg-type]
+
+
+def _joint_motion(layer: MotionLayer, request: MotionRequest, tool: np.ndarray | None) -> Any:
+    """MOVE: to a pose (inverse kinematics near the start) or to joints, through its VIA points."""
+    if type(request.target) is Pose and not request.via:
+        return CartesianMotion(target=request.target, kind="joint", tool=tool)
+    seed = layer._tail_q()  # where the robot will be when the queued moves are done
+    via_rad = []
+    for point in request.via:
+        seed = np.array(point.values) if type(point) is Joints else layer.ik(point.matrix(), seed, tool)
+        via_rad.append(tuple(seed))
+    target = request.target
+    q = np.array(target.values) if type(target) is Joints else layer.ik(target.matrix(), seed, tool)
+    return JointMotion(target_rad=tuple(q), via_rad=tuple(via_rad), tool=tool)

@@ -1,0 +1,137 @@
+"""Motion statements compiled: evaluate and frame-check targets, resolve attributes, hand over to the keyword's behaviour."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from typing import Any
+
+from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, MotionView
+from orc_rpl.executive.blocks import Locals
+from orc_rpl.executive.machine import TICK, Machine, Outstanding
+from orc_rpl.executive.scope import ProgramScopes, Scope
+from orc_rpl.executive.signals import RunError
+from orc_rpl.executive.values import Installed, Routine, type_name
+from orc_rpl.syntax import nodes as n
+from orc_rpl.world.pose import Joints, Pose
+
+
+class MotionCompiler:
+    """Turns a motion statement into a generator that submits it and waits as its zone requires."""
+
+    def __init__(self, machine: Machine, scopes: ProgramScopes, exprs: Any) -> None:
+        self.m, self.scopes, self.exprs = machine, scopes, exprs
+
+    def compile(self, stmt: n.Motion, scope: Scope) -> Callable[[Locals], Iterator[object]]:
+        m, keyword, frame = self.m, stmt.keyword, scope.frame
+        compile_ = self.exprs.compile
+        tool = compile_(stmt.tool, scope)
+        target = compile_(stmt.target, scope) if stmt.target is not None else None
+        path = compile_(stmt.path, scope) if stmt.path is not None else None
+        vias = [compile_(p, scope) for c in stmt.clauses if isinstance(c, n.Via) for p in c.points]
+        withs = [(c.name.id, compile_(c.value, scope)) for c in stmt.clauses if isinstance(c, n.With)]
+        # UNTIL conditions are compiled now, once: the motion cycle calls a closure, never the tree
+        untils = [self.exprs.condition(c.condition, scope.for_motion()) for c in stmt.clauses if isinstance(c, n.Until)]
+        span = stmt.span
+
+        def position(value: Any, role: str) -> Pose | Joints:
+            if type(value) is Pose:
+                if value.frame != frame:
+                    where = f"inside FRAME {frame}" if frame != "world" else "outside every FRAME block (relative to world)"
+                    raise RunError(f"{keyword}: the {role} is relative to {value.frame}, but this motion is {where}; "
+                                   "nothing moved")
+                return m.to_world(value)
+            if type(value) is Joints:
+                return value
+            if type(value) is Routine:
+                raise RunError(f"{keyword}: a position given as a function ({value.name}) is not supported yet")
+            raise RunError(f"{keyword}: the {role} must be a position (a pose or JOINTS), got {type_name(value)}")
+
+        def motion(L: Locals) -> Iterator[object]:
+            spec = m.registry.motions.get(keyword)
+            if spec is None:
+                raise RunError(f"unknown motion keyword '{keyword}'")
+            if spec.execute is None:
+                raise RunError(f"{keyword} is not implemented yet (feature '{spec.origin}'); nothing moved")
+            tool_pose = resolve_tool(tool(L))
+            goal = position(target(L), "target") if target is not None else None
+            along = None
+            if path is not None:
+                points = path(L)
+                if type(points) is not tuple or not points:
+                    raise RunError(f"{keyword}: ALONG needs a non-empty PATH, got {type_name(points)}")
+                along = tuple(position(p, "path point") for p in points)
+            via = tuple(position(f(L), "via point") for f in vias)
+            attributes = self.attributes(spec, withs, L, span)
+            until = None
+            if untils:
+                conditions = untils
+
+                def until(view: MotionView) -> bool:
+                    return any(c(L) for c in conditions)
+            call = MotionCall(keyword, goal, along, via, tool_pose, attributes, until, m.options.speed_override)
+            try:
+                requests = spec.execute(call)
+            except BehaviourError as error:
+                raise RunError(f"{keyword}: {error}") from None
+            if not isinstance(requests, (list, tuple)):
+                requests = [requests]
+            robot = m.robot
+            while robot.pending() > 1:  # look ahead by one motion: enough to blend, never more
+                robot.tick()
+                yield TICK
+            m.check_outstanding()
+            tickets = [robot.submit(r) for r in requests]
+            m.motions += 1
+            m.last_tool = tool_pose
+            if until is None and requests[-1].zone_m > 0:
+                m.outstanding.append(Outstanding(tickets[-1], span, m.stack_entries()))
+                return  # blended: the next statement runs while this motion goes on
+            while not all(t.done for t in tickets):
+                robot.tick()
+                yield TICK
+            for t in tickets:
+                if t.outcome == "fault":
+                    raise t.error if t.error is not None else RunError(f"{keyword} failed")
+            if until is not None and not any(t.outcome == "stopped" for t in tickets):
+                raise RunError(f"NotFound: {keyword} reached its target before the UNTIL condition became true",
+                               name="NotFound")
+        return motion
+
+    def attributes(self, spec: Any, withs: list[tuple[str, Any]], L: Locals, span: n.Span) -> dict[str, Any]:
+        """WITH values by canonical attribute name; a FUNC name becomes a function of the path coordinate."""
+        m = self.m
+        values: dict[str, Any] = {}
+        for name, fn in withs:
+            attribute = spec.attribute(name)
+            if attribute is None:
+                if spec.output_functions:
+                    values[name] = fn  # an output binding, evaluated by the feature during the motion
+                    continue
+                raise RunError(f"{spec.keyword} does not accept attribute '{name}'")
+            value = fn(L)
+            if type(value) is Routine:
+                if value.kind != "FUNC" or not attribute.function_ok:
+                    raise RunError(f"attribute {attribute.name} cannot be {value.kind} {value.name}")
+                if len(value.params) != 1:
+                    raise RunError(f"FUNC {value.name} given as {attribute.name} must take one parameter (s, 0..1)")
+                value = FunctionParam(value.name, _function_of_s(m, value.name, span))
+            values[attribute.name] = value
+        return values
+
+
+def _function_of_s(m: Machine, name: str, span: n.Span) -> Callable[[float], Any]:
+    """A FUNC of s, compiled already, as a Python callable for the motion cycle."""
+    def at(s: float) -> Any:
+        return m.call_now(m.routines[name], [float(s)], span)
+    return at
+
+
+def resolve_tool(value: Any) -> Pose:
+    """The TCP of a tool name: a TOOL pose, ARM (the flange) or equipment installed on a tool."""
+    if type(value) is Pose:
+        return value
+    if type(value) is Installed:
+        if value.tool is None:
+            raise RunError(f"{value.name} is installed but not mounted as a TOOL; declare TOOL {value.name} = POSE(...) first")
+        return value.tool
+    raise RunError(f"the tool must be a TOOL, ARM or installed equipment, got {type_name(value)}")

@@ -1,0 +1,101 @@
+"""What a run reports: the JSON summary, the summary on standard error, and a rich progress display."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, TextIO
+
+from orc_rpl.executive.executive import Executive
+
+
+def summary(executive: Executive, robot: Any) -> dict[str, Any]:
+    """Status, cycle time, motions, prints, final TCP pose and the error (with its place and call stack)."""
+    tcp = robot.tcp_pose(executive.machine.last_tool)
+    result: dict[str, Any] = {
+        "status": executive.status,
+        "cycle_time_s": round(robot.time_s(), 9),
+        "motions": executive.motions,
+        "prints": list(executive.prints),
+        "final_tcp": {"x_m": tcp.x, "y_m": tcp.y, "z_m": tcp.z, "a_rad": tcp.a, "b_rad": tcp.b, "c_rad": tcp.c},
+        "error": None,
+    }
+    error = executive.error
+    if error is not None:
+        span = error.span
+        result["error"] = {
+            "line": span.line if span else 0,
+            "column": span.column if span else 0,
+            "message": error.message,
+            "exception": error.name,
+            "call_stack": [{"routine": e.routine, "line": e.line, "column": e.column} for e in error.stack],
+        }
+    return result
+
+
+def write_summary_text(result: dict[str, Any], wall_s: float, stream: TextIO) -> None:
+    """The human summary on standard error."""
+    tcp = result["final_tcp"]
+    cycle = result["cycle_time_s"]
+    ratio = f", {cycle / wall_s:.0f}x real time" if wall_s > 0 and cycle > 0 else ""
+    pose = (f"({1000 * tcp['x_m']:.1f}, {1000 * tcp['y_m']:.1f}, {1000 * tcp['z_m']:.1f}) mm, "
+            f"({math.degrees(tcp['a_rad']):.1f}, {math.degrees(tcp['b_rad']):.1f}, {math.degrees(tcp['c_rad']):.1f}) deg")
+    stream.write(f"status: {result['status']}\n"
+                 f"cycle time: {cycle:.3f} s (simulated; {wall_s:.2f} s wall{ratio})\n"
+                 f"motions: {result['motions']}\n"
+                 f"final TCP: {pose}\n")
+
+
+class MonitoredRobot:
+    """A robot whose ticks also refresh the progress display (every `every` motion cycles)."""
+
+    def __init__(self, robot: Any, every: int, refresh: Any) -> None:
+        self._robot, self._every, self._refresh, self._count = robot, every, refresh, 0
+        self.dt_s, self.io = robot.dt_s, robot.io
+
+    def tick(self) -> None:
+        self._robot.tick()
+        self._count += 1
+        if self._count % self._every == 0:
+            self._refresh()
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._robot, name)
+
+
+class Progress:
+    """A one-line rich display on a terminal (time, motions, line); nothing when standard error is not a terminal."""
+
+    def __init__(self, executive: Executive, stream: TextIO, every_ticks: int) -> None:
+        self.executive, self.stream, self.every = executive, stream, every_ticks
+        self._live: Any = None
+        self._robot: Any = None
+
+    def __enter__(self) -> Progress:
+        if self.stream.isatty():
+            from rich.console import Console
+            from rich.live import Live
+
+            self._live = Live(self._text(), console=Console(file=self.stream), transient=True, refresh_per_second=8)
+            self._live.__enter__()
+        return self
+
+    def monitor(self, robot: Any) -> Any:
+        self._robot = robot
+        return MonitoredRobot(robot, self.every, self.refresh) if self._live is not None else robot
+
+    def refresh(self) -> None:
+        if self._live is not None:
+            self._live.update(self._text())
+
+    def _text(self) -> Any:
+        from rich.text import Text
+
+        m = self.executive.machine
+        robot = self._robot or m.robot
+        stack = m.stack_entries()
+        where = f"in {stack[-1].routine}" if len(stack) > 1 else ""
+        return Text(f"running {self.executive.path}: t = {robot.time_s():7.2f} s, {m.motions} motions {where}", style="cyan")
+
+    def __exit__(self, *exc: Any) -> None:
+        if self._live is not None:
+            self._live.__exit__(*exc)

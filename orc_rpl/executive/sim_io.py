@@ -1,0 +1,161 @@
+"""Scripted IO of the simulated cell: a program's `<name>.sim.yaml` makes inputs change at times or on conditions."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from orc_rpl.errors import SourceError, UsageError
+from orc_rpl.executive import operators as ops
+from orc_rpl.executive.machine import CELL_BANKS
+from orc_rpl.executive.signals import RunError
+from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.parser import parse_statement
+from orc_rpl.syntax.units import LENGTH, TIME, Quantity, parse_literal
+from orc_rpl.world.pose import Pose
+
+_KEYS = {"at", "when", "after", "set", "value", "repeat"}
+
+
+@dataclass(slots=True)
+class IOEvent:
+    """Set `channel` to `value` at time `at_s`, or `after_s` after `when` became true."""
+
+    bank: str                                   #: the cell's bank name (DigIn, AnaIn...)
+    number: int
+    value: float
+    at_s: float | None = None
+    when: Callable[[], bool] | None = None
+    after_s: float = 0.0
+    repeat: bool = False
+    due_s: float | None = None                  #: when the pending set happens
+    armed: bool = True
+
+
+class IOScript:
+    """The events of one script, run as a process model of the cell (`CellIO.add_process`)."""
+
+    def __init__(self, events: list[IOEvent]) -> None:
+        self.events = events
+
+    def __call__(self, io: Any, time_s: float) -> None:
+        for event in self.events:
+            if event.armed:
+                if event.at_s is not None:
+                    if time_s >= event.at_s - 1e-9:
+                        event.due_s, event.armed = time_s, False
+                elif event.when is not None and event.when():
+                    event.due_s, event.armed = time_s + event.after_s, False
+            elif event.repeat and event.due_s is None and event.when is not None and not event.when():
+                event.armed = True
+            if event.due_s is not None and time_s >= event.due_s - 1e-9:
+                bank = io.bank(event.bank)
+                bank[event.number] = bool(event.value) if event.bank.startswith("Dig") else float(event.value)
+                event.due_s = None
+
+
+def script_path(program: str | Path, world_dir: str | Path | None = None) -> Path | None:
+    """The IO script of a program: `<stem>.sim.yaml` in `world_dir` if given, else beside the program."""
+    program = Path(program)
+    name = program.with_suffix(".sim.yaml").name
+    for folder in ([Path(world_dir)] if world_dir is not None else []) + [program.parent]:
+        candidate = folder / name
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose]) -> IOScript:
+    """Read a script and install it on the cell's IO; a mistake is a UsageError naming the file and the event."""
+    import yaml
+
+    try:
+        data = yaml.safe_load(Path(path).read_text(encoding="utf-8")) or {}
+    except (OSError, yaml.YAMLError) as error:
+        raise UsageError(f"cannot read the IO script '{path}': {error}") from None
+    entries = data.get("events") if isinstance(data, dict) else None
+    if not isinstance(entries, list):
+        raise UsageError(f"IO script '{path}': expected a list under 'events:'")
+    events = []
+    for i, entry in enumerate(entries, 1):
+        try:
+            events.append(_event(entry, io, tcp))
+        except (UsageError, RunError, SourceError, ValueError, KeyError) as error:
+            raise UsageError(f"IO script '{path}', event {i}: {error}") from None
+    script = IOScript(events)
+    io.add_process(script)
+    return script
+
+
+def _event(entry: Any, io: Any, tcp: Callable[[], Pose]) -> IOEvent:
+    if not isinstance(entry, dict) or not set(entry) <= _KEYS or "set" not in entry:
+        raise UsageError(f"an event has 'set' and some of {', '.join(sorted(_KEYS - {'set'}))}; got {entry!r}")
+    if ("at" in entry) == ("when" in entry):
+        raise UsageError("an event has either 'at' (a time) or 'when' (a condition)")
+    target = _expression(str(entry["set"]))
+    if not (isinstance(target, n.Index) and isinstance(target.value, n.Name) and target.value.id in CELL_BANKS):
+        raise UsageError(f"'set' names a channel such as DigIn[2], not {entry['set']!r}")
+    number = int(parse_literal(_number_text(target.index)))
+    bank = CELL_BANKS[target.value.id]
+    io.bank(bank)[number]  # the channel must exist
+    event = IOEvent(bank, number, float(entry.get("value", 1)), repeat=bool(entry.get("repeat", False)))
+    if "at" in entry:
+        event.at_s = _seconds(entry["at"])
+    else:
+        event.when = _condition(_expression(str(entry["when"])), io, tcp)
+        event.after_s = _seconds(entry.get("after", "0s"))
+    return event
+
+
+def _number_text(expr: n.Expression) -> str:
+    if not isinstance(expr, n.Number):
+        raise UsageError("a channel number must be a whole number")
+    return expr.text
+
+
+def _seconds(text: Any) -> float:
+    value = parse_literal(str(text).replace(" ", ""))
+    if type(value) is Quantity and value.dim == TIME:
+        return value.value
+    raise UsageError(f"expected a time such as 1.5s, got {text!r}")
+
+
+def _expression(text: str) -> n.Expression:
+    stmt = parse_statement(f"WAIT UNTIL {text}", "<io script>")
+    assert isinstance(stmt, n.WaitUntil)
+    return stmt.condition
+
+
+def _condition(expr: n.Expression, io: Any, tcp: Callable[[], Pose]) -> Callable[[], bool]:
+    f = _compile(expr, io, tcp)
+    return lambda: ops.truth(f())
+
+
+def _compile(expr: n.Expression, io: Any, tcp: Callable[[], Pose]) -> Callable[[], Any]:
+    """A small expression language over the cell: IO channels, TCP.x/y/z, numbers with units, comparisons, AND/OR/NOT."""
+    if isinstance(expr, n.Number):
+        value = parse_literal(expr.text)
+        return lambda: value
+    if isinstance(expr, n.Boolean):
+        return lambda: expr.value
+    if isinstance(expr, n.Index) and isinstance(expr.value, n.Name) and expr.value.id in CELL_BANKS:
+        bank, number = io.bank(CELL_BANKS[expr.value.id]), int(parse_literal(_number_text(expr.index)))
+        digital = expr.value.id.startswith("Dig")
+        return lambda: int(bank[number]) if digital else float(bank[number])
+    if isinstance(expr, n.Field) and isinstance(expr.value, n.Name) and expr.value.id == "TCP" and expr.name.id in "xyz":
+        axis = expr.name.id
+        return lambda: Quantity(getattr(tcp(), axis), LENGTH)
+    if isinstance(expr, n.Unary):
+        operand = _compile(expr.operand, io, tcp)
+        return (lambda: not ops.truth(operand())) if expr.op == "NOT" else (lambda: ops.negate(operand()))
+    if isinstance(expr, n.Binary):
+        left, right = _compile(expr.left, io, tcp), _compile(expr.right, io, tcp)
+        if expr.op == "AND":
+            return lambda: ops.truth(left()) and ops.truth(right())
+        if expr.op == "OR":
+            return lambda: ops.truth(left()) or ops.truth(right())
+        fn = ops.BINARY[expr.op]
+        return lambda: fn(left(), right())
+    raise UsageError("a condition may use DigIn/DigOut/AnalogIn/AnalogOut[n], TCP.x/y/z, numbers, comparisons, AND, OR, NOT")
