@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
 
-from orc_rpl.errors import PlanningError, UsageError
+from orc_rpl.errors import JointLimit, PlanningError, Unreachable, UsageError
 from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.specs import CartesianMotion, FunctionMotion, JointMotion
 
@@ -137,7 +137,6 @@ def cartesian_path(kin: Kinematics, q_start: np.ndarray, motion: CartesianMotion
         q1 = kin.ik(t1, q_start, motion.tool, what="joint motion target")
         segs = joint_segments(kin, q_start, JointMotion(tuple(q1), tool=motion.tool), owner)
         return segs[0] if segs else None
-    kin.ik(t1, q_start, motion.tool, what=f"{what} target")  # fail early and clearly on the target itself
     if np.linalg.norm(t1[:3, 3] - t0[:3, 3]) < 1e-7 and _rotation_angle(t0, t1) < 1e-7:
         return None
     if motion.kind == "linear":
@@ -145,7 +144,11 @@ def cartesian_path(kin: Kinematics, q_start: np.ndarray, motion: CartesianMotion
     else:
         assert motion.via is not None
         poses = circle_poses(t0, motion.via.matrix(), t1)
-    qs = kin.ik_along(poses, q_start, motion.tool, what)
+    try:
+        qs = kin.ik_along(poses, q_start, motion.tool, what)
+    except (Unreachable, JointLimit):
+        kin.ik(t1, q_start, motion.tool, what=f"{what} target")  # a bad target itself is the clearer message
+        raise
     return DensePath(qs, poses[:, :3, 3].copy(), np.full(len(qs), owner, dtype=int), np.linspace(0.0, 1.0, len(qs)))
 
 
