@@ -26,6 +26,7 @@ class Checker:
         self.diagnostics: list[Diagnostic] = []
         self.types = ExpressionTyper(registry, self.report)
         self.installs: dict[str, str] = {}          #: installed name -> kind
+        self._handlers: dict[type, object] = {}
 
     # ---- reporting
     def report(self, node: n.Node, message: str, hint: str = "") -> None:
@@ -92,9 +93,11 @@ class Checker:
             self.check_statement(stmt, scope, frame)
 
     def check_statement(self, stmt: n.Statement, scope: Scope, frame: str) -> None:
-        handler = getattr(self, "_" + type(stmt).__name__, None)
-        if handler is not None:
-            handler(stmt, scope, frame)
+        kind = type(stmt)
+        handler = self._handlers.get(kind)
+        if handler is None:
+            handler = self._handlers[kind] = getattr(self, "_" + kind.__name__, _skip)
+        handler(stmt, scope, frame)
 
     def infer(self, expr: n.Expression, scope: Scope, frame: str) -> StaticType:
         return self.types.infer(expr, scope, frame)
@@ -337,6 +340,10 @@ class Checker:
             local.symbols[param.id] = Symbol(param.id, "param", ANY, param)
         self.collect(stmt.body, local, top_level=False)
         self.check_body(stmt.body, local, WORLD)
+
+
+def _skip(stmt: n.Statement, scope: Scope, frame: str) -> None:
+    """Statements with nothing to check (comments, blank lines, STOP)."""
 
 
 def _describe(expr: n.Expression) -> str:

@@ -25,6 +25,12 @@ def literal_dim(text: str) -> Dimension:
     return dim_of(parse_literal(text))
 
 
+@lru_cache(maxsize=4096)
+def literal_type(text: str) -> StaticType:
+    """The static type of a number literal."""
+    return number(literal_dim(text))
+
+
 def accepts(types: tuple[object, ...], actual: StaticType) -> bool:
     """Whether a value of static type `actual` fits one of the declared `types`."""
     if actual.kind == "any" or "any" in types:
@@ -55,14 +61,16 @@ class ExpressionTyper:
     def __init__(self, registry: Registry, report: Report) -> None:
         self.registry = registry
         self.report = report
+        # One dispatch table instead of a getattr per node: the checker runs on every keystroke of the pendant.
+        self._dispatch = {cls: getattr(self, "_" + cls.__name__) for cls in (
+            n.Number, n.String, n.Boolean, n.Name, n.ListExpr, n.Field, n.Index, n.Call, n.Unary, n.Binary)}
 
     def infer(self, expr: n.Expression, scope: Scope, frame: str = WORLD) -> StaticType:
         """The static type of `expr` in `scope`, inside the lexical FRAME `frame`."""
-        method = getattr(self, "_" + type(expr).__name__)
-        return method(expr, scope, frame)
+        return self._dispatch[type(expr)](expr, scope, frame)
 
     def _Number(self, expr: n.Number, scope: Scope, frame: str) -> StaticType:
-        return number(literal_dim(expr.text))
+        return literal_type(expr.text)
 
     def _String(self, expr: n.String, scope: Scope, frame: str) -> StaticType:
         return STRING

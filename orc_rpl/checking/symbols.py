@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Iterator
 
 from orc_rpl.syntax import nodes as n
@@ -35,6 +36,7 @@ BOOL = StaticType("bool")
 STRING = StaticType("string")
 
 
+@lru_cache(maxsize=None)
 def number(dim: Dimension) -> StaticType:
     """A number or quantity of dimension `dim`."""
     return StaticType("number", dim)

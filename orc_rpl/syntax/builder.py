@@ -23,7 +23,7 @@ class BuildError(Exception):
 
 def token_span(token: Token) -> n.Span:
     """The span of one token."""
-    return n.Span(token.line or 0, token.column or 0, token.end_line or 0, token.end_column or 0)
+    return n.Span(token.line, token.column, token.end_line, token.end_column)
 
 
 def _start(child: Any) -> n.Span | None:
@@ -161,6 +161,10 @@ def _binary_chain(children: list[Any], op: str | None = None) -> n.Expression:
         right_expr = expr(children[i + 1])
         result = n.Binary(str(children[i]), result, right_expr, span=_join(result.span, right_expr.span))
     return result
+
+
+def _positional(value: n.Expression) -> n.Argument:
+    return n.Argument(None, value, span=value.span)
 
 
 def _join(a: n.Span, b: n.Span) -> n.Span:
@@ -379,7 +383,7 @@ class TreeBuilder(Transformer):
         return n.Call(expr(c[0]), arguments, span=meta_span(c))
 
     def args(self, c: list[Any]) -> tuple[n.Argument, ...]:
-        return tuple(a if isinstance(a, n.Argument) else n.Argument(None, expr(a), span=expr(a).span) for a in c)
+        return tuple(a if isinstance(a, n.Argument) else _positional(expr(a)) for a in c)
 
     def keyword_arg(self, c: list[Any]) -> n.Argument:
         return n.Argument(name(c[0]), expr(c[1]), span=meta_span(c))
