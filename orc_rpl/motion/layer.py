@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.errors import PlanningError, UsageError
+from orc_rpl.errors import OrcError, PlanningError, UsageError
 from orc_rpl.motion import services
 from orc_rpl.motion.actions import Actions, MotionData, MoveSignal
 from orc_rpl.motion.backend import Backend
@@ -150,7 +150,11 @@ class MotionLayer:
             if self._settling is not None:
                 return
             if self._traj is None:
-                self._start_from_rest(self._queue.popleft())
+                h = self._queue.popleft()
+                try:
+                    self._start_from_rest(h)
+                except OrcError as exc:  # a replan from where the robot really is failed: fault, not a crash
+                    self._fault(h, exc)
             elif not self._try_blend(self._queue[0]):
                 return
             else:
@@ -303,7 +307,19 @@ class MotionLayer:
 
     def _start_from_rest_piece(self, h: MoveHandle) -> None:
         piece = h.pieces_left.pop(0)
-        self._set_traj(self.planner.time(piece, h.plan.limits), [h])
+        try:
+            self._set_traj(self.planner.time(piece, h.plan.limits), [h])
+        except OrcError as exc:
+            self._fault(h, exc)
+
+    def _fault(self, h: MoveHandle, exc: OrcError) -> None:
+        """A move that cannot go on: status fault with the error; the moves queued after it are cancelled."""
+        h.error = exc
+        self._finish(h, MoveStatus.FAULT)
+        for later in self._queue:
+            later.stopped_by, later.stopped_s = "cancelled", 0.0
+            self._finish(later, MoveStatus.ACT_STOPPED)
+        self._queue.clear()
 
     def _check_settled(self) -> None:
         h, since = self._settling  # type: ignore[misc]

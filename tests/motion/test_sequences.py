@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from orc_rpl.errors import PlanningError
 from orc_rpl.motion import CartesianMotion, FunctionMotion, JointMotion, MotionLayer, MoveStatus, Params
 
 from .motion_helpers import pose_here
@@ -75,3 +76,20 @@ def test_reset_ref_takes_the_measured_position(servo: MotionLayer) -> None:
     h = servo.move(JointMotion(tuple(servo.current_q() + 0.1)))
     servo.wait(h)
     assert h.status is MoveStatus.READY
+
+
+
+def test_a_timing_failure_at_the_start_of_a_queued_move_is_a_fault_not_a_crash(kinematic: MotionLayer) -> None:
+    start = kinematic.current_q()
+    h1 = kinematic.move(JointMotion(tuple(start + 0.4)))
+    h2 = kinematic.move(JointMotion(tuple(start)))
+    h3 = kinematic.move(JointMotion(tuple(start + 0.1)))
+
+    def fail(*args: object, **kwargs: object) -> None:
+        raise PlanningError("no profile (test)")
+
+    kinematic.planner.time = fail  # type: ignore[method-assign]
+    kinematic.run_until_idle()
+    assert h1.status is MoveStatus.READY
+    assert h2.status is MoveStatus.FAULT and isinstance(h2.error, PlanningError)
+    assert h3.status is MoveStatus.ACT_STOPPED and h3.stopped_by == "cancelled"
