@@ -69,11 +69,12 @@ def script_path(program: str | Path, world_dir: str | Path | None = None) -> Pat
 
 def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose]) -> IOScript:
     """Read a script and install it on the cell's IO; a mistake is a UsageError naming the file and the event."""
-    import yaml
+    from ruamel.yaml import YAML
+    from ruamel.yaml.error import YAMLError
 
     try:
-        data = yaml.safe_load(Path(path).read_text(encoding="utf-8")) or {}
-    except (OSError, yaml.YAMLError) as error:
+        data = YAML(typ="safe", pure=True).load(Path(path).read_text(encoding="utf-8")) or {}
+    except (OSError, YAMLError) as error:
         raise UsageError(f"cannot read the IO script '{path}': {error}") from None
     entries = data.get("events") if isinstance(data, dict) else None
     if not isinstance(entries, list):
