@@ -410,6 +410,12 @@ class MotionLayer:
     def get_mode(self) -> Mode:
         return self.mode
 
+    def set_speed_cap(self, tcp_speed_m_s: float | None) -> None:
+        """Cap the TCP speed of every move planned from now on (manual mode: 0.25); None removes the cap."""
+        if tcp_speed_m_s is not None and not tcp_speed_m_s > 0:
+            raise UsageError(f"the TCP speed cap must be positive, got {tcp_speed_m_s}")
+        self.planner.tcp_speed_cap_m_s = tcp_speed_m_s
+
     def reset_ref(self) -> np.ndarray:
         """Take the measured position as the reference (after contact in a search); running moves are cancelled."""
         for h in [*self._in_traj, *self._queue]:

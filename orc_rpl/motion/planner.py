@@ -51,6 +51,8 @@ class Planner:
         self.dt_s = dt_s
         self.sub = sub
         self._saved: dict[int, Plan] = {}
+        #: TCP speed every move keeps (manual mode: 0.25 m/s); None: no cap
+        self.tcp_speed_cap_m_s: float | None = None
 
     # -- limits -----------------------------------------------------------------
 
@@ -71,9 +73,18 @@ class Planner:
 
         speed = params.speed_m_s
         frac = params.speed_fraction
+        cap = self.tcp_speed_cap_m_s
         tcp = None
-        if speed is not None:
-            tcp = lambda owner, s: np.array([params.speed_m_s_at(float(v)) * params.speed_fraction_at(float(v)) for v in s])  # noqa: E731
+        if speed is not None or cap is not None:
+
+            def tcp(owner: np.ndarray, s: np.ndarray) -> np.ndarray:
+                out = []
+                for v in s:
+                    asked = params.speed_m_s_at(float(v))
+                    limit = min(math.inf if asked is None else asked, math.inf if cap is None else cap)
+                    out.append(limit * params.speed_fraction_at(float(v)))
+                return np.array(out)
+
         frac_fn = None if not callable(frac) and frac == 1.0 else (lambda owner, s: np.array([params.speed_fraction_at(float(v)) for v in s]))
         return TimingLimits(
             qd_max=arm.qd_max * share,

@@ -126,3 +126,11 @@ def test_simulate_predicts_without_moving(kinematic: MotionLayer) -> None:
     kinematic.run_until_idle()
     assert sim.duration_s == pytest.approx(kinematic.now_s(), abs=1e-9)
     assert np.allclose(sim.q[-1], kinematic.current_q(), atol=1e-9)
+
+
+def test_speed_cap_limits_joint_moves_at_the_tcp(kinematic: MotionLayer) -> None:
+    kinematic.set_speed_cap(0.25)
+    traj = _planned(kinematic, JointMotion(tuple(kinematic.current_q() + np.array([0.8, 0.3, -0.2, 0.5, -0.3, 1.0]))), Params())
+    tcp = np.array([kinematic.fk(q)[:3, 3] for q in traj.q])
+    v = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / traj.dt_s
+    assert v.max() <= 0.25 * 1.02, f"manual-mode cap exceeded: {v.max():.3f} m/s"
