@@ -55,6 +55,7 @@ class MotionLayer:
         self._continuous: list[tuple[Actions, MoveHandle]] = []
         self._next_id = 1
         self._stop_by = "stop_move"
+        self._control_load_kg = 0.0
         self._wall_start: float | None = None
         self.cycles = 0
 
@@ -335,6 +336,10 @@ class MotionLayer:
     def _start(self, h: MoveHandle) -> None:
         h.started, h.start_time_s = True, self.now_s()
         self._active = h
+        set_payload = getattr(self.backend, "set_control_payload", None)
+        if set_payload is not None and h.params.load_kg != self._control_load_kg:
+            set_payload(h.params.load_kg)  # thesis 4.5: the load in Par reaches the control, not only the planner
+            self._control_load_kg = h.params.load_kg
         if h.actions.stage("pre"):
             h.actions.run("pre", self._data(h, "pre"))
         if h.actions.stage("continuous"):
@@ -444,7 +449,7 @@ class MotionLayer:
         while not ready():
             if deadline is not None and self.now_s() >= deadline:
                 return False
-            if isinstance(what, MoveSignal) and self.idle() and not self._continuous:
+            if isinstance(what, MoveSignal) and self.idle() and not any(a.signal is what for a, _ in self._continuous):
                 return False  # nothing left that could signal it
             self.tick()
         return True

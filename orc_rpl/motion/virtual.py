@@ -41,6 +41,10 @@ class ServoBackend:
     def reset(self, q: np.ndarray) -> None:
         self._state = self.loop.reset(q)
 
+    def set_control_payload(self, mass_kg: float) -> None:
+        """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
+        self.loop.arm.set_payload(mass_kg)
+
 
 def make_virtual_motion_layer(
     robot: str = "irb2400",
