@@ -136,6 +136,10 @@ class MotionLayer:
         self._admit()
         return h
 
+    def planned_end_q(self) -> np.ndarray:
+        """Where the robot will be when every accepted move is done: the start (and IK seed) of the next move."""
+        return np.array(self._tail_q())
+
     def _tail_q(self) -> np.ndarray:
         """Where the robot will be when every accepted move is done: the start of the next one."""
         for h in reversed([*self._in_traj, *self._queue]):
