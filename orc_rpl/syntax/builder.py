@@ -148,19 +148,44 @@ def _clauses(parts: list[Any]) -> tuple[n.Clause, ...]:
     return tuple(clauses)
 
 
-def _binary_chain(children: list[Any], op: str | None = None) -> n.Expression:
-    """Left-associative chain `a op b op c`; ops are tokens between operands unless `op` is given."""
-    if op is not None:
-        result = expr(children[0])
-        for right in children[1:]:
-            right_expr = expr(right)
-            result = n.Binary(op, result, right_expr, span=_join(result.span, right_expr.span))
-        return result
-    result = expr(children[0])
-    for i in range(1, len(children), 2):
-        right_expr = expr(children[i + 1])
-        result = n.Binary(str(children[i]), result, right_expr, span=_join(result.span, right_expr.span))
-    return result
+#: Binding strength of binary operators (higher binds tighter); NOT sits between AND and comparisons.
+BINARY_PRECEDENCE = {"OR": 1, "AND": 2, "=": 4, "<>": 4, "<": 4, "<=": 4, ">": 4, ">=": 4, "+": 5, "-": 5, "*": 6, "/": 6}
+NOT_PRECEDENCE = 3
+_COMPARISON = 4
+
+
+def arrange(items: list[Any]) -> n.Expression:
+    """Operands and operators parsed flat, arranged by precedence (left-associative, comparisons not chained)."""
+    position = 0
+
+    def operand() -> n.Expression:
+        nonlocal position
+        item = items[position]
+        position += 1
+        if isinstance(item, Token) and item.type == "NOT":
+            inner = climb(_COMPARISON)  # NOT a = b means NOT (a = b)
+            return n.Unary("NOT", inner, span=_join(token_span(item), inner.span))
+        return expr(item)
+
+    def climb(min_precedence: int) -> n.Expression:
+        nonlocal position
+        left = operand()
+        fresh_comparison = False
+        while position < len(items):
+            op = items[position]
+            precedence = BINARY_PRECEDENCE[str(op)]
+            if precedence < min_precedence:
+                break
+            if precedence == _COMPARISON and fresh_comparison:
+                raise BuildError("comparisons cannot be chained; combine them with AND", token_span(op),
+                                 hint="write `a < b AND b < c`")
+            position += 1
+            right = climb(precedence + 1)
+            left = n.Binary(str(op), left, right, span=_join(left.span, right.span))
+            fresh_comparison = precedence == _COMPARISON
+        return left
+
+    return climb(0)
 
 
 def _positional(value: n.Expression) -> n.Argument:
@@ -351,26 +376,11 @@ class TreeBuilder(Transformer):
         return tuple(name(t) for t in c)
 
     # ---- expressions
-    def or_expr(self, c: list[Any]) -> n.Expression:
-        return _binary_chain(c, "OR")
-
-    def and_expr(self, c: list[Any]) -> n.Expression:
-        return _binary_chain(c, "AND")
+    def expr(self, c: list[Any]) -> n.Expression:
+        return arrange(c)
 
     def unary(self, c: list[Any]) -> n.Unary:
         return n.Unary(str(c[0]), expr(c[1]), span=meta_span(c))
-
-    def comparison(self, c: list[Any]) -> n.Binary:
-        op = str(c[1]) if isinstance(c[1], Token) else "="
-        return n.Binary(op, expr(c[0]), expr(c[2]), span=meta_span(c))
-
-    def equal(self, c: list[Any]) -> str:
-        return "="
-
-    def sum(self, c: list[Any]) -> n.Expression:
-        return _binary_chain(c)
-
-    product = sum
 
     def field(self, c: list[Any]) -> n.Field:
         return n.Field(expr(c[0]), n.Name(str(c[1]), span=token_span(c[1])), span=meta_span(c))
