@@ -169,11 +169,9 @@ class ExpressionTyper:
             if param is None:
                 self.report(argument, f"{name} has no parameter '{argument.name.id}'", "")  # type: ignore[union-attr]
                 continue
-            # An angle given as a plain number is radians; a length must carry its unit.
-            plain_ok = actual.kind == "number" and actual.dim == DIMENSIONLESS and ANGLE in param.types
-            zero = isinstance(argument.value, n.Number) and literal_dim(argument.value.text) == DIMENSIONLESS and \
-                float(parse_literal(argument.value.text)) == 0.0
-            if not plain_ok and not zero and not accepts(param.types, actual):
+            # A plain number where a length or an angle is expected is in SI (m, rad), as in world files.
+            plain_ok = actual.kind == "number" and actual.dim == DIMENSIONLESS and (ANGLE in param.types or LENGTH in param.types)
+            if not plain_ok and not accepts(param.types, actual):
                 self.report(argument.value, f"argument '{param.name}' of {name} expects {describe_types(param.types)}, "
                             f"got {actual}", "")
         if name in _FRAME_KEEPING and arg_types and arg_types[0].kind == "pose":
