@@ -93,6 +93,8 @@ def standard_motion(call: MotionCall) -> MotionRequest:
         accel_fraction = min(1.0, max(1e-3, accel.value / NOMINAL_ACCEL_M_S2))
     else:
         accel_fraction = _fraction(accel, "ACCEL")
+    # an override slows the whole motion down in time: speeds scale with it, accelerations with its square
+    accel_fraction = max(1e-4, accel_fraction * call.speed_override ** 2)
     duration = _quantity(attrs.get("TIME"), TIME, "TIME")
     return MotionRequest(
         keyword=call.keyword, kind=kind, target=target, via=tuple(via), tool=call.tool,
