@@ -1,36 +1,29 @@
-"""The motion layer (thesis 4.3, 5.2): move(), the motion cycle with its actions, blending, stops and modes."""
+"""The motion layer (thesis 4.3, 5.2): move() and short_move(), stops, modes, waiting and the acquire services."""
 
 from __future__ import annotations
 
-import time as wallclock
 from collections import deque
 from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
-from orc_rpl.errors import OrcError, PlanningError, UsageError
+from orc_rpl.errors import UsageError
 from orc_rpl.motion import services
-from orc_rpl.motion.actions import Actions, MotionData, MoveSignal
+from orc_rpl.motion.actions import Actions, MoveSignal
 from orc_rpl.motion.backend import Backend
-from orc_rpl.motion.blending import blend
 from orc_rpl.motion.braking import brake
 from orc_rpl.motion.handle import MoveHandle
 from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.paths import DensePath
-from orc_rpl.motion.planner import Planner, combine
-from orc_rpl.motion.short_move import short_trajectory, stop_trajectory
+from orc_rpl.motion.pipeline import MotionPipeline
+from orc_rpl.motion.planner import Planner
+from orc_rpl.motion.short_move import stop_trajectory
+from orc_rpl.motion.trajectory import Trajectory
 from orc_rpl.motion.specs import DEFAULT_PARAMS, CartesianMotion, Computation, JointMotion, Mode, Motion, MoveStatus, Params
-from orc_rpl.motion.timing import parameterize
-from orc_rpl.motion.trajectory import SplinePath, Trajectory
-
-SETTLE_RAD = 2e-5          #: FINE: joint error at which a move counts as arrived
-SETTLE_RAD_S = 2e-3        #: FINE: joint speed below which it counts as at rest
-SETTLE_TIMEOUT_S = 1.5     #: give up waiting (handle.settled = False) after this long
-BLEND_MARGIN_RAD = 0.01    #: a replan starts this far (joint chord) ahead of the reference
 
 
-class MotionLayer:
+class MotionLayer(MotionPipeline):
     """Plans and executes moves on one arm; time advances only through tick(), wait() and run_until_idle()."""
 
     def __init__(self, kin: Kinematics, backend: Backend, motion_period_s: float = 0.004,
@@ -60,10 +53,6 @@ class MotionLayer:
         self.cycles = 0
 
     # -- reading the robot --------------------------------------------------------------
-
-    def now_s(self) -> float:
-        """The controller clock (simulated time on the virtual robot)."""
-        return self.backend.time_s()
 
     def current_q(self) -> np.ndarray:
         """Measured joint positions."""
@@ -146,238 +135,6 @@ class MotionLayer:
             if h.plan is not None and not h.done:
                 return h.plan.end_q
         return self._q_ref.copy()
-
-    # -- starting and blending --------------------------------------------------------
-
-    def _admit(self) -> None:
-        """Start queued moves from rest, or blend the next one into the running trajectory."""
-        while self._queue:
-            if self._settling is not None:
-                return
-            if self._traj is None:
-                h = self._queue.popleft()
-                try:
-                    self._start_from_rest(h)
-                except OrcError as exc:  # a replan from where the robot really is failed: fault, not a crash
-                    self._fault(h, exc)
-            elif not self._try_blend(self._queue[0]):
-                return
-            else:
-                self._queue.popleft()
-
-    def _start_from_rest(self, h: MoveHandle) -> None:
-        plan = h.plan
-        assert plan is not None
-        if not np.allclose(plan.start_q, self._q_ref, atol=1e-6, rtol=0.0):
-            # the robot is not where the move was planned from (a stop or reset_ref came between): replan
-            fresh = self.planner.plan(h.id, h.motion, h.params, self._q_ref)
-            if fresh is None:
-                self._finish(h, MoveStatus.READY)
-                return
-            h.plan, h.pieces_left, plan = fresh, list(fresh.pieces), fresh
-        piece = h.pieces_left.pop(0)
-        if h.short:
-            lim = self.planner.short_limits(self._q_ref, h.params)
-            traj = short_trajectory(self._q_ref, self._qd_ref * 0, self._qdd_ref * 0, piece.q[-1], lim, self.dt_s,
-                                    self.sub, h.id, lambda q: self.kin.fk(q, h.motion.tool)[:3, 3])
-        elif plan.timed is not None:
-            traj = plan.timed
-        elif plan.saved_first is not None and len(h.pieces_left) == len(plan.pieces) - 1:
-            traj = plan.saved_first
-        else:
-            traj = self.planner.time(piece, plan.limits, 0.0, h.params.time_s if len(plan.pieces) == 1 else None)
-        self._set_traj(traj, [h])
-        if not h.started:
-            self._start(h)
-
-    def _set_traj(self, traj: Trajectory, handles: list[MoveHandle]) -> None:
-        self._traj, self._k, self._traj_t0 = traj, 0, self.now_s()
-        self._in_traj = handles
-        owners = traj.owner
-        for h in handles:
-            idx = np.nonzero(owners == h.id)[0]
-            if len(idx):
-                h.t_end_s = self._traj_t0 + float(idx[-1]) * self.dt_s
-
-    def _try_blend(self, nxt: MoveHandle) -> bool:
-        """Replan from the current state through a blended corner onto `nxt`; False if too late or not a zone move."""
-        traj = self._traj
-        tail = self._in_traj[-1] if self._in_traj else None
-        if (traj is None or not traj.blendable or tail is None or tail.zone_m <= 0 or tail.pieces_left
-                or nxt.short or nxt.plan is None or nxt.plan.timed is not None or tail.stopped_by is not None):
-            return False
-        if not np.allclose(nxt.plan.start_q, tail.plan.end_q, atol=1e-9, rtol=0.0):
-            return False
-        row = self._k * self.sub
-        x_now = float(traj.x_f[row])
-        dense = traj.path.dense
-        later = np.nonzero(traj.path.x_knots > x_now + BLEND_MARGIN_RAD)[0]
-        if len(later) < 3:
-            return False
-        owner_now, s_now = traj.path.owner_and_s(np.array([x_now]))
-        tcp_now = self.kin.tcp_positions(self._q_ref[None, :], tail.motion.tool)
-        current = DensePath(np.vstack([self._q_ref, dense.q[later]]), np.vstack([tcp_now, dense.tcp[later]]),
-                            np.concatenate([owner_now.astype(int), dense.owner[later]]),
-                            np.concatenate([s_now, dense.s[later]]))
-        joined = blend(self.kin, current, nxt.pieces_left[0], tail.zone_m, 1, tail.motion.tool,
-                       tail.plan.last_chord_rad, nxt.plan.first_chord_rad)
-        if joined is None:
-            return False
-        handles = [h for h in self._in_traj if h.id in set(joined.owner.tolist())] + [nxt]
-        limits = combine({h.id: h.plan.limits for h in handles})
-        path = SplinePath(joined)
-        d1 = path(0.0, 1)
-        sd0 = max(0.0, float(self._qd_ref @ d1) / max(float(d1 @ d1), 1e-12))
-        try:
-            new, _ = parameterize(path, limits, self.dt_s, self.sub, sd0, 0.0)
-        except PlanningError:
-            return False
-        nxt.pieces_left.pop(0)
-        tail.blended = True
-        self._set_traj(new, handles)
-        return True
-
-    # -- the motion cycle ---------------------------------------------------------------
-
-    def tick(self) -> None:
-        """One motion cycle: command the next references (sub servo steps), update moves, run actions."""
-        traj = self._traj
-        if traj is not None and self._k < traj.cycles:
-            self._k += 1
-            rows = traj.rows(self._k)
-            q_r, qd_r, qdd_r = traj.q_f[rows], traj.qd_f[rows], traj.qdd_f[rows]
-            self._hold_cache = None
-        else:
-            if self._hold_cache is None:
-                self._hold_cache = (np.tile(self._q_ref, (self.sub, 1)), np.zeros((self.sub, len(self._q_ref))))
-            q_r, qd_r = self._hold_cache
-            qdd_r = qd_r
-        self.backend.advance(q_r, qd_r, qdd_r)
-        self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
-        self.cycles += 1
-        stop = False
-        if traj is not None:
-            stop = self._progress(traj)
-        if self._settling is not None:
-            self._check_settled()
-        for acts, h in self._continuous:
-            acts.run("continuous", self._data(h, "continuous"))
-        if stop and self._traj is not None and self._traj.kind != "brake":
-            self.stop_move(by=self._stop_by)
-        if self.logger is not None:
-            self.logger.update()
-        if self.realtime:
-            self._pace()
-
-    def _progress(self, traj: Trajectory) -> bool:
-        """Hand the cycle's sample to its owning move; start and finish moves; run during actions."""
-        owner = int(traj.owner[self._k])
-        active = self._active
-        if active is None or active.id != owner:
-            if active is not None and not active.done and active.id != owner:
-                self._finish(active, MoveStatus.READY)
-            nxt = next((h for h in self._in_traj if h.id == owner), None)
-            if nxt is not None and not nxt.started:
-                self._start(nxt)
-            active = self._active
-        stop = False
-        if active is not None:
-            active.s = float(traj.s[self._k])
-            if active.actions.stage("during"):
-                stop = active.actions.run("during", self._data(active, "during"))
-                if stop:
-                    self._stop_by = next(e.name for e in active.actions.stage("during") if e.slot.stop_requested)
-        if self._k >= traj.cycles:
-            self._traj_end(traj)
-        return stop
-
-    def _traj_end(self, traj: Trajectory) -> None:
-        h = self._active
-        self._traj = None
-        if h is None or h.done:
-            self._admit()
-            return
-        if traj.kind == "brake":
-            h.stopped_s = h.s
-            self._finish(h, MoveStatus.ACT_STOPPED)
-        elif h.pieces_left:
-            self._start_from_rest_piece(h)
-            return
-        elif h.zone_m > 0:
-            self._finish(h, MoveStatus.READY)
-        else:
-            self._settling = (h, self.now_s())
-            self._check_settled()
-        self._admit()
-
-    def _start_from_rest_piece(self, h: MoveHandle) -> None:
-        piece = h.pieces_left.pop(0)
-        try:
-            self._set_traj(self.planner.time(piece, h.plan.limits), [h])
-        except OrcError as exc:
-            self._fault(h, exc)
-
-    def _fault(self, h: MoveHandle, exc: OrcError) -> None:
-        """A move that cannot go on: status fault with the error; the moves queued after it are cancelled."""
-        h.error = exc
-        self._finish(h, MoveStatus.FAULT)
-        for later in self._queue:
-            later.stopped_by, later.stopped_s = "cancelled", 0.0
-            self._finish(later, MoveStatus.ACT_STOPPED)
-        self._queue.clear()
-
-    def _check_settled(self) -> None:
-        h, since = self._settling  # type: ignore[misc]
-        err = float(np.max(np.abs(self.backend.q() - self._q_ref)))
-        vel = float(np.max(np.abs(self.backend.qd())))
-        timed_out = self.now_s() - since > SETTLE_TIMEOUT_S
-        if (err < SETTLE_RAD and vel < SETTLE_RAD_S) or timed_out:
-            h.settled = not timed_out
-            self._settling = None
-            self._finish(h, MoveStatus.READY)
-            self._admit()
-
-    def _start(self, h: MoveHandle) -> None:
-        h.started, h.start_time_s = True, self.now_s()
-        self._active = h
-        set_payload = getattr(self.backend, "set_control_payload", None)
-        if set_payload is not None and h.params.load_kg != self._control_load_kg:
-            set_payload(h.params.load_kg)  # thesis 4.5: the load in Par reaches the control, not only the planner
-            self._control_load_kg = h.params.load_kg
-        if h.actions.stage("pre"):
-            h.actions.run("pre", self._data(h, "pre"))
-        if h.actions.stage("continuous"):
-            self._continuous.append((h.actions, h))
-
-    def _finish(self, h: MoveHandle, status: MoveStatus) -> None:
-        if h.done:
-            return
-        h.status, h.done, h.end_time_s = status, True, self.now_s()
-        if status is MoveStatus.READY:
-            h.s = 1.0
-        if h.started and h.actions.stage("post"):
-            h.actions.run("post", self._data(h, "post"))
-        h.signal.signal("done", self.now_s())
-        if self._active is h:
-            self._active = None
-
-    def _data(self, h: MoveHandle, stage: str) -> MotionData:
-        q = np.array(self.backend.q())
-        q_ref = self._q_ref.copy()
-        arrays = [q, np.array(self.backend.qd()), q_ref, self._qd_ref.copy(), np.array(self.backend.torque()), q_ref - q]
-        for a in arrays:
-            a.setflags(write=False)
-        now = self.now_s()
-        start = h.start_time_s if h.start_time_s is not None else now
-        t_end = h.t_end_s if h.t_end_s is not None else now
-        return MotionData(now, now - start, h.s, arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], arrays[5], t_end, stage)
-
-    def _pace(self) -> None:
-        if self._wall_start is None:
-            self._wall_start = wallclock.perf_counter() - self.now_s()
-        ahead = self._wall_start + self.now_s() - wallclock.perf_counter()
-        if ahead > 0:
-            wallclock.sleep(ahead)
 
     # -- stopping, modes, references ---------------------------------------------------
 

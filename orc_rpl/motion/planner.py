@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -74,16 +75,18 @@ class Planner:
         speed = params.speed_m_s
         frac = params.speed_fraction
         cap = self.tcp_speed_cap_m_s
-        tcp = None
+        tcp: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
         if speed is not None or cap is not None:
 
-            def tcp(owner: np.ndarray, s: np.ndarray) -> np.ndarray:
+            def tcp_limit(owner: np.ndarray, s: np.ndarray) -> np.ndarray:
                 out = []
                 for v in s:
                     asked = params.speed_m_s_at(float(v))
                     limit = min(math.inf if asked is None else asked, math.inf if cap is None else cap)
                     out.append(limit * params.speed_fraction_at(float(v)))
                 return np.array(out)
+
+            tcp = tcp_limit
 
         frac_fn = None if not callable(frac) and frac == 1.0 else (lambda owner, s: np.array([params.speed_fraction_at(float(v)) for v in s]))
         return TimingLimits(
