@@ -1,0 +1,163 @@
+"""Indentation of off-line text: a line-by-line plan of _INDENT/_DEDENT tokens, fed to Lark by a postlexer that never buffers."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from typing import Iterator
+
+from lark import Token
+
+#: A line that continues the motion or install statement above it.
+_CONTINUATION = re.compile(r"[ \t]*(with|via|until)(?![A-Za-z0-9_])")
+
+
+@dataclass
+class IndentProblem:
+    """An indentation mistake: 1-based line and column."""
+
+    line: int
+    column: int
+    message: str
+    hint: str = ""
+
+
+@dataclass
+class IndentPlan:
+    """For each 1-based line, the _INDENT (+1 each) and _DEDENT (-1 each) tokens that come before it."""
+
+    before: dict[int, list[str]] = field(default_factory=dict)
+    at_end: int = 0                                  #: dedents after the last line
+    problems: list[IndentProblem] = field(default_factory=list)
+
+
+def code_part(text: str) -> str:
+    """A line without its comment (a `#` inside a string is not a comment)."""
+    in_string, escaped = False, False
+    for i, ch in enumerate(text):
+        if in_string:
+            if escaped:
+                escaped = False
+            elif ch == "\\":
+                escaped = True
+            elif ch == '"':
+                in_string = False
+        elif ch == '"':
+            in_string = True
+        elif ch == "#":
+            return text[:i]
+    return text
+
+
+def _opens_block(text: str) -> bool:
+    """True when a line is a block header: it has a ':' outside strings and comments (only headers use ':')."""
+    code = code_part(text)
+    if ":" not in code:
+        return False
+    in_string, escaped = False, False
+    for ch in code:
+        if in_string:
+            if escaped:
+                escaped = False
+            elif ch == "\\":
+                escaped = True
+            elif ch == '"':
+                in_string = False
+        elif ch == '"':
+            in_string = True
+        elif ch == ":":
+            return True
+    return False
+
+
+def _width(text: str) -> int:
+    return len(text) - len(text.lstrip(" \t"))
+
+
+def plan_indentation(lines: list[str]) -> IndentPlan:
+    """Where blocks open and close. Blank lines go to the innermost block their own indentation reaches."""
+    plan = IndentPlan()
+    stack = [0]
+    opener = False
+    pending: list[tuple[int, int]] = []             # blank lines not yet placed: (line number, width)
+
+    def emit(line: int, token: str) -> None:
+        plan.before.setdefault(line, []).append(token)
+
+    def close_to(target: int, line: int) -> None:
+        """Dedent to `target`, placing waiting blank lines inside the blocks their width reaches."""
+        for number, width in pending:
+            while stack[-1] > target and stack[-1] > width:
+                stack.pop()
+                emit(number, "_DEDENT")
+        while stack[-1] > target:
+            stack.pop()
+            emit(line, "_DEDENT")
+        pending.clear()
+
+    previous_blank = True
+    for number, text in enumerate(lines, start=1):
+        stripped = text.strip(" \t\r")
+        if not stripped:
+            pending.append((number, _width(text)))
+            previous_blank = True
+            continue
+        if not previous_blank and _CONTINUATION.match(text):
+            continue  # the CONT token joins it to the line above
+        previous_blank = False
+        width = _width(text)
+        comment_only = stripped.startswith("#")
+        if opener and (width > stack[-1] or (not comment_only and any(w > stack[-1] for _, w in pending))):
+            # The block's first line (a blank line indented like the block counts as its first line).
+            first = pending[0][0] if pending else number
+            block_width = width if width > stack[-1] else max(w for _, w in pending)
+            stack.append(block_width)
+            emit(first, "_INDENT")
+            pending.clear()
+            if width < block_width:
+                close_to(width, number)
+        elif width > stack[-1]:
+            if not comment_only:
+                plan.problems.append(IndentProblem(number, 1, "unexpected indentation",
+                                                   "only the lines of a block (after a line ending with ':') are indented"))
+            close_to(stack[-1], number)
+        else:
+            close_to(width, number)
+            if width != stack[-1] and not comment_only:
+                plan.problems.append(IndentProblem(number, width + 1, "this line's indentation matches no enclosing block",
+                                                   f"indent it by {stack[-1]} spaces"))
+        if not comment_only:
+            opener = _opens_block(text)
+    for number, width in pending:
+        while stack[-1] > 0 and stack[-1] > width:
+            stack.pop()
+            emit(number, "_DEDENT")
+    plan.at_end = len(stack) - 1
+    return plan
+
+
+class OfflinePostLexer:
+    """Inserts the planned _INDENT/_DEDENT tokens after each line break, as Lark consumes them (no lookahead)."""
+
+    always_accept = ("_NL", "CONT", "COMMENT")
+
+    def __init__(self) -> None:
+        self.plan = IndentPlan()
+
+    def _tokens(self, kinds: list[str], like: Token) -> Iterator[Token]:
+        for kind in kinds:
+            yield Token.new_borrow_pos(kind, "", like)
+
+    def process(self, stream: Iterator[Token]) -> Iterator[Token]:
+        first = True
+        last: Token | None = None
+        for token in stream:
+            if first:
+                first = False
+                yield from self._tokens(self.plan.before.get(1, []), token)
+            yield token
+            last = token
+            if token.type == "_NL":
+                yield from self._tokens(self.plan.before.get((token.line or 0) + 1, []), token)
+        if last is not None:
+            yield from self._tokens(["_DEDENT"] * self.plan.at_end, last)

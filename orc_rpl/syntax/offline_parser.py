@@ -1,0 +1,116 @@
+"""Off-line text (`.orl`) -> the one syntax tree: Lark LALR with the contextual lexer, indentation from a line plan, errors as diagnostics."""
+
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+
+from lark import Lark
+from lark.exceptions import UnexpectedInput, UnexpectedToken
+
+from orc_rpl.errors import Diagnostic, Location, SourceError
+from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.builder import BuildError
+from orc_rpl.syntax.grammar_files import grammar_path
+from orc_rpl.syntax.offline_builder import OfflineTreeBuilder, check_names
+from orc_rpl.syntax.offline_lexer import OfflinePostLexer, code_part, plan_indentation
+from orc_rpl.syntax.parser import MAX_ERRORS, _diagnostic
+
+_HEADER_WORD = re.compile(r"([ \t]*)(elif|else|except)(?![A-Za-z0-9_])")
+_CONTINUATION = re.compile(r"[ \t]*(with|via|until)(?![A-Za-z0-9_])")
+
+#: Off-line spellings of terminals in messages (the rest as on-line).
+_OFFLINE_NAMES = {"_INDENT": "an indented block", "_DEDENT": "the end of the block", "MOVETO": "moveto",
+                  "COLON": "':'", "RANGE": "'..'"}
+
+
+@lru_cache(maxsize=None)
+def _lark() -> tuple[Lark, OfflinePostLexer]:
+    """The off-line parser and its postlexer, built once per process."""
+    postlexer = OfflinePostLexer()
+    lark = Lark(
+        grammar_path("orl.lark").read_text(encoding="utf-8"),
+        parser="lalr",
+        lexer="contextual",
+        start="program",
+        maybe_placeholders=True,
+        postlex=postlexer,
+        transformer=OfflineTreeBuilder(),
+    )
+    return lark, postlexer
+
+
+def _offline_diagnostic(path: str, error: Exception, lines: list[str]) -> tuple[Diagnostic, int]:
+    """The on-line translation of Lark's errors, with the off-line words and the indentation tokens named."""
+    if isinstance(error, UnexpectedToken) and error.token.type in ("_INDENT", "_DEDENT"):
+        token = error.token
+        line = (token.line or 1) + (1 if token.type == "_INDENT" else 0)
+        line = min(max(line, 1), max(len(lines), 1))
+        text = lines[line - 1] if lines else ""
+        column = len(text) - len(text.lstrip(" \t")) + 1
+        message = "unexpected indentation" if token.type == "_INDENT" else "a block ends here, but the statement above is not complete"
+        return Diagnostic(Location(path, line, column, line, column + 1), message), line
+    diagnostic, line = _diagnostic(path, error, lines)
+    message = diagnostic.message
+    for terminal, word in _OFFLINE_NAMES.items():
+        message = message.replace(f"'{terminal}'", word)
+    message = message.replace("continues only a motion or an INSTALL statement", "continues only a motion or an install statement")
+    diagnostic.message = message
+    return diagnostic, line
+
+
+def _neutralize(lines: list[str], number: int) -> None:
+    """Make line `number` harmless while keeping its indentation, the blocks and every line number."""
+    text = lines[number - 1]
+    indent = text[: len(text) - len(text.lstrip(" \t"))]
+    code = code_part(text)
+    header = _HEADER_WORD.match(text)
+    if header is not None:
+        lines[number - 1] = indent + {"elif": "elif true:", "else": "else:", "except": "except orc_:"}[header.group(2)]
+    elif code.rstrip().endswith(":"):
+        lines[number - 1] = indent + "if true:"
+    else:
+        lines[number - 1] = indent + "stop"
+    following = number
+    while following < len(lines) and _CONTINUATION.match(lines[following]):
+        lines[following] = ""
+        following += 1
+
+
+def parse_offline(text: str, path: str = "<input>") -> n.Program:
+    """Parse off-line (`.orl`) text; raise SourceError with every syntax error found (up to MAX_ERRORS)."""
+    if "\t" in text:
+        text = text.expandtabs(4)
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    if text and not text.endswith("\n"):
+        text += "\n"
+    lines = text.split("\n")[:-1] if text else []
+    plan = plan_indentation(lines)
+    diagnostics = [Diagnostic(Location(path, p.line, p.column, p.line, p.column + 1), p.message, p.hint) for p in plan.problems]
+    if diagnostics:
+        raise SourceError(diagnostics, "\n".join(lines))
+    lark, postlexer = _lark()
+    work = list(lines)
+    seen: set[int] = set()
+    while True:
+        source = "\n".join(work) + "\n" if work else ""
+        postlexer.plan = plan_indentation(work)
+        try:
+            tree = lark.parse(source)
+            check_names(tree)
+        except (UnexpectedInput, BuildError) as error:
+            diagnostic, line = _offline_diagnostic(path, error, lines)
+            if line in seen or len(diagnostics) >= MAX_ERRORS or not 1 <= line <= len(work):
+                if line not in seen:
+                    diagnostics.append(diagnostic)
+                break
+            seen.add(line)
+            diagnostics.append(diagnostic)
+            _neutralize(work, line)
+            continue
+        if diagnostics:
+            break
+        return tree
+    diagnostics.sort(key=lambda d: (d.location.line, d.location.column))
+    raise SourceError(diagnostics, "\n".join(lines))
