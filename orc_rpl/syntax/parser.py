@@ -132,6 +132,8 @@ def _neutralize(lines: list[str], number: int) -> None:
 
 def parse(text: str, path: str = "<input>") -> n.Program:
     """Parse on-line RPL text; raise SourceError with every syntax error found (up to MAX_ERRORS)."""
+    if "\r" in text:
+        text = text.replace("\r\n", "\n")  # CRLF files parse like LF files; fmt writes LF
     if "\t" in text:
         text = text.expandtabs(4)
     if text and not text.endswith("\n"):

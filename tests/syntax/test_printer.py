@@ -22,6 +22,7 @@ CASES = [
     ("string escapes", 'PRINT "say \\"hi\\""\n', 'PRINT "say \\"hi\\""\n'),
     ("number text kept", "x = 1.50 + 1.5e-3 + 100mm/s\n", "x = 1.50 + 1.5e-3 + 100mm/s\n"),
     ("no final newline added back", "STOP", "STOP\n"),
+    ("CRLF line endings", "FRAME f\r\n    STOP  -- x\r\nENDFRAME\r\n", "FRAME f\n    STOP  -- x\nENDFRAME\n"),
     ("tabs become spaces", "IF a THEN\n\tSTOP\nENDIF\n", "IF a THEN\n    STOP\nENDIF\n"),
 ]
 
