@@ -75,7 +75,8 @@ class Progress:
             from rich.console import Console
             from rich.live import Live
 
-            self._live = Live(self._text(), console=Console(file=self.stream), transient=True, refresh_per_second=8)
+            self._live = Live(self._text(), console=Console(file=self.stream), transient=True, refresh_per_second=8,
+                              redirect_stdout=False, redirect_stderr=False)  # PRINT lines stay on standard output
             self._live.__enter__()
         return self
 

@@ -89,3 +89,18 @@ def test_speed_override_slows_the_program_down() -> None:
     program = "MOVE gripper TO a\nLMOVE gripper TO b WITH SPEED = 0.5mps\n"
     full, half = run(program), run(program, speed_override=0.5)
     assert half.robot.time_s() > 1.6 * full.robot.time_s(), "speeds halve and accelerations quarter"
+
+
+def test_func_speed_is_a_function_of_the_path_coordinate() -> None:
+    ex = run("""
+        FUNC ramp(s)
+            RETURN 0.1mps + 0.4mps * s
+        ENDFUNC
+        MOVE gripper TO a
+        LMOVE gripper TO b WITH SPEED = ramp
+        PRINT LEN(ROBOT.Joints)
+        """)
+    assert ex.status == "finished", ex.report()
+    assert ex.prints == ["6"]
+    # 0.4 m at 0.1..0.5 m/s takes 0.4 / 0.5 * ln(5) = 1.29 s plus the move to a and the settling
+    assert 1.4 < ex.robot.time_s() < 3.0
