@@ -127,6 +127,7 @@ class MotionCall:
     attributes: dict[str, Any]                    #: WITH values by canonical name; FUNCs already made callables
     until: Callable[[MotionView], bool] | None
     speed_override: float = 1.0                   #: `--speed-override`, 0 < f <= 1
+    warn: Callable[[str], None] = lambda message: None  #: a warning about this statement (shown once)
 
 
 class BehaviourError(OrcError):

@@ -92,6 +92,9 @@ def run(args: argparse.Namespace) -> int:
     except OrcError as error:
         sys.stderr.write(f"orc run: error: {error}\n")
         return 1
+    except Exception as error:  # a bug of ours: say so, without a traceback
+        sys.stderr.write(f"orc run: internal error (a bug in orc_rpl, please report it): {type(error).__name__}: {error}\n")
+        return 1
 
 
 def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float) -> int:
@@ -111,6 +114,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     executive = Executive(program, robot, registry, path=args.file, source=source, output=out,
                           options=Options(speed_override=override))
     machine = executive.machine
+    machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
     io_script = script_path(args.file, args.world)
     if io_script is not None:
         load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool))

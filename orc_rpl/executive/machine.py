@@ -69,6 +69,14 @@ class Machine:
         self.motions = 0                               #: motion statements executed
         self.outstanding: list[Outstanding] = []
         self.prints: list[str] = []
+        self.warnings: list[tuple[Span, str]] = []    #: each (place, message) once
+        self.on_warning: Callable[[Span, str], None] = lambda span, message: None
+
+    def warn(self, message: str, span: Span) -> None:
+        """A warning about a statement, reported the first time only."""
+        if (span, message) not in self.warnings:
+            self.warnings.append((span, message))
+            self.on_warning(span, message)
 
     # -- the call stack ------------------------------------------------------------------
 

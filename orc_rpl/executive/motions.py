@@ -68,7 +68,8 @@ class MotionCompiler:
 
                 def until(view: MotionView) -> bool:
                     return any(c(L) for c in conditions)
-            call = MotionCall(keyword, goal, along, via, tool_pose, attributes, until, m.options.speed_override)
+            call = MotionCall(keyword, goal, along, via, tool_pose, attributes, until, m.options.speed_override,
+                              lambda message: m.warn(message, span))
             try:
                 requests = spec.execute(call)
             except BehaviourError as error:

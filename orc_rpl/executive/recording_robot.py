@@ -44,11 +44,12 @@ class Ticket:
 class RecordingRobot:
     """Implements RobotInterface with straight-line interpolation and no dynamics; deterministic and fast.
 
-    A Cartesian target farther than `reach_m` from the base raises Unreachable when submitted; a joint
+    A Cartesian target farther than `reach_m` from the base raises Unreachable when submitted (a rough
+    sphere: 1.8 m, beyond the 1.55 m of the default arm's wrist plus a tool); a joint
     target leaves the TCP where it was (there is no kinematic model here).
     """
 
-    def __init__(self, dt_s: float = 0.004, reach_m: float = 1.55, default_speed_m_s: float = 1.0,
+    def __init__(self, dt_s: float = 0.004, reach_m: float = 1.8, default_speed_m_s: float = 1.0,
                  min_duration_s: float = 0.1, n_joints: int = 6) -> None:
         self.dt_s = dt_s
         self.io = CellIO()

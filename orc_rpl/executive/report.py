@@ -17,6 +17,8 @@ def summary(executive: Executive, robot: Any) -> dict[str, Any]:
         "motions": executive.motions,
         "prints": list(executive.prints),
         "final_tcp": {"x_m": tcp.x, "y_m": tcp.y, "z_m": tcp.z, "a_rad": tcp.a, "b_rad": tcp.b, "c_rad": tcp.c},
+        "warnings": [{"line": span.line, "column": span.column, "message": message}
+                     for span, message in executive.machine.warnings],
         "error": None,
     }
     error = executive.error

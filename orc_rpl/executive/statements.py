@@ -46,7 +46,12 @@ class StatementCompiler(ControlFlow):
             def unsupported(L: Locals) -> None:
                 raise RunError(f"internal error (a bug in orc_rpl, please report it): cannot run {type(stmt).__name__}")
             return Compiled(stmt, unsupported, None)
-        fast, gen = method(stmt, scope)
+        try:
+            fast, gen = method(stmt, scope)
+        except RunError as error:  # found while compiling (the checker normally refuses it): report it when run
+            def fail(L: Locals, error: RunError = error) -> None:
+                raise error
+            return Compiled(stmt, fail, None)
         return Compiled(stmt, fast, gen)
 
     def store(self, name: str, scope: Scope) -> Callable[[Locals, Any], None]:
