@@ -175,34 +175,54 @@ class Executive:
 
     # -- one statement in context ---------------------------------------------------------
 
-    def execute(self, text: str, line: int | None = None) -> str:
+    def execute(self, text: str | n.Statement, line: int | None = None) -> str:
         """Run one statement typed at the pendant in the lexical context of the program pointer (or of `line`):
         its routine's scope and local variables, its FRAME block. Returns "ok" or the error's report."""
         try:
-            stmt = parse_statement(text, "<pendant>")
+            stmt = parse_statement(text, "<pendant>") if isinstance(text, str) else text
         except SourceError as error:
             return error.format()
-        routine, frame = self._context(line)
+        routine, frame = self.context_of(line)
+        try:
+            for _ in self.statement_steps(stmt, routine, frame):
+                pass
+        except RunError as error:
+            return error.report("<pendant>", text if isinstance(text, str) else None)
+        return "ok"
+
+    def statement_steps(self, stmt: n.Statement, routine: str | None = None, frame: str = "world") -> Iterator[object]:
+        """One statement in a lexical context (a routine's scope and its active locals, a FRAME block), as a
+        generator yielding TICK per motion cycle, ending when the robot has arrived; errors raise RunError."""
         scope = self.scopes.scope_of(routine).with_frame(frame)
         m = self.machine
         activation = next((a for a in reversed(m.stack) if a.routine == (routine or "main")), None)
         local_values = activation.locals if activation is not None else ({} if routine else m.globals)
         block = make_block(m, [self.compiler.statement(stmt, scope)])
+        saved, m.trace = m.trace, False
         try:
-            for _ in block.gen(local_values):
-                pass
-        except RunError as error:
-            return error.report("<pendant>", text)
+            for event in block.gen(local_values):
+                if event is TICK:
+                    yield event
+            yield from m.sync()
         except (StopSignal, ReturnSignal):
-            return "ok"
-        return "ok"
+            return
+        finally:
+            m.trace = saved
 
-    def _context(self, line: int | None) -> tuple[str | None, str]:
+    def context_of(self, line: int | None = None) -> tuple[str | None, str]:
+        """(routine or None, FRAME) of the statement at `line` (default: the program pointer's)."""
         if line is None:
             line = self.pointer.line if self.pointer is not None else 0
-        if line in self.contexts:
-            return self.contexts[line]
-        return None, "world"
+        return self.contexts.get(line, (None, "world"))
+
+    def restart_at(self, body: n.Body) -> str:
+        """Set the program pointer: `body` (statements of the program, their nodes and lines kept) becomes what
+        runs next, at the top level; variables keep their values. Returns the status after stopping before its
+        first statement ("paused"), or "finished" when it is empty."""
+        self.main = self.compiler.block(body, Scope())
+        self._gen = None
+        self.status, self.error, self.pointer = "ready", None, None
+        return self.step_into()
 
     # -- results ----------------------------------------------------------------------------
 

@@ -100,3 +100,16 @@ def test_tracing_does_not_change_results() -> None:
     ex = executive()
     ex.tracing = True
     assert ex.run() == "finished" and ex.prints == ["3"]
+
+
+def test_statement_steps_yield_motion_cycles_and_restart_sets_the_pointer() -> None:
+    ex = executive()
+    ex.breakpoints.add(9)
+    ex.run()
+    move = parse("MOVE ARM TO p\n", "s.rpl").body[0]
+    cycles = sum(1 for _ in ex.statement_steps(move, None, "table"))
+    assert cycles > 10 and ex.robot.pending() == 0
+    program = parse(PROGRAM, "p.rpl")
+    assert ex.restart_at(program.body[-1:]) == "paused" and ex.pointer.line == 14
+    ex.breakpoints.clear()
+    assert ex.run() == "finished" and ex.prints == ["0"]
