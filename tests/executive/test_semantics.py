@@ -190,3 +190,32 @@ CASES = {
 @pytest.mark.parametrize("text, expected", CASES.values(), ids=CASES.keys())
 def test_program_prints(text: str, expected: list[str]) -> None:
     assert prints(text) == expected
+
+
+@pytest.mark.parametrize("text, expected", CASES.values(), ids=CASES.keys())
+def test_stepping_mode_gives_the_same_output(text: str, expected: list[str]) -> None:
+    """The pendant runs programs traced (a yield before every statement): same results."""
+    assert prints(text, tracing=True) == expected
+
+
+def test_an_application_function_and_its_record() -> None:
+    """A feature's function with an implementation is called; its record's fields read and assign by copy."""
+    import dataclasses
+
+    from orc_rpl.application.declarations import FunctionSpec, ParamSpec
+    from orc_rpl.application.standard_behaviour import runtime_registry
+    from orc_rpl.executive.values import Record
+
+    registry = runtime_registry()
+    registry.add_function(FunctionSpec("Pars", "test record", (ParamSpec("tolerance"), ParamSpec("passes")), origin="test"))
+    registry.functions["Pars"] = dataclasses.replace(
+        registry.functions["Pars"], implementation=lambda tolerance, passes: Record("Pars", (("tolerance", tolerance), ("passes", passes))))
+    from tests.executive.support import execute
+
+    executive = execute("""
+        VAR p = Pars(0.2mm, 4)
+        VAR q = p
+        q.passes = 5
+        PRINT p.tolerance, p.passes, q.passes, q
+        """, registry=registry)
+    assert executive.prints == ["0.0002 m 4 5 Pars(tolerance = 0.0002 m, passes = 5)"], executive.report()
