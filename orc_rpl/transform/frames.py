@@ -1,0 +1,112 @@
+"""FRAME blocks (thesis 7.3): inserted around the statements that use an on-line frame's positions, nested as the frames nest; removed again."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Mapping
+
+from orc_rpl.syntax import nodes as n
+from orc_rpl.transform.job import Job
+from orc_rpl.transform.treemap import references
+
+Chain = tuple[str, ...]
+#: How a statement relates to the frame blocks around it.
+NEUTRAL, HERE, MIXED = "", "\0here", "\0mixed"
+
+
+def _chains(stmt: n.Statement, chains: Mapping[str, Chain]) -> set[Chain]:
+    """The FRAME nestings of every position a statement refers to (declarations refer to none: they stay on top)."""
+    if isinstance(stmt, (n.Declaration, n.Comment, n.Blank, n.Routine)):
+        return set()
+    return {chains[e.id] for e in references(stmt) if isinstance(e, n.Name) and e.id in chains}
+
+
+def _label(found: set[Chain], outer: Chain) -> str:
+    """The frame directly inside `outer` that every reference needs, HERE, MIXED or NEUTRAL."""
+    if not found:
+        return NEUTRAL
+    nexts = {c[len(outer)] if len(c) > len(outer) and c[: len(outer)] == outer else (HERE if c == outer else MIXED) for c in found}
+    return nexts.pop() if len(nexts) == 1 else MIXED
+
+
+def _map_bodies(stmt: n.Statement, fn) -> n.Statement:  # type: ignore[no-untyped-def]
+    """The statement with `fn` applied to each of its blocks."""
+    if isinstance(stmt, n.If):
+        branches = tuple(dataclasses.replace(b, body=fn(b.body)) for b in stmt.branches)
+        else_body = fn(stmt.else_body) if stmt.else_body is not None else None
+        return dataclasses.replace(stmt, branches=branches, else_body=else_body)
+    if isinstance(stmt, n.Case):
+        arms = tuple(dataclasses.replace(a, body=fn(a.body)) for a in stmt.arms)
+        else_arm = dataclasses.replace(stmt.else_arm, body=fn(stmt.else_arm.body)) if stmt.else_arm else None
+        return dataclasses.replace(stmt, arms=arms, else_arm=else_arm)
+    if isinstance(stmt, n.Try):
+        handlers = tuple(dataclasses.replace(h, body=fn(h.body)) for h in stmt.handlers)
+        return dataclasses.replace(stmt, body=fn(stmt.body), handlers=handlers)
+    if isinstance(stmt, (n.While, n.For, n.FrameBlock, n.Routine)):
+        return dataclasses.replace(stmt, body=fn(stmt.body))
+    return stmt
+
+
+def wrap(body: n.Body, outer: Chain, chains: Mapping[str, Chain]) -> n.Body:
+    """Group the statements of a body by the frame they need and wrap each group in FRAME ... ENDFRAME."""
+    labels = []
+    for stmt in body:
+        if isinstance(stmt, n.Routine):
+            labels.append(NEUTRAL)
+        elif isinstance(stmt, n.FrameBlock):
+            labels.append(MIXED)  # written by the programmer: left where it is
+        else:
+            labels.append(_label(_chains(stmt, chains), outer))
+    out: list[n.Statement] = []
+    i = 0
+    while i < len(body):
+        label, stmt = labels[i], body[i]
+        if label in (NEUTRAL, HERE, MIXED):
+            out.append(_inside(stmt, outer, chains, label))
+            i += 1
+            continue
+        last = i
+        for j in range(i + 1, len(body)):
+            if labels[j] == label:
+                last = j
+            elif labels[j] != NEUTRAL:
+                break
+        inner = outer + (label,)
+        group = wrap(body[i: last + 1], inner, chains)
+        out.append(n.FrameBlock(n.Name(label), group))
+        i = last + 1
+    return tuple(out)
+
+
+def _inside(stmt: n.Statement, outer: Chain, chains: Mapping[str, Chain], label: str) -> n.Statement:
+    """Blocks inside a statement that is not wrapped as a whole get their own FRAME blocks."""
+    if isinstance(stmt, n.Routine):
+        return _map_bodies(stmt, lambda b: wrap(b, (), chains))
+    if isinstance(stmt, n.FrameBlock):
+        return _map_bodies(stmt, lambda b: wrap(b, outer + (stmt.frame.id,), chains))
+    if label == MIXED:
+        return _map_bodies(stmt, lambda b: wrap(b, outer, chains))
+    return stmt
+
+
+def insert_frame_blocks(job: Job) -> Job:
+    """FRAME f ... ENDFRAME around the statements from the first to the last that use f's positions (nested as frames nest)."""
+    body = wrap(job.program.body, (), job.chains)
+    return dataclasses.replace(job, program=dataclasses.replace(job.program, body=body))
+
+
+def strip(body: n.Body, frames: frozenset[str]) -> n.Body:
+    """The body with every FRAME block of `frames` (without comments of its own) replaced by its statements."""
+    out: list[n.Statement] = []
+    for stmt in body:
+        if isinstance(stmt, n.FrameBlock) and stmt.frame.id in frames and stmt.header_comment is None and stmt.comment is None:
+            out.extend(strip(stmt.body, frames))
+        else:
+            out.append(_map_bodies(stmt, lambda b: strip(b, frames)))
+    return tuple(out)
+
+
+def remove_frame_blocks(job: Job) -> Job:
+    """The FRAME blocks of the world's on-line frames are removed: off-line, positions carry their frames."""
+    frames = frozenset(o.name for o in job.world.objects if o.online_frame)
+    return dataclasses.replace(job, program=dataclasses.replace(job.program, body=strip(job.program.body, frames)))

@@ -1,0 +1,106 @@
+"""The transformation f of thesis figure 7.3 and its inverse, as lists of small passes over the tree and the world."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Callable
+
+from orc_rpl.syntax import nodes as n
+from orc_rpl.world import World, loads_world, restore_model_attributes, split_model_attributes
+from orc_rpl.world.online import ModelStore
+from orc_rpl.transform.declarations import (absorb_declarations, absorbable, collapse_tools, declare_frames, declare_positions,
+                                            leading_comments)
+from orc_rpl.transform.frames import insert_frame_blocks, remove_frame_blocks
+from orc_rpl.transform.job import Job, TransformError
+from orc_rpl.transform.references import resolve_positions, unresolve_positions
+from orc_rpl.transform.treemap import declared_names
+
+Pass = Callable[[Job], Job]
+
+#: The world an on-line program that was never off-line starts from: its declarations become objects and frames.
+EMPTY_WORLD = "# The world model of an on-line program, made from its declarations by `orc convert`.\nworld:\n"
+
+
+def refuse_clashes(job: Job) -> Job:
+    """An off-line program may not declare a name the world also names, nor a position relative to a world frame."""
+    names = job.named().names
+    assert names is not None
+    for stmt in job.program.body:
+        if isinstance(stmt, n.Declaration) and stmt.name.id in names.entity:
+            raise job.error(stmt.name, f"'{stmt.name.id}' is declared in the program and is also '{names.entity[stmt.name.id]}' "
+                                       f"of the world model", "rename one of them")
+        if isinstance(stmt, n.Declaration) and stmt.frame is not None and stmt.frame.id in job.world._by_name():
+            raise job.error(stmt.frame, f"positions relative to the world's frame '{stmt.frame.id}' belong in the world model",
+                            f"add '{stmt.name.id}' to the frames of '{stmt.frame.id}' and write {stmt.frame.id}.{stmt.name.id}")
+    shadowed = declared_names(job.program)
+    clashes = [d for d, name in names.online.items() if name in shadowed and name != d]
+    if clashes:
+        dotted = clashes[0]
+        raise TransformError(f"'{dotted}' is named '{names.online[dotted]}' on-line, which the program uses for something else")
+    return job.named()
+
+
+def reduce_world(job: Job) -> Job:
+    """The on-line world: spatial and soft attributes stay; model attributes become keys into the off-line model."""
+    online, store = split_model_attributes(job.world)
+    return dataclasses.replace(job, world=online, store=store)
+
+
+def restore_world(job: Job) -> Job:
+    """The off-line world back: every model key replaced by the model attributes it stands for."""
+    if job.store is None:
+        return job
+    return dataclasses.replace(job, world=restore_model_attributes(job.world, job.store), store=None)
+
+
+#: Off-line -> on-line (thesis 7.3).
+TO_ONLINE: tuple[Pass, ...] = (refuse_clashes, resolve_positions, insert_frame_blocks, declare_positions, collapse_tools,
+                               declare_frames)
+#: On-line -> off-line, given the off-line world the program came from.
+TO_OFFLINE: tuple[Pass, ...] = (restore_world, absorb_declarations, remove_frame_blocks, unresolve_positions)
+
+
+def run(job: Job, passes: tuple[Pass, ...]) -> Job:
+    """The passes applied in order."""
+    for step in passes:
+        job = step(job)
+    return job
+
+
+def to_online(program: n.Program, world: World, path: str = "<program>", source: str | None = None) -> Job:
+    """The on-line program (declarations, FRAME blocks, on-line names) and the reduced world with its model store."""
+    return reduce_world(run(Job(program, world, path, source), TO_ONLINE))
+
+
+def to_offline(program: n.Program, world: World | None, path: str = "<program>", store: ModelStore | None = None) -> Job:
+    """The off-line program and world model. Given the world the program came from, edits made on-line go into it;
+    without one, the world is made from the program's declarations, as far as the on-line text then comes back exactly."""
+    if world is not None:
+        return run(Job(program, world, path, store=store), TO_OFFLINE)
+    return _from_declarations(program, path)
+
+
+def _from_declarations(program: n.Program, path: str) -> Job:
+    """An on-line program that was never off-line: take as many leading declarations into a new world as round-trip exactly."""
+    body = program.body
+    start = leading_comments(body)
+    end = start
+    while end < len(body) and absorbable(body[end]):
+        end += 1
+    empty = loads_world(EMPTY_WORLD, "<new world>")
+    for count in range(end - start, -1, -1):
+        chosen = frozenset(range(start, start + count))
+        for strip in (True, False):
+            try:
+                job = absorb_declarations(Job(program, empty, path), chosen)
+                if strip:
+                    job = remove_frame_blocks(job)
+                job = unresolve_positions(job)
+                back = run(Job(job.program, job.world, path), TO_ONLINE)
+            except TransformError:
+                continue
+            except Exception:  # a candidate the world model refuses (a bad name, a frame cycle): try a smaller one
+                continue
+            if back.program == program:
+                return dataclasses.replace(job, names=None, chains={})
+    raise TransformError("no exact off-line form found (a bug of ours)")

@@ -1,0 +1,145 @@
+"""World references in programs: `base_plate.pos1` <-> the on-line name `pos1`, and the checks of unknown world paths."""
+
+from __future__ import annotations
+
+import dataclasses
+from types import MappingProxyType
+
+from orc_rpl.errors import Diagnostic, Location
+from orc_rpl.syntax import nodes as n
+from orc_rpl.world import WORLD, World
+from orc_rpl.world.objects import WorldObject
+from orc_rpl.world.source import did_you_mean
+from orc_rpl.transform.job import Job
+from orc_rpl.transform.naming import FRAME, OBJECT, PATH
+from orc_rpl.transform.treemap import declared_names, map_references, references
+
+
+def _object(world: World, name: str, shadowed: set[str]) -> WorldObject | None:
+    if name in shadowed:
+        return None
+    return world._by_name().get(name)
+
+
+def _attribute_kind(obj: WorldObject, attr: str) -> str | None:
+    """FRAME, PATH, 'value' (soft or spatial attribute) or None."""
+    if obj.frame(attr) is not None:
+        return FRAME
+    if obj.path(attr) is not None:
+        return PATH
+    if attr in obj.soft or attr in obj.spatial:
+        return "value"
+    return None
+
+
+def _unknown(obj: WorldObject, attr: n.Name, world: World) -> tuple[str, str]:
+    names = [f.name for f in obj.frames] + [p.name for p in obj.paths] + [*obj.soft, *obj.spatial]
+    hint = did_you_mean(attr.id, names)
+    return f"'{obj.name}' has no frame, path or attribute '{attr.id}' in {world.path}", hint
+
+
+def world_diagnostics(program: n.Program, world: World, path: str) -> list[Diagnostic]:
+    """Unknown world paths (`fixture.posX`) and path indices out of range, each at its line and column."""
+    shadowed = declared_names(program)
+    out: list[Diagnostic] = []
+    for expr in references(program):
+        if isinstance(expr, n.Field) and isinstance(expr.value, n.Name):
+            obj = _object(world, expr.value.id, shadowed)
+            if obj is not None and _attribute_kind(obj, expr.name.id) is None:
+                message, hint = _unknown(obj, expr.name, world)
+                span = expr.name.span
+                out.append(Diagnostic(Location(path, span.line or 1, span.column or 1, span.end_line, span.end_column),
+                                      message, hint))
+        elif isinstance(expr, n.Index) and isinstance(expr.value, n.Field) and isinstance(expr.value.value, n.Name):
+            obj = _object(world, expr.value.value.id, shadowed)
+            found = obj.path(expr.value.name.id) if obj is not None else None
+            if found is not None and isinstance(expr.index, n.Number) and expr.index.text.isdigit():
+                i = int(expr.index.text)
+                if not 1 <= i <= len(found.points):
+                    span = expr.index.span
+                    out.append(Diagnostic(Location(path, span.line or 1, span.column or 1, span.end_line, span.end_column),
+                                          f"index {i} is outside 1..{len(found.points)} of path '{obj.name}.{found.name}'"))  # type: ignore[union-attr]
+    return out
+
+
+def resolve_positions(job: Job) -> Job:
+    """World paths in the program (`base_plate.pos1`, `pos0`, `grinder`) become on-line names; the entities used are recorded."""
+    job = job.named()
+    world, names = job.world, job.names
+    assert names is not None
+    shadowed = declared_names(job.program)
+    used: dict[str, None] = dict.fromkeys(job.used)
+
+    def use(dotted: str, like: n.Node) -> n.Name:
+        used.setdefault(dotted)
+        return n.Name(names.online[dotted], span=like.span)
+
+    def resolve(expr: n.Expression) -> n.Expression | None:
+        if isinstance(expr, n.Field) and isinstance(expr.value, n.Name):
+            obj = _object(world, expr.value.id, shadowed)
+            if obj is None:
+                return None
+            kind = _attribute_kind(obj, expr.name.id)
+            if kind is None:
+                message, hint = _unknown(obj, expr.name, world)
+                raise job.error(expr.name, message, hint)
+            if kind == "value":
+                return expr  # soft and spatial attributes are read on-line from the reduced world
+            return use(f"{obj.name}.{expr.name.id}", expr)
+        if isinstance(expr, n.Name):
+            obj = _object(world, expr.id, shadowed)
+            return use(obj.name, expr) if obj is not None else None
+        return None
+
+    program = map_references(job.program, resolve)
+    return dataclasses.replace(job, program=program, used=tuple(used), chains=MappingProxyType(frame_chains(world, names, used)))
+
+
+def online_frame(world: World, dotted: str) -> str:
+    """The on-line frame an entity's numbers are relative to (objects: the nearest tagged proper ancestor)."""
+    owner = dotted.split(".")[0]
+    start = (owner,) if "." in dotted else ()
+    for name in start + world.ancestors(owner):
+        if name not in (WORLD, "robot", "flange") and world.object(name).online_frame:
+            return name
+    return WORLD
+
+
+def chain_of(world: World, frame: str) -> tuple[str, ...]:
+    """The on-line frames from the outermost down to `frame` (empty for world)."""
+    chain: list[str] = []
+    while frame != WORLD:
+        chain.append(frame)
+        frame = online_frame(world, frame)
+    return tuple(reversed(chain))
+
+
+def frame_chains(world: World, names, used) -> dict[str, tuple[str, ...]]:  # type: ignore[no-untyped-def]
+    """On-line name -> FRAME nesting of each used position and path (tools and on-line frames are not positions)."""
+    out = {}
+    for dotted in used:
+        if names.kinds[dotted] == OBJECT:
+            obj = world.object(dotted)
+            if obj.tool or obj.online_frame:
+                continue
+        out[names.online[dotted]] = chain_of(world, online_frame(world, dotted))
+    return out
+
+
+def unresolve_positions(job: Job) -> Job:
+    """On-line names of world entities become world paths again (`pos1` -> `base_plate.pos1`)."""
+    job = job.named()
+    names = job.names
+    assert names is not None
+    wanted = {names.online[d]: d for d in job.used}
+
+    def back(expr: n.Expression) -> n.Expression | None:
+        if isinstance(expr, n.Name) and expr.id in wanted:
+            dotted = wanted[expr.id]
+            if "." not in dotted:
+                return n.Name(dotted, span=expr.span)
+            owner, attr = dotted.split(".")
+            return n.Field(n.Name(owner, span=expr.span), n.Name(attr, span=expr.span), span=expr.span)
+        return None
+
+    return dataclasses.replace(job, program=map_references(job.program, back))
