@@ -8,22 +8,34 @@ import sys
 from orc_rpl.application.registry import default_registry
 from orc_rpl.checking.checker import check_program
 from orc_rpl.errors import Diagnostic, SourceError, UsageError
-from orc_rpl.syntax.files import parse_file
+from orc_rpl.syntax.files import declared_world, is_offline, parse_file
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
     parser = subparsers.add_parser("check", help="check programs for syntax and static errors",
                                    description="Check programs; exit 0 when clean, 2 when any error is found.")
-    parser.add_argument("files", nargs="+", metavar="FILE", help="program files (.rpl)")
+    parser.add_argument("files", nargs="+", metavar="FILE", help="program files (.rpl, .orl)")
+    parser.add_argument("--world", metavar="FILE", help="world model of off-line programs (else their '# world: FILE' line)")
     return parser
 
 
-def check_file(path: str, registry=None) -> tuple[str | None, list[Diagnostic]]:  # type: ignore[no-untyped-def]
+def check_file(path: str, registry=None, world: str | None = None) -> tuple[str | None, list[Diagnostic]]:  # type: ignore[no-untyped-def]
     """The source text and every diagnostic of one file (syntax errors first stop the static checks)."""
     try:
         text, program = parse_file(path)
     except SourceError as error:
         return error.source, error.diagnostics
+    if is_offline(path):
+        from orc_rpl.transform.checks import check_offline, load_world_file
+
+        world_path = world if world is not None else declared_world(path, text)
+        if world_path is None:
+            return text, []  # without a world model only the syntax can be checked
+        try:
+            model = load_world_file(world_path)
+        except SourceError as error:
+            return error.source, error.diagnostics
+        return text, check_offline(program, model, path, text, registry)
     return text, check_program(program, path, registry)
 
 
@@ -34,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     unreadable = 0
     for path in args.files:
         try:
-            source, diagnostics = check_file(path, registry)
+            source, diagnostics = check_file(path, registry, getattr(args, "world", None))
         except UsageError as error:
             sys.stderr.write(f"orc check: error: {error}\n")
             unreadable += 1

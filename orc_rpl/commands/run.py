@@ -60,24 +60,28 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.arm.robots import ROBOTS
-    from orc_rpl.syntax.files import parse_file
+    from orc_rpl.syntax.files import load_program
 
     try:
         override = speed_override(args.speed_override)
         if args.robot not in ROBOTS:
             raise UsageError(f"--robot: unknown robot {args.robot!r}; known robots: {', '.join(ROBOTS.names())}")
-        if args.world is not None and not Path(args.world).is_dir():
-            raise UsageError(f"--world: '{args.world}' is not a directory")
+        if args.world is not None and not Path(args.world).is_dir() and not Path(args.world).is_file():
+            raise UsageError(f"--world: '{args.world}' is neither a directory nor a world model file")
         for option in ("log", "plot", "summary_json"):
             target = getattr(args, option)
             if target is not None and not Path(target).resolve().parent.is_dir():
                 raise UsageError(f"--{option.replace('_', '-')}: the folder of '{target}' does not exist")
-        source, program = parse_file(args.file)
+        # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
+        world_file = args.world if args.world is not None and Path(args.world).is_file() else None
+        source, program = load_program(args.file, world_file)
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
         sys.stderr.write(error.format() + "\n")
         return 2
+    except OrcError as error:  # an off-line program its world model cannot map
+        return _fail_usage(str(error))
     registry = runtime_registry()
     diagnostics = check(program, args.file, registry)
     if diagnostics:

@@ -1,7 +1,8 @@
-"""Program files: read a file and parse it with the syntax its suffix names."""
+"""Program files: read a file and parse it with the syntax its suffix names; `load_program` gives the on-line tree of either."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from orc_rpl.errors import UsageError
@@ -9,6 +10,10 @@ from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.parser import parse
 
 ONLINE_SUFFIXES = (".rpl",)
+OFFLINE_SUFFIXES = (".orl",)
+
+#: `# world: ../../worlds/cell_thesis.yaml` among an off-line program's first comment lines names its world model.
+_WORLD_LINE = re.compile(r"#\s*world:\s*(\S+)\s*$")
 
 
 def read_source(path: str | Path) -> str:
@@ -28,10 +33,57 @@ def read_source(path: str | Path) -> str:
         raise UsageError(f"cannot read '{path}': not UTF-8 text (byte {error.start})") from None
 
 
-def parse_file(path: str | Path) -> tuple[str, n.Program]:
-    """Read and parse a program file; raises SourceError for syntax errors, UsageError for unreadable files."""
+def is_offline(path: str | Path) -> bool:
+    """True for off-line programs (`.orl`)."""
+    return Path(path).suffix in OFFLINE_SUFFIXES
+
+
+def parse_text(text: str, path: str | Path) -> n.Program:
+    """Parse text with the syntax the file's suffix names."""
     suffix = Path(path).suffix
+    if suffix in OFFLINE_SUFFIXES:
+        from orc_rpl.syntax.offline_parser import parse_offline
+
+        return parse_offline(text, str(path))
     if suffix not in ONLINE_SUFFIXES:
-        raise UsageError(f"'{path}': unknown program suffix '{suffix}' (expected .rpl)")
+        raise UsageError(f"'{path}': unknown program suffix '{suffix}' (expected .rpl or .orl)")
+    return parse(text, str(path))
+
+
+def parse_file(path: str | Path) -> tuple[str, n.Program]:
+    """Read and parse a program file as written (`.rpl` on-line, `.orl` off-line); SourceError for syntax errors."""
+    suffix = Path(path).suffix
+    if suffix not in ONLINE_SUFFIXES + OFFLINE_SUFFIXES:
+        raise UsageError(f"'{path}': unknown program suffix '{suffix}' (expected .rpl or .orl)")
     text = read_source(path)
-    return text, parse(text, str(path))
+    return text, parse_text(text, path)
+
+
+def declared_world(path: str | Path, text: str) -> Path | None:
+    """The world named by a `# world: FILE` line among the program's leading comments (relative to the program)."""
+    for line in text.splitlines():
+        if not line.startswith("#"):
+            break
+        match = _WORLD_LINE.match(line)
+        if match:
+            return Path(path).parent / match.group(1)
+    return None
+
+
+def load_program(path: str | Path, world: str | Path | None = None) -> tuple[str, n.Program]:
+    """The source text and the on-line tree of a program: an `.orl` file is transformed with its world model first.
+
+    The world is `world`, else the program's `# world: FILE` line. Spans of the tree point into the source text.
+    """
+    text, program = parse_file(path)
+    if not is_offline(path):
+        return text, program
+    from orc_rpl.transform.pipeline import to_online
+    from orc_rpl.world import load_world
+
+    world_path = Path(world) if world is not None else declared_world(path, text)
+    if world_path is None:
+        raise UsageError(f"'{path}' is an off-line program: give its world model (--world FILE or a '# world: FILE' line)")
+    if not world_path.is_file():
+        raise UsageError(f"world model '{world_path}' of '{path}' does not exist")
+    return text, to_online(program, load_world(world_path), str(path), text).program

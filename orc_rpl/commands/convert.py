@@ -1,0 +1,98 @@
+"""`orc convert FILE --to online|offline --world WORLD -o OUT`: the exact transformation between the two representations."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from orc_rpl.atomic import write_text_atomic
+from orc_rpl.errors import OrcError, SourceError, UsageError
+from orc_rpl.syntax.files import declared_world, is_offline, parse_file
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    parser = subparsers.add_parser(
+        "convert", help="transform a program between the off-line (.orl) and on-line (.rpl) representations",
+        description="Off-line -> on-line: positions become named on-line positions relative to their on-line frames, "
+                    "tool chains collapse, FRAME blocks are inserted. On-line -> off-line: the inverse; positions taught "
+                    "or touched up on-line go into the world model (--world), which is created when it does not exist. "
+                    "Every output is written atomically, and only when the whole conversion succeeded.")
+    parser.add_argument("file", metavar="FILE", help="program to convert (.orl or .rpl)")
+    parser.add_argument("--to", choices=("online", "offline"), help="target representation (default: the other one)")
+    parser.add_argument("--world", metavar="WORLD", help="the off-line world model (YAML); written when converting to off-line")
+    parser.add_argument("-o", "--output", metavar="OUT", help="output program (default: standard output)")
+    parser.add_argument("--online-world", metavar="FILE",
+                        help="also write the reduced on-line world (model attributes replaced by keys into WORLD)")
+    return parser
+
+
+def _target(args: argparse.Namespace) -> str:
+    target = args.to or ("online" if is_offline(args.file) else "offline")
+    if (target == "online") != is_offline(args.file):
+        kind = "an off-line" if is_offline(args.file) else "an on-line"
+        raise UsageError(f"'{args.file}' is already {kind} program; --to {target} converts the other way")
+    if args.output is not None:
+        wanted = ".rpl" if target == "online" else ".orl"
+        if Path(args.output).suffix != wanted:
+            raise UsageError(f"-o: an {target} program is written to a '{wanted}' file, got '{args.output}'")
+    return target
+
+
+def convert(args: argparse.Namespace) -> dict[str, str]:
+    """Every output file's text, computed before anything is written."""
+    from orc_rpl.syntax.offline_printer import print_offline
+    from orc_rpl.syntax.printer import print_program
+    from orc_rpl.transform.checks import load_world_file
+    from orc_rpl.transform.pipeline import to_offline, to_online
+
+    target = _target(args)
+    text, program = parse_file(args.file)
+    outputs: dict[str, str] = {}
+    if target == "online":
+        world_path = args.world or declared_world(args.file, text)
+        if world_path is None:
+            raise UsageError(f"--world: '{args.file}' is an off-line program; give its world model")
+        job = to_online(program, load_world_file(world_path), args.file, text)
+        outputs[args.output or "-"] = print_program(job.program)
+        if args.online_world:
+            outputs[args.online_world] = job.world.dump()
+        return outputs
+    world = load_world_file(args.world) if args.world and Path(args.world).exists() else None
+    job = to_offline(program, world, args.file)
+    outputs[args.output or "-"] = print_offline(job.program)
+    if args.world:
+        if world is None or job.world.dump() != world.dump():
+            outputs[args.world] = job.world.dump()
+    elif job.world.objects:
+        raise UsageError("--world: the program's positions need a world model file to go into")
+    return outputs
+
+
+def run(args: argparse.Namespace) -> int:
+    try:
+        outputs = convert(args)
+        for path in outputs:
+            if path != "-" and not Path(path).resolve().parent.is_dir():
+                raise UsageError(f"the folder of '{path}' does not exist")
+    except UsageError as error:
+        sys.stderr.write(f"orc convert: error: {error}\n")
+        return 2
+    except SourceError as error:
+        sys.stderr.write(error.format() + "\n")
+        sys.stderr.write("orc convert: nothing was written\n")
+        return 2
+    except OrcError as error:
+        sys.stderr.write(f"orc convert: error: {error}\nnothing was written\n")
+        return 2
+    for path, text in outputs.items():
+        if path == "-":
+            sys.stdout.write(text)
+            continue
+        try:
+            write_text_atomic(path, text)
+        except OSError as error:
+            sys.stderr.write(f"orc convert: error: cannot write '{path}': {error.strerror}\n")
+            return 2
+        sys.stderr.write(f"wrote {path}\n")
+    return 0
