@@ -89,12 +89,12 @@ def declare_frames(job: Job) -> Job:
 # ---- the inverse: declarations back into the world ---------------------------------------------------------------
 
 
-def absorbable(stmt: n.Statement) -> bool:
-    """A declaration the world can hold: a literal pose (or a list of them, in an on-line frame) and no comment."""
+def absorbable(stmt: n.Statement, new: bool = False) -> bool:
+    """A declaration the world can hold: a literal pose or a list of them, and no comment (a new path needs an on-line frame)."""
     if not isinstance(stmt, n.Declaration) or stmt.kind not in DECLARED_KINDS or stmt.comment is not None:
         return False
     if stmt.kind == "PATH":
-        return stmt.frame is not None and literal_path(stmt.value) is not None
+        return (stmt.frame is not None or not new) and literal_path(stmt.value) is not None
     return literal_pose(stmt.value) is not None
 
 
@@ -114,6 +114,8 @@ def absorb(world: World, names: Names, stmt: n.Declaration) -> tuple[World, str]
             return world, dotted
         return _changed(world, names, dotted, stmt, frame), dotted
     if stmt.kind == "PATH":
+        if frame == WORLD:
+            raise TransformError(f"path '{stmt.name.id}' is not relative to an on-line frame; the world model cannot hold it")
         return _with_path(world, frame, stmt.name.id, literal_path(stmt.value, frame)), f"{frame}.{stmt.name.id}"
     pose = literal_pose(stmt.value, frame)
     assert pose is not None

@@ -85,7 +85,7 @@ def _from_declarations(program: n.Program, path: str) -> Job:
     body = program.body
     start = leading_comments(body)
     end = start
-    while end < len(body) and absorbable(body[end]):
+    while end < len(body) and absorbable(body[end], new=True):
         end += 1
     empty = loads_world(EMPTY_WORLD, "<new world>")
     for count in range(end - start, -1, -1):

@@ -60,15 +60,13 @@ def references(node: n.Node) -> Iterator[n.Expression]:
 
 
 def declared_names(program: n.Program) -> set[str]:
-    """Names the program itself declares or assigns: they shadow world objects of the same name."""
+    """Names the program itself declares or assigns: they shadow world objects (INSTALL may name a world tool: no shadow)."""
     out: set[str] = set()
     for node in program.walk():
         if isinstance(node, n.Declaration):
             out.add(node.name.id)
         elif isinstance(node, n.EnumDecl):
             out |= {node.name.id, *(m.id for m in node.members)}
-        elif isinstance(node, n.Install):
-            out.add(node.name.id)
         elif isinstance(node, n.Routine):
             out |= {node.name.id, *(p.id for p in node.params)}
         elif isinstance(node, n.For):
