@@ -37,8 +37,8 @@ class MotionRequest:
     """One motion as the application layer hands it to the robot: everything in world coordinates and SI units."""
 
     keyword: str                                  #: MOVE, LMOVE, ... (for messages)
-    kind: str                                     #: "joint", "linear" or "circular"
-    target: Pose | Joints                         #: world pose of the TCP, or joint angles
+    kind: str                                     #: "joint", "linear", "circular" or "function" (a path in function space)
+    target: Pose | Joints | FunctionParam         #: world pose of the TCP, joint angles, or a world pose function of s
     via: tuple[Pose | Joints, ...] = ()           #: via points (CMOVE: the circle's auxiliary point)
     tool: Pose = field(default_factory=lambda: Pose(0.0, 0.0, 0.0))  #: flange -> TCP
     speed_m_s: Varying | None = None              #: TCP speed limit (None: the joints' limits only)
@@ -120,7 +120,7 @@ class MotionCall:
     """A motion statement evaluated by the executive, handed to the keyword's `execute` behaviour."""
 
     keyword: str
-    target: Pose | Joints | None                  #: TO, in world coordinates (None for ALONG)
+    target: Pose | Joints | FunctionParam | None  #: TO, in world coordinates (None for ALONG); a FUNC of s gives world poses
     path: tuple[Pose | Joints, ...] | None        #: ALONG, in world coordinates
     via: tuple[Pose | Joints, ...]                #: VIA points, in world coordinates
     tool: Pose                                    #: flange -> TCP

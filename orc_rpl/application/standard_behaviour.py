@@ -81,7 +81,9 @@ def standard_motion(call: MotionCall) -> MotionRequest:
         target, via = call.target, call.via
     if target is None:
         raise BehaviourError("needs a TO target or an ALONG path")
-    if kind != "joint" and type(target) is not Pose:
+    if isinstance(target, FunctionParam):
+        kind = "function"  # a path in function space: the FUNC of s gives the TCP pose, from the TCP at s = 0
+    elif kind != "joint" and type(target) is not Pose:
         raise BehaviourError("a Cartesian motion needs a pose as its target, not a joint position")
     if kind == "circular" and (len(via) != 1 or type(via[0]) is not Pose):
         raise BehaviourError("CMOVE needs exactly one VIA pose: the circle passes through it")

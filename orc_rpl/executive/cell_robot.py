@@ -6,9 +6,9 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.application.runtime import MotionRequest, MotionView
+from orc_rpl.application.runtime import FunctionParam, MotionRequest, MotionView
 from orc_rpl.errors import OrcError, PlanningError
-from orc_rpl.motion import Actions, CartesianMotion, FuncParams, JointMotion, MotionData, MotionLayer, MoveStatus, Params
+from orc_rpl.motion import Actions, CartesianMotion, FuncParams, FunctionMotion, JointMotion, MotionData, MotionLayer, MoveStatus, Params
 from orc_rpl.plant.io import CellIO
 from orc_rpl.world.pose import Joints, Pose
 
@@ -98,6 +98,8 @@ class CellRobot:
             for point in request.via:
                 handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, _until_actions(request)))
             handles.append(layer.move(_motion(layer, request.target, "linear", None, tool), params, actions))
+        elif request.kind == "function":
+            handles.append(layer.move(_function_motion(request.target, tool), params, actions))  # type: ignore[arg-type]
         elif request.kind == "circular":
             handles.append(layer.move(_motion(layer, request.target, "circular", request.via[0], tool), params, actions))
         else:
@@ -146,6 +148,21 @@ def _motion(layer: MotionLayer, point: Pose | Joints, kind: str, via: Pose | Joi
     if via is not None and type(via) is Joints:
         via = Pose.from_matrix(layer.fk(np.array(via.values), tool))
     return CartesianMotion(target=point, kind=kind, via=via, tool=tool)  # type: ignore[arg-type]
+
+
+def _function_motion(target: FunctionParam, tool: np.ndarray | None) -> FunctionMotion:
+    """A FUNC of s giving world poses as the motion layer's FunctionMotion (one call of the FUNC per sample)."""
+    memo: dict[float, Pose] = {}
+
+    def component(name: str) -> Any:
+        def at(s: float) -> float:
+            if s not in memo:
+                memo.clear()
+                memo[s] = target.fn(s)
+            return getattr(memo[s], name)
+        return at
+
+    return FunctionMotion(*(component(c) for c in "xyzabc"), tool=tool)
 
 
 def _joint_motion(layer: MotionLayer, request: MotionRequest, tool: np.ndarray | None) -> Any:

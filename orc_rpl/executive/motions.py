@@ -42,8 +42,8 @@ class MotionCompiler:
                 return m.to_world(value)
             if type(value) is Joints:
                 return value
-            if type(value) is Routine:
-                raise RunError(f"{keyword}: a position given as a function ({value.name}) is not supported yet")
+            if type(value) is Routine and role == "target":
+                return self.path_function(value, position, span)
             raise RunError(f"{keyword}: the {role} must be a position (a pose or JOINTS), got {type_name(value)}")
 
         def motion(L: Locals) -> Iterator[object]:
@@ -97,6 +97,20 @@ class MotionCompiler:
                 raise RunError(f"NotFound: {keyword} reached its target before the UNTIL condition became true",
                                name="NotFound")
         return motion
+
+    def path_function(self, routine: Routine, position: Callable[[Any, str], Any], span: n.Span) -> FunctionParam:
+        """`MOVE ARM TO f` with `FUNC f(s)` giving poses: a motion in function space, f(0) checked before it starts."""
+        m = self.m
+        if routine.kind != "FUNC" or len(routine.params) != 1:
+            raise RunError(f"a position given as a routine must be a FUNC of one parameter (s, 0..1), not {routine.kind} {routine.name}")
+
+        def world_pose(s: float) -> Pose:
+            value = position(m.call_now(m.routines[routine.name], [float(s)], span), f"value of {routine.name}")
+            if type(value) is not Pose:
+                raise RunError(f"FUNC {routine.name} must give poses, got {type_name(value)}")
+            return value
+        world_pose(0.0)  # the frame rule, before anything moves
+        return FunctionParam(routine.name, world_pose)
 
     def attributes(self, spec: Any, withs: list[tuple[str, Any]], L: Locals, span: n.Span) -> dict[str, Any]:
         """WITH values by canonical attribute name; a FUNC name becomes a function of the path coordinate."""

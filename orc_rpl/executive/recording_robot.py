@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from orc_rpl.application.runtime import MotionRequest, MotionView
+from orc_rpl.application.runtime import FunctionParam, MotionRequest, MotionView
 from orc_rpl.errors import Unreachable
 from orc_rpl.plant.io import CellIO
 from orc_rpl.world.pose import Joints, Pose
@@ -87,7 +87,7 @@ class RecordingRobot:
             self._finish(ticket, "reached")
 
     def submit(self, request: MotionRequest) -> Ticket:
-        for point in (request.target, *request.via):
+        for point in (request.target if type(request.target) is not FunctionParam else None, *request.via):
             if type(point) is Pose and math.dist((point.x, point.y, point.z), (0.0, 0.0, 0.0)) > self.reach_m:
                 raise Unreachable(f"target ({point.x:.4f}, {point.y:.4f}, {point.z:.4f}) m is out of reach "
                                   f"({self.reach_m} m from the base)")
@@ -119,10 +119,12 @@ class RecordingRobot:
 
     # -- motion model ------------------------------------------------------------------
 
-    def _target_flange(self, request: MotionRequest) -> np.ndarray:
-        if type(request.target) is Joints:
+    def _target_flange(self, request: MotionRequest, s: float = 1.0) -> np.ndarray:
+        target = request.target
+        if type(target) is Joints:
             return self._flange
-        return request.target.matrix() @ np.linalg.inv(request.tool.matrix())
+        pose = target.fn(s) if isinstance(target, FunctionParam) else target
+        return pose.matrix() @ np.linalg.inv(request.tool.matrix())
 
     def _duration(self, request: MotionRequest) -> float:
         if request.time_s:
@@ -141,6 +143,8 @@ class RecordingRobot:
 
     def _interpolate(self, ticket: Ticket) -> np.ndarray:
         assert ticket.start is not None and ticket.end is not None
+        if isinstance(ticket.request.target, FunctionParam):  # a path in function space: follow the function
+            return self._target_flange(ticket.request, ticket.s)
         t = ticket.end.copy()
         t[:3, 3] = ticket.start[:3, 3] + ticket.s * (ticket.end[:3, 3] - ticket.start[:3, 3])
         return t

@@ -159,3 +159,35 @@ def test_io_script_mistakes_name_the_event(tmp_path: Path) -> None:
     script.write_text("events:\n  - {at: 1s, set: 'DigIn[99]'}\n")
     with pytest.raises(UsageError, match="event 1"):
         load_script(script, RecordingRobot().io, lambda: None)  # type: ignore[arg-type,return-value]
+
+
+def test_a_func_as_target_is_a_motion_in_function_space() -> None:
+    executive = run("""
+        FRAME f = POSE(900mm, 0, 600mm, 0, 0, 0)
+        POS start = POSE(0, 0, 100mm, 0, 180deg, 0) IN f
+        FUNC arc(s)
+            RETURN OFFS(start, 100mm * SIN(s * 180deg), 300mm * s, 0)
+        ENDFUNC
+        FRAME f
+            MOVE ARM TO start
+            LMOVE ARM TO arc
+            PRINT ROUND(HERE.y / 1mm, 3)
+        ENDFRAME
+        """)
+    request = executive.robot.recorded[-1].request
+    assert request.kind == "function" and request.target.fn(0.5).x == pytest.approx(1.0)  # world x at the arc's top
+    assert executive.prints == ["300"]
+
+
+def test_a_func_target_in_the_wrong_frame_moves_nothing() -> None:
+    executive = execute(POSITIONS + """
+        FUNC line(s)
+            RETURN OFFS(a, 0, 100mm * s, 0)
+        ENDFUNC
+        FRAME f = POSE(900mm, 0, 600mm, 0, 0, 0)
+        FRAME f
+            LMOVE ARM TO line
+        ENDFRAME
+        """)
+    assert executive.status == "failed" and "relative to world, but this motion is inside FRAME f" in executive.error.message
+    assert executive.robot.recorded == []
