@@ -15,10 +15,29 @@ NEUTRAL, HERE, MIXED = "", "\0here", "\0mixed"
 
 
 def _chains(stmt: n.Statement, chains: Mapping[str, Chain]) -> set[Chain]:
-    """The FRAME nestings of every position a statement refers to (declarations refer to none: they stay on top)."""
-    if isinstance(stmt, (n.Declaration, n.Comment, n.Blank, n.Routine)):
+    """The FRAME nestings of every position a statement refers to, outside the FRAME blocks it already holds
+    (declarations refer to none: they stay on top)."""
+    if isinstance(stmt, (n.Declaration, n.Comment, n.Blank, n.Routine, n.FrameBlock)):
         return set()
-    return {chains[e.id] for e in references(stmt) if isinstance(e, n.Name) and e.id in chains}
+    found: set[Chain] = set()
+    stack: list[n.Node] = [stmt]
+    while stack:
+        node = stack.pop()
+        for child in references_here(node):
+            if isinstance(child, n.Name) and child.id in chains:
+                found.add(chains[child.id])
+        stack.extend(c for c in node.children() if isinstance(c, n.Statement) and not isinstance(c, n.FrameBlock)
+                     or isinstance(c, (n.Branch, n.CaseArm, n.Handler)))
+    return found
+
+
+def references_here(node: n.Node):  # type: ignore[no-untyped-def]
+    """The referring expressions of one statement or arm, not of the statements nested in it."""
+    for child in node.children():
+        if isinstance(child, n.Expression):
+            yield from references(child)
+        elif not isinstance(child, (n.Statement, n.Branch, n.CaseArm, n.Handler)):
+            yield from references(child)
 
 
 def _label(found: set[Chain], outer: Chain) -> str:
