@@ -194,6 +194,11 @@ class ExpressionCompiler:
             routine = self.scopes.routines[name]
             order = [p.id for p in routine.params]
 
+            if routine.kind == "PROC":
+                def proc_value(L: dict[str, Any]) -> Any:
+                    raise RunError(f"PROC {name} gives no value; call it as a statement, or make it a FUNC")
+                return proc_value
+
             def user_call(L: dict[str, Any]) -> Any:
                 args = [f(L) for f in positional]
                 if named:
@@ -206,6 +211,14 @@ class ExpressionCompiler:
                 raise RunError(f"'{name}' is not a function")
             return unknown
         implementation = spec.implementation
+        given = len(positional) + len(named)
+        if given < spec.min_args or (spec.max_args is not None and given > spec.max_args):
+            wanted = (f"{spec.min_args}" if spec.max_args == spec.min_args else
+                      f"at least {spec.min_args}" if spec.max_args is None else f"{spec.min_args} to {spec.max_args}")
+
+            def arity(L: dict[str, Any]) -> Any:
+                raise RunError(f"{name} takes {wanted} argument{'s' if wanted != '1' else ''}, got {given}")
+            return arity
         if implementation is None:
             def missing(L: dict[str, Any]) -> Any:
                 raise RunError(f"{name} is not implemented yet (feature '{spec.origin}')")

@@ -37,6 +37,9 @@ ENDFRAME""", 4, 5, "relative to world, but this motion is inside FRAME table"),
     "application_keyword_not_implemented": ("POS p = POSE(1m, 0, 0.8m, 0, 180deg, 0)\nGRINDMOVE ARM TO p", 2, 1,
                                             "GRINDMOVE is not implemented yet"),
     "lmove_needs_pose": ("LMOVE ARM TO JOINTS(0, 0, 0, 0, 0, 0)", 1, 1, "needs a pose as its target"),
+    "function_arity": ("PRINT 1\nPRINT POSE(1m, 2m)", 2, 1, "POSE takes 6 arguments, got 2"),
+    "proc_has_no_value": ("PROC p\n    PRINT 1\nENDPROC\nx = p()", 4, 1, "PROC p gives no value"),
+    "behaviour_error": ("PRINT SQRT(-4)", 1, 1, "SQRT of a negative value"),
     "speed_fraction_out_of_range": ("MOVE ARM TO POSE(1m, 0, 0.8m, 0, 180deg, 0) WITH SPEED = 2", 1, 1, "in (0, 1]"),
 }
 
