@@ -1,0 +1,88 @@
+"""`orc pendant [FILE]`: the full-screen teach pendant on the virtual robot; offers to recover a killed session's edits."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from orc_rpl.errors import OrcError, UsageError
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    parser = subparsers.add_parser(
+        "pendant", help="the teach pendant: jog, teach, edit, step and run on the virtual robot",
+        description="A full-screen teach pendant for an on-line program on the simulated cell. Type an RPL "
+                    "statement to execute it at once, or a :command (:help lists them). Every edit is journaled: "
+                    "after a crash, the next start offers to recover it.")
+    parser.add_argument("file", metavar="FILE", nargs="?", help="program file (.rpl); created on :save if missing")
+    parser.add_argument("--world", metavar="DIR", help="folder with the program's simulated-IO script (<name>.sim.yaml)")
+    parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
+    parser.add_argument("--backend", choices=("servo", "kinematic"), default="servo",
+                        help="servo: MuJoCo cell with servo loops (default); kinematic: fast, no :snapshot")
+    recovery = parser.add_mutually_exclusive_group()
+    recovery.add_argument("--recover", action="store_true", help="take unsaved edits from the journal without asking")
+    recovery.add_argument("--discard", action="store_true", help="discard unsaved edits in the journal without asking")
+    return parser
+
+
+def _fail(message: str) -> int:
+    sys.stderr.write(f"orc pendant: error: {message}\n")
+    return 2
+
+
+def _ask_recovery(session: object, args: argparse.Namespace) -> str:
+    """Recover, discard or keep (answer asked on the terminal before the full screen starts)."""
+    pending = session.pending_recovery()  # type: ignore[attr-defined]
+    if pending is None:
+        return ""
+    if args.recover:
+        return session.recover()  # type: ignore[attr-defined]
+    if args.discard:
+        return session.discard_recovery()  # type: ignore[attr-defined]
+    if not sys.stdin.isatty():
+        return f"{pending} in the journal: start with --recover or --discard"
+    answer = input(f"orc pendant: {session.path} has {pending} from a session that did not save.\n"  # type: ignore[attr-defined]
+                   "Recover them? [Y/n] ").strip().lower()
+    if answer in ("", "y", "yes"):
+        return session.recover()  # type: ignore[attr-defined]
+    return session.discard_recovery()  # type: ignore[attr-defined]
+
+
+def run(args: argparse.Namespace) -> int:
+    from orc_rpl.arm.robots import ROBOTS
+
+    try:
+        if args.robot not in ROBOTS:
+            raise UsageError(f"--robot: unknown robot {args.robot!r}; known robots: {', '.join(ROBOTS.names())}")
+        if args.world is not None and not Path(args.world).is_dir():
+            raise UsageError(f"--world: '{args.world}' is not a directory")
+        if args.file is not None and Path(args.file).suffix != ".rpl":
+            raise UsageError(f"'{args.file}': a program file must end in .rpl")
+        if args.file is not None and Path(args.file).is_dir():
+            raise UsageError(f"'{args.file}' is a directory")
+    except UsageError as error:
+        return _fail(str(error))
+    try:
+        return _run(args)
+    except OrcError as error:
+        return _fail(str(error))
+
+
+def _run(args: argparse.Namespace) -> int:
+    from orc_rpl.executive.sim_io import load_script, script_path
+    from orc_rpl.pendant.app import PendantApp
+    from orc_rpl.pendant.robot import PendantRobot
+    from orc_rpl.pendant.session import PendantSession
+
+    robot = PendantRobot.virtual(args.robot, backend=args.backend)
+    session = PendantSession(args.file, robot=robot, synchronous=False)
+    try:
+        message = _ask_recovery(session, args)
+        if args.file is not None:
+            io_script = script_path(args.file, args.world)
+            if io_script is not None:
+                load_script(io_script, robot.io, lambda: robot.tcp_pose(session.tool_pose()))
+        return PendantApp(session, message=message).run()
+    finally:
+        session.close()

@@ -1,0 +1,338 @@
+"""Running from the pendant: typed statements, :exec, :run/:step/:stop/:pp/:back as jobs advanced by pump(); modes."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from orc_rpl.errors import OrcError, SourceError
+from orc_rpl.executive.executive import Executive
+from orc_rpl.executive.machine import Options
+from orc_rpl.executive.motions import resolve_tool
+from orc_rpl.executive.signals import RunError
+from orc_rpl.motion import CartesianMotion, JointMotion, MoveStatus, Params
+from orc_rpl.pendant.adapter import point_at, prepare, statement_steps
+from orc_rpl.pendant.editing import context_of
+from orc_rpl.pendant.jogging import JoggingMixin
+from orc_rpl.pendant.tree import EditError, Stop
+from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.parser import parse_statement
+from orc_rpl.world.pose import Pose, readable_angles
+
+if TYPE_CHECKING:
+    from orc_rpl.pendant.session import PendantSession
+
+#: :pp's approach motion and :back run at this fraction of the robot's speed (times the override).
+APPROACH_FRACTION = 0.1
+#: :back along a straight line runs at this TCP speed (times the override).
+BACK_TCP_SPEED_M_S = 0.1
+#: A synchronous session lets a job run this many motion cycles at most (an hour at 4 ms).
+SYNC_LIMIT_TICKS = 900_000
+
+
+class ExecutionMixin(JoggingMixin):
+    """The executive behind the pendant, and the jobs that move the robot."""
+
+    def _init_execution(self: PendantSession) -> None:
+        self.tool = "ARM"
+        self.override = 1.0
+        self.mode = "auto"
+        self.notices: list[str] = []
+        self.job: Iterator[object] | None = None
+        self.job_name = ""
+        self._ex: Executive | None = None
+        self._ex_dirty = True
+        self._slice_ticks = SYNC_LIMIT_TICKS
+        self._sliced = False
+        self.robot.set_mode("auto")
+        self._init_jogging()
+
+    def _program_changed(self: PendantSession) -> None:
+        self._ex_dirty = True
+
+    # -- the executive ------------------------------------------------------------------------
+
+    def executive(self: PendantSession) -> Executive:
+        """The executive of the current program, its names given values; rebuilt after an edit, keeping the pointer
+        on the same statement when it is still there."""
+        if self._ex is not None and not self._ex_dirty:
+            return self._ex
+        old = self._ex
+        keep = old.pointer.statement if old is not None and old.pointer is not None and old.status == "paused" else None
+        ex = Executive(self.program, self.robot, self.registry, path=str(self.path), source=self.text,
+                       output=self._print, options=Options(speed_override=self.override))
+        ex.tracing = True  # the pointer follows every statement, so :stop can stop anywhere
+        self._ex, self._ex_dirty = ex, False
+        for failure in prepare(ex, self.program):
+            self._notify(failure.report(str(self.path), self.text))
+        target = next((s for s in self.stops if keep is not None and s.statement == keep and not s.end and s.routine is None), None)
+        if target is not None:
+            point_at(ex, self.program, target)
+        return ex
+
+    @property
+    def pointer_line(self: PendantSession) -> int | None:
+        """The line of the statement the program pointer is before (None: at the end, or not started)."""
+        ex = self.executive()
+        return ex.pointer.line if ex.pointer is not None and ex.status == "paused" else None
+
+    def _print(self: PendantSession, line: str) -> None:
+        self.printed.append(line)
+        self.notices.append(line)
+        if self.on_print is not None:
+            self.on_print(line)
+
+    def _notify(self: PendantSession, text: str) -> None:
+        self.notices.append(text)
+        self.event(text.splitlines()[0] if text else text)
+
+    def tool_pose(self: PendantSession) -> Pose | None:
+        if self.tool == "ARM":
+            return None
+        return resolve_tool(self.executive().machine.globals.get(self.tool))
+
+    # -- settings -----------------------------------------------------------------------------
+
+    def set_tool(self: PendantSession, name: str) -> str:
+        if name != "ARM":
+            declared = self.declared().get(name)
+            if not isinstance(declared, (n.Declaration, n.Install)) or (isinstance(declared, n.Declaration) and declared.kind != "TOOL"):
+                raise EditError(f":tool {name}: not a declared TOOL (ARM is the bare flange)")
+            try:
+                resolve_tool(self.executive().machine.globals.get(name))
+            except RunError as error:
+                raise EditError(f":tool {name}: {error.message}") from None
+        self.tool = name
+        return self.event(f"tool {name}")
+
+    def set_override(self: PendantSession, fraction: float) -> str:
+        if not 0 < fraction <= 1:
+            raise EditError(f":override must be above 0% and at most 100%, got {fraction * 100:g}%")
+        self.override = fraction
+        if self._ex is not None:
+            self._ex.machine.options.speed_override = fraction
+        return self.event(f"speed override {fraction * 100:g}%")
+
+    def set_mode(self: PendantSession, mode: str) -> str:
+        if mode not in ("manual", "auto"):
+            raise EditError(f":mode: expected manual or auto, got {mode!r}")
+        self.mode = mode
+        self.robot.set_mode(mode)
+        cap = " (TCP speed capped at 250 mm/s, program motions included)" if mode == "manual" else ""
+        return self.event(f"mode {mode}{cap}")
+
+    # -- jobs -----------------------------------------------------------------------------------
+
+    @property
+    def busy(self: PendantSession) -> bool:
+        return self.job is not None
+
+    def _start(self: PendantSession, name: str, job: Iterator[object]) -> str:
+        if self.job is not None:
+            raise EditError(f"busy: {self.job_name} is running (:stop stops it)")
+        self.job, self.job_name = job, name
+        self.notices = []
+        if not self.synchronous:
+            self.pump(1)
+            return f"{name} ..." if self.job is not None else "\n".join(self.notices)
+        self.pump(SYNC_LIMIT_TICKS)
+        if self.job is not None:
+            self.stop()
+            self._notify(f"{name}: still running after {SYNC_LIMIT_TICKS} motion cycles; stopped")
+        self.robot.run_until_idle()
+        return "\n".join(self.notices)
+
+    def pump(self: PendantSession, max_ticks: int) -> None:
+        """Advance the running job (or the jog motions) by up to `max_ticks` motion cycles."""
+        robot = self.robot
+        self._slice_ticks = max(1, max_ticks)
+        start = robot.ticks
+        while self.job is not None and robot.ticks - start < max_ticks:
+            try:
+                next(self.job)
+            except StopIteration:
+                self.job = None
+            except RunError as error:
+                self.job = None
+                self._notify(error.report(str(self.path), self.text))
+            except OrcError as error:
+                self.job = None
+                self._notify(f"{self.job_name}: {error}")
+            except Exception as error:  # a bug of ours: reported, never a traceback in the terminal
+                self.job = None
+                self._notify(f"internal error (a bug in orc_rpl, please report it): {type(error).__name__}: {error}")
+        while self.job is None and robot.pending() > 0 and robot.ticks - start < max_ticks:
+            robot.tick()
+
+    def _slice(self: PendantSession) -> None:
+        self._sliced = True
+        if self._ex is not None:
+            self._ex.pause()
+
+    def _drive(self: PendantSession, name: str, how: Callable[[Executive], str]) -> str:
+        ex = self.executive()
+        if ex.finished or ex.pointer is None:
+            self._restart(ex)
+        robot = self.robot
+        robot.line_source = lambda: ex.pointer.line if ex.pointer is not None else 0
+
+        def job() -> Iterator[object]:
+            while True:
+                self._sliced = False
+                robot.slice_end, robot.on_slice_end = robot.ticks + self._slice_ticks, self._slice
+                try:
+                    status = how(ex)
+                finally:
+                    robot.slice_end = None
+                if status == "paused" and self._sliced:
+                    yield None
+                    continue
+                self._finished(ex, status)
+                return
+        return self._start(name, job())
+
+    def _restart(self: PendantSession, ex: Executive) -> None:
+        top = next((s for s in self.stops if not s.body), None)
+        if top is not None:
+            point_at(ex, self.program, top)
+
+    def _finished(self: PendantSession, ex: Executive, status: str) -> None:
+        if status == "failed":
+            self._notify(ex.report())
+        elif status == "paused":
+            self._notify(f"paused before line {ex.pointer.line}")
+            self.goto(ex.pointer.line, quiet=True)
+        else:
+            self._notify(f"program {status}")
+
+    # -- the commands -------------------------------------------------------------------------
+
+    def run(self: PendantSession) -> str:
+        """Run from the program pointer to the end (or a STOP, an error, :stop)."""
+        return self._drive("run", lambda ex: ex.run())
+
+    def step(self: PendantSession) -> str:
+        """Run the statement at the program pointer (calls included) and stop before the next one."""
+        return self._drive("step", lambda ex: ex.step_over())
+
+    def stop(self: PendantSession) -> str:
+        """Stop the robot on its path; a stopped program motion runs again from where the robot stands on :run."""
+        was = self.job_name if self.job is not None else None
+        if self.job is not None:
+            self.job.close()
+            self.job = None
+        self.robot.halt()
+        ex = self._ex
+        if was in ("run", "step") and ex is not None and ex.pointer is not None and ex.pointer.depth == 1:
+            again = next((s for s in self.stops if s.line == ex.pointer.line and not s.end and s.routine is None), None)
+            if again is not None:
+                point_at(ex, self.program, again)
+        return self.event(f"stopped{f' ({was})' if was else ''}")
+
+    def execute_text(self: PendantSession, text: str) -> str:
+        """A statement typed at the command line, executed at once in the cursor's context (its FRAME block)."""
+        try:
+            stmt = parse_statement(text, "<typed>")
+        except SourceError as error:
+            raise EditError(error.format()) from None
+        routine, frame = context_of(self.stop) if self.stops else (None, "world")
+        return self._statement_job("typed", stmt, routine, frame, 0, text)
+
+    def exec_cursor(self: PendantSession) -> str:
+        """Execute the statement under the cursor in its lexical context: its FRAME block and its scope."""
+        stop = self.stop
+        if stop.end:
+            raise EditError(":exec: the cursor is on an END line; move it to a statement")
+        return self._statement_job("exec", stop.statement, stop.routine, stop.frame, stop.line, None)
+
+    def _statement_job(self: PendantSession, name: str, stmt: n.Statement, routine: str | None, frame: str,
+                       line: int, typed: str | None, quiet: bool = False) -> str:
+        ex = self.executive()
+        self.robot.line_source = lambda: line
+
+        def job() -> Iterator[object]:
+            try:
+                yield from statement_steps(ex, stmt, routine, frame)
+            except RunError as error:
+                self._notify(error.report("<typed>", typed) if typed is not None else error.report(str(self.path), self.text))
+                return
+            if not quiet:
+                where = f" in FRAME {frame}" if frame != "world" else ""
+                self._notify(f"done{where}: {(typed or self.text.splitlines()[line - 1]).strip().splitlines()[0]}")
+        return self._start(name, job())
+
+    def pp(self: PendantSession) -> str:
+        """Program pointer to the cursor; then a slow joint motion to where the statement starts (the end of the
+        motion before it), so that :run or :step go on exactly as the program would."""
+        stop = self.stop
+        ex = self.executive()
+        status = point_at(ex, self.program, stop)
+        if status != "paused":
+            return self.event("program pointer at the end of the program")
+        message = self.event(f"program pointer at line {ex.pointer.line}")
+        approach = self._approach(stop)
+        if approach is None:
+            return message
+        previous, frame = approach
+        result = self._statement_job("approach", previous, None, frame, 0, None, quiet=True)
+        return f"{message}; approach to the end of line {previous.span.line}'s motion at " \
+               f"{APPROACH_FRACTION * 100:g}% speed{chr(10) + result if result else ''}"
+
+    def _approach(self: PendantSession, stop: Stop) -> tuple[n.Motion, str] | None:
+        """A slow MOVE to the target of the motion statement before `stop` in the main program, in its context."""
+        before = [s for s in self.stops[:self.stops.index(stop)] if not s.end and s.routine is None
+                  and isinstance(s.statement, n.Motion) and s.statement.target is not None]
+        if not before:
+            return None
+        last = before[-1]
+        stmt = last.statement
+        slow = n.With(n.Name("SPEED"), n.Number(f"{APPROACH_FRACTION * 100:g}%"))
+        return n.Motion("MOVE", stmt.tool, (n.To(stmt.target), slow), span=stmt.span), last.frame
+
+    def back(self: PendantSession) -> str:
+        """The previous motion in reverse (slowly), and the program pointer back to its statement."""
+        history = self.robot.history
+        if not history:
+            raise EditError(":back: no motion to go back over")
+        if self.job is not None:
+            raise EditError(f"busy: {self.job_name} is running (:stop stops it)")
+        done = history.pop()
+        layer = self.robot.layer
+        tool = None if done.tool is None or done.tool == Pose(0.0, 0.0, 0.0) else done.tool.matrix()
+        if done.kind == "linear":
+            target = Pose.from_matrix(layer.fk(np.array(done.q_start_rad), tool))
+            handle = layer.move(CartesianMotion(target=target, kind="linear", tool=tool),
+                                Params(speed_m_s=BACK_TCP_SPEED_M_S * self.override))
+        else:
+            handle = layer.move(JointMotion(target_rad=done.q_start_rad, tool=tool),
+                                Params(speed_fraction=APPROACH_FRACTION * self.override))
+        if handle.status is MoveStatus.FAULT:
+            history.append(done)
+            raise EditError(f":back: {handle.error}")
+        target_stop = next((s for s in self.stops if s.line == done.line and not s.end and s.routine is None), None)
+
+        def job() -> Iterator[object]:
+            while not handle.done:
+                self.robot.tick()
+                yield None
+            if target_stop is not None:
+                point_at(self.executive(), self.program, target_stop)
+                self.goto(done.line, quiet=True)
+                self._notify(f"back over {done.keyword}; program pointer at line {done.line}")
+            else:
+                self._notify(f"back over {done.keyword}")
+        return self._start("back", job())
+
+    def where_values(self: PendantSession) -> dict[str, Any]:
+        """Joints (deg), TCP (relative to the cursor's frame), tool, mode, override: the state panel's numbers."""
+        frame = context_of(self.stop)[1] if self.stops else "world"
+        try:
+            ex = self.executive()
+            world = self.robot.tcp_pose(self.tool_pose())
+            pose = readable_angles(Pose.from_matrix(np.linalg.inv(ex.machine.frame_matrix(frame)) @ world.matrix(), frame))
+        except (RunError, OrcError):
+            pose, frame = self.robot.tcp_pose(None), "world"
+        return {"joints_deg": self.robot.joints_deg(), "tcp": pose, "frame": frame, "tool": self.tool,
+                "mode": self.mode, "override": self.override, "time_s": self.robot.time_s()}

@@ -1,0 +1,166 @@
+"""The session's read-outs: :positions, :where, :io, :log, :help, :check and :snapshot, as plain text."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from orc_rpl.application.declarations import describe_types
+from orc_rpl.checking.checker import check_program
+from orc_rpl.errors import Diagnostic, OrcError
+from orc_rpl.pendant.tree import EditError
+from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.lexicon import RESERVED
+from orc_rpl.syntax.printer import simple_statement
+from orc_rpl.world.pose import Joints, Pose
+
+if TYPE_CHECKING:
+    from orc_rpl.pendant.session import PendantSession
+
+#: The IO banks the cell has, as the language names them and as the cell does.
+IO_BANKS = (("DigIn", "DigIn"), ("DigOut", "DigOut"), ("AnalogIn", "AnaIn"), ("AnalogOut", "AnaOut"))
+
+#: One line on each statement keyword, for :help (the registry documents the application words).
+STATEMENT_HELP = {
+    "FRAME": "FRAME name ... ENDFRAME: every motion inside is relative to the on-line frame `name`; "
+             "FRAME name = POSE(...) [IN parent] declares one",
+    "POS": "POS name = POSE(x, y, z, a, b, c) [IN frame] | JOINTS(...): a position (:teach declares one)",
+    "TOOL": "TOOL name = POSE(...): a TCP relative to the flange (:tool NAME jogs and teaches with it)",
+    "IF": "IF cond THEN ... ELSIF cond THEN ... ELSE ... ENDIF",
+    "WHILE": "WHILE cond DO ... ENDWHILE",
+    "FOR": "FOR i FROM a TO b [STEP c] DO ... ENDFOR",
+    "CASE": "CASE x OF label : ... ELSE : ... ENDCASE",
+    "TRY": "TRY ... ON name : ... ENDTRY",
+    "PROC": "PROC name(params) ... ENDPROC",
+    "FUNC": "FUNC name(params) ... RETURN value ... ENDFUNC",
+    "WAIT": "WAIT 0.5s | WAIT UNTIL cond [TIMEOUT 3s]",
+    "PRINT": "PRINT a, b: values on one line",
+    "INSTALL": "INSTALL name AS Kind WITH ATTR = value: equipment or a sensor",
+}
+
+
+def _format_value(value: object) -> str:
+    if type(value) is Pose:
+        numbers = [f"{v * 1000:.2f}mm" for v in (value.x, value.y, value.z)]
+        numbers += [f"{math.degrees(v):.2f}deg" for v in (value.a, value.b, value.c)]
+        return f"({', '.join(numbers)})" + (f" IN {value.frame}" if value.frame != "world" else "")
+    if type(value) is Joints:
+        return "JOINTS(" + ", ".join(f"{math.degrees(v):.2f}deg" for v in value.values) + ")"
+    return "(no value: its declaration failed)" if value is None else str(value)
+
+
+class PanelsMixin:
+    """What the pendant shows besides the program."""
+
+    def positions(self: PendantSession) -> str:
+        """Every POS with its frame and value; a touched-up one with its original."""
+        values = self.executive().machine.globals
+        lines = []
+        for node in self.program.walk():
+            if isinstance(node, n.Declaration) and node.kind == "POS":
+                name = node.name.id
+                line = f"{name:<14} line {node.span.line:<4} {_format_value(values.get(name))}"
+                if name in self.originals:
+                    line += f"\n{'':<14} original:  {self.originals[name]}   (:undo {name} restores it)"
+                lines.append(line)
+        return "\n".join(lines) if lines else "no positions declared (:teach NAME declares one)"
+
+    def where(self: PendantSession) -> str:
+        state = self.where_values()
+        pose: Pose = state["tcp"]
+        joints = "  ".join(f"J{i + 1} {q:8.2f}" for i, q in enumerate(state["joints_deg"]))
+        return (f"joints (deg)  {joints}\n"
+                f"TCP of {state['tool']} in {state['frame']}: x {pose.x * 1000:.2f} mm  y {pose.y * 1000:.2f} mm  "
+                f"z {pose.z * 1000:.2f} mm  a {math.degrees(pose.a):.2f}  b {math.degrees(pose.b):.2f}  "
+                f"c {math.degrees(pose.c):.2f} deg\n"
+                f"mode {state['mode']}  override {state['override'] * 100:g}%  time {state['time_s']:.3f} s")
+
+    def io(self: PendantSession) -> str:
+        lines = []
+        for language, cell in IO_BANKS:
+            bank = self.robot.io.bank(cell)
+            values = list(bank)
+            shown = " ".join(f"{i + 1}:{int(v) if isinstance(v, bool) else f'{v:g}'}" for i, v in enumerate(values))
+            lines.append(f"{language:<10} {shown}")
+        return "\n".join(lines) + "\n(:io DigIn[3] 1 sets a channel of the simulated cell)"
+
+    def set_io(self: PendantSession, channel: str, value: str) -> str:
+        """Set a simulated input or an output: `DigIn[3] 1`, `AnalogIn[1] 2.5`."""
+        import re
+
+        match = re.fullmatch(r"(DigIn|DigOut|AnalogIn|AnalogOut)\[(\d+)\]", channel)
+        if match is None:
+            raise EditError(f":io: expected a channel such as DigIn[3] or AnalogOut[1], got {channel!r}")
+        bank = self.robot.io.bank(dict(IO_BANKS)[match.group(1)])
+        try:
+            number = float(value)
+            bank[int(match.group(2))] = bool(number) if match.group(1).startswith("Dig") else number
+        except ValueError:
+            raise EditError(f":io {channel}: expected a number, got {value!r}") from None
+        except (IndexError, OrcError) as error:
+            raise EditError(f":io {channel}: {error}") from None
+        return self.event(f"{channel} = {value}")
+
+    def log_text(self: PendantSession, last: int = 200) -> str:
+        return "\n".join(self.log[-last:]) or "(no events yet)"
+
+    def check_diagnostics(self: PendantSession) -> list[Diagnostic]:
+        return check_program(self.program, str(self.path), self.registry)
+
+    def check(self: PendantSession) -> str:
+        problems = self.check_diagnostics()
+        if not problems:
+            return "check: no errors"
+        return "\n".join(p.format(self.text) for p in problems) + f"\ncheck: {len(problems)} error(s)"
+
+    def snapshot(self: PendantSession, file: str) -> str:
+        if not file.endswith(".png"):
+            raise EditError(f":snapshot {file}: the picture is written as PNG; name it FILE.png")
+        if not Path(file).resolve().parent.is_dir():
+            raise EditError(f":snapshot {file}: the folder does not exist")
+        try:
+            written = self.robot.snapshot(file)
+        except OrcError as error:
+            raise EditError(f":snapshot: {error}") from None
+        return self.event(f"snapshot written to {written}")
+
+    def help(self: PendantSession, word: str | None = None) -> str:
+        """Help on a pendant command, a statement keyword or any registered primitive, from its declaration."""
+        from orc_rpl.pendant.commands import COMMANDS
+
+        if not word:
+            listing = "\n".join(f"  {c.usage:<34} {c.doc}" for c in COMMANDS.values())
+            return "pendant commands (type an RPL statement to execute it at once):\n" + listing
+        word = word.lstrip(":")
+        if word in COMMANDS:
+            c = COMMANDS[word]
+            return f":{c.usage}\n  {c.doc}"
+        reg = self.registry
+        if word in reg.motions:
+            spec = reg.motions[word]
+            lines = [f"{word} tool {' | '.join(t + ' ...' for t in spec.targets)}  ({spec.origin})", f"  {spec.doc}"]
+            for a in spec.attributes:
+                names = "/".join(a.names)
+                default = f" (default {a.default})" if a.default is not None else ""
+                lines.append(f"  WITH {names} = {describe_types(a.types)}{default}: {a.doc}")
+            return "\n".join(lines)
+        if word in reg.functions:
+            spec = reg.functions[word]
+            params = ", ".join(p.name if p.required else f"{p.name}={p.default}" for p in spec.params)
+            return f"{word}({params}{', ...' if spec.variadic else ''})  ({spec.origin})\n  {spec.doc}"
+        if word in reg.install_kinds:
+            spec = reg.install_kinds[word]
+            lines = [f"INSTALL name AS {word}  ({spec.origin})", f"  {spec.doc}"]
+            lines += [f"  WITH {a.name} = {describe_types(a.types)}: {a.doc}" for a in spec.attributes]
+            lines += [f"  .{m.name}: {m.doc}" for m in spec.methods]
+            return "\n".join(lines)
+        if word in STATEMENT_HELP:
+            return STATEMENT_HELP[word]
+        declared = self.declared().get(word)
+        if declared is not None:
+            first = simple_statement(declared) if not isinstance(declared, n.Routine) else f"{declared.kind} {word}"
+            return f"{word}: declared at line {declared.span.line}: {first}"
+        if word in RESERVED:
+            return f"{word}: a reserved word of RPL (docs/language.md)"
+        raise EditError(f":help: nothing is called {word!r} (:help lists the commands)")
