@@ -54,6 +54,7 @@ class Executive:
             self.machine.routines[name] = self.compiler.declarations.routine(routine)
         self.main = self.compiler.block(program.body, Scope())
         self.contexts: dict[int, tuple[str | None, str]] = {}   #: line -> (routine, FRAME) of the statement there
+        self.statements: dict[int, n.Statement] = {}            #: line -> the (first) statement starting there
         self._record_contexts(program.body, None, "world")
         self.breakpoints: set[int] = set()
         self.tracing = False              #: yield at every statement even without breakpoints (the pendant sets it)
@@ -70,6 +71,7 @@ class Executive:
             if isinstance(stmt, (n.Comment, n.Blank)):
                 continue
             self.contexts.setdefault(stmt.span.line, (routine, frame))
+            self.statements.setdefault(stmt.span.line, stmt)
             if isinstance(stmt, n.Routine):
                 self._record_contexts(stmt.body, stmt.name.id, "world")
             elif isinstance(stmt, n.FrameBlock):
@@ -160,6 +162,10 @@ class Executive:
         self.error = error
         self.status = "failed"
         self._gen = iter(())
+        failed_at = self.statements.get(error.span.line) if error.span is not None else None
+        if failed_at is not None:  # the pointer shows the failing statement: the pendant may restart there
+            self.pointer = ProgramPointer(failed_at, failed_at.span.line, failed_at.span.column,
+                                          error.stack[-1].routine if error.stack else "main", error.stack)
         robot = self.machine.robot
         try:
             robot.stop()

@@ -113,3 +113,10 @@ def test_statement_steps_yield_motion_cycles_and_restart_sets_the_pointer() -> N
     assert ex.restart_at(program.body[-1:]) == "paused" and ex.pointer.line == 14
     ex.breakpoints.clear()
     assert ex.run() == "finished" and ex.prints == ["0"]
+
+
+def test_after_a_failure_the_pointer_shows_the_failing_statement() -> None:
+    source = "VAR x = 0\nPROC P\n    x = 1 / x\nENDPROC\nP\n"
+    ex = Executive(parse(source, "f.rpl"), RecordingRobot(), path="f.rpl", source=source, output=lambda line: None)
+    assert ex.run() == "failed"
+    assert (ex.pointer.line, ex.pointer.column, ex.pointer.routine, ex.pointer.depth) == (3, 5, "P", 2)
