@@ -182,7 +182,7 @@ class ArmModel:
 
     def mass_matrix_diagonal_unchecked(self, q: np.ndarray) -> np.ndarray:
         """Diagonal of the mass matrix with the current payload, no input checks (servo gain scheduling)."""
-        return np.diag(self._pin.crba(self._model, self._data, q)).copy()
+        return self._pin.crba(self._model, self._data, q).diagonal().copy()
 
     def mass_matrix(self, q: Any, payload_kg: float = 0.0, payload_com: Any = None) -> np.ndarray:
         """Joint-space inertia matrix (symmetric, armature included)."""

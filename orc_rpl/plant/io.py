@@ -55,6 +55,11 @@ class CellIO:
         self.ana_out = Channels("AnaOut", n_analog, np.float64)
         self._processes: list[Process] = []
 
+    @property
+    def has_processes(self) -> bool:
+        """Whether update() has anything to run (the cell skips the call when not)."""
+        return bool(self._processes)
+
     def bank(self, name: str) -> Channels:
         """A bank by its language name: DigIn, DigOut, AnaIn or AnaOut."""
         banks = {c.name: c for c in (self.dig_in, self.dig_out, self.ana_in, self.ana_out)}

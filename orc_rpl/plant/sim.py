@@ -18,6 +18,8 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 import mujoco  # noqa: E402  (after MUJOCO_GL)
 
+mj_step = mujoco.mj_step  # looked up once: step() runs a thousand times per simulated second
+
 
 class SimCell:
     """The simulated cell: robot joints driven by torque motors, 1 kHz steps, simulated IO.
@@ -47,6 +49,14 @@ class SimCell:
         self._qvel = np.array([m.jnt_dofadr[j] for j in joint_ids])
         # Fast path: the robot's joints are the model's only ones, in order.
         self._contiguous = bool(np.array_equal(self._qpos, np.arange(self.n_joints)) and m.nv == self.n_joints)
+        # Views into MjData (its arrays live as long as it does): the servo loop reads and writes
+        # through them instead of making and copying arrays every step.
+        self._ctrl = self._data.ctrl
+        self._q_live = self._data.qpos[: self.n_joints] if self._contiguous else None
+        self._qd_live = self._data.qvel[: self.n_joints] if self._contiguous else None
+        for view in (self._q_live, self._qd_live):
+            if view is not None:
+                view.flags.writeable = False
         self.tau_max = m.actuator_forcerange[:, 1].copy()
         self.timestep_s: float = float(m.opt.timestep)
         self._flange_site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, ROBOT_PREFIX + self.description.robot_spec.flange_frame)
@@ -62,16 +72,20 @@ class SimCell:
     @property
     def q(self) -> np.ndarray:
         """Measured joint angles (rad), a copy."""
-        if self._contiguous:
-            return self._data.qpos[: self.n_joints].copy()
+        if self._q_live is not None:
+            return self._q_live.copy()
         return self._data.qpos[self._qpos]
 
     @property
     def qd(self) -> np.ndarray:
         """Measured joint speeds (rad/s), a copy."""
-        if self._contiguous:
-            return self._data.qvel[: self.n_joints].copy()
+        if self._qd_live is not None:
+            return self._qd_live.copy()
         return self._data.qvel[self._qvel]
+
+    def live_state(self) -> tuple[np.ndarray, np.ndarray] | tuple[None, None]:
+        """Read-only views (q, qd) that follow the plant step by step, or (None, None) if its joints are not contiguous."""
+        return self._q_live, self._qd_live
 
     @property
     def tau(self) -> np.ndarray:
@@ -106,9 +120,10 @@ class SimCell:
     def step(self, tau_nm: np.ndarray) -> None:
         """Apply motor torques for one timestep (saturated at the motors' limits) and advance the cell."""
         data = self._data
-        data.ctrl[:] = tau_nm
-        mujoco.mj_step(self._model, data)
-        self.io.update(data.time)
+        self._ctrl[:] = tau_nm
+        mj_step(self._model, data)
+        if self.io.has_processes:
+            self.io.update(data.time)
         if self.realtime:
             ahead_s = data.time - (time.perf_counter() - self._wall_start_s)
             if ahead_s > 0.002:

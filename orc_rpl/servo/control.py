@@ -35,7 +35,13 @@ class ServoGains:
 
 
 class JointServo:
-    """Local control of all joints at the servo period; its attributes are the internal signals of the last cycle."""
+    """Local control of all joints at the servo period; its attributes are the internal signals of the last cycle.
+
+    `update` runs a thousand times per simulated second: it works in preallocated arrays with the
+    output argument of numpy's ufuncs (no allocation, no attribute chains, no input checks: the
+    loop checks a motion cycle's references once). The operations and their order are those of the
+    plain formula in `ServoGains`, so the torques are the same to the last bit.
+    """
 
     def __init__(self, arm: ArmModel, period_s: float = 0.001, gains: ServoGains = ServoGains()) -> None:
         self.arm = arm
@@ -43,13 +49,26 @@ class JointServo:
         self.gains = gains
         n = arm.n_joints
         self._tau_max = np.array(arm.tau_max)
+        self._tau_min = -self._tau_max
         self._integral_max = gains.integral_limit * self._tau_max
+        self._integral_min = -self._integral_max
         self._inertia = np.diag(arm.mass_matrix(arm.home_q))
         self._kv = self._inertia * gains.velocity_bw_rad_s
         self._ki_dt = self._kv * (gains.integral_bw_rad_s * period_s)
         self._steps = 0
-        # Internal signals (software sensors), overwritten each cycle; read them, do not keep them.
+        # Scalar gains as arrays: numpy multiplies two arrays faster than an array and a Python float,
+        # and the products are the same numbers.
+        self._kp = np.full(n, gains.position_gain_1_s)
+        self._velocity_bw = np.full(n, gains.velocity_bw_rad_s)
+        self._integral_bw_dt = np.full(n, gains.integral_bw_rad_s * period_s)
+        # Work arrays of update(); the integral alternates between two buffers (the anti-windup
+        # needs last cycle's value while the new one is formed).
+        self._work = np.zeros(n)
+        self._demand = np.zeros(n)
+        self._integral_next = np.zeros(n)
+        # Internal signals (software sensors), overwritten in place each cycle; read them, do not keep them.
         self.position_error = np.zeros(n)     #: q_ref - q (rad)
+        self.velocity_error = np.zeros(n)     #: qd_ref + position_gain * position_error - qd (rad/s)
         self.velocity = np.zeros(n)           #: measured qd (rad/s)
         self.torque = np.zeros(n)             #: commanded torque after saturation (N m): the torque estimate
         self.torque_ff = np.zeros(n)          #: inverse-dynamics feed-forward (N m)
@@ -61,41 +80,52 @@ class JointServo:
 
     def reset(self) -> None:
         """Forget the integral and the signals (after a plant reset)."""
-        for signal in (self.position_error, self.velocity, self.torque, self.torque_ff, self.integral):
+        n = self.arm.n_joints
+        for signal in (self.position_error, self.velocity_error, self.torque, self.integral):
             signal[:] = 0.0
+        # velocity and torque_ff may be the plant's and the model's own arrays: rebind, never write into them
+        self.velocity, self.torque_ff = np.zeros(n), np.zeros(n)
         self.saturated[:] = False
-        self.torque_offset = np.zeros(self.arm.n_joints)
+        self.torque_offset = np.zeros(n)
         self._steps = 0
 
     def update(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
                q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        """One servo cycle: the torque to apply for the next period (unchecked inputs: the loop checks once)."""
+        """One servo cycle: the torque to apply for the next period (unchecked inputs: the loop checks once).
+
+        The result is the `torque` signal itself: apply or copy it before the next update.
+        """
         g = self.gains
+        kv, ki_dt = self._kv, self._ki_dt
         if self._steps % g.inertia_every_steps == 0:
-            self._inertia = self.arm.mass_matrix_diagonal_unchecked(q)
-            self._kv = self._inertia * g.velocity_bw_rad_s
-            self._ki_dt = self._kv * (g.integral_bw_rad_s * self.period_s)
+            inertia = self._inertia = self.arm.mass_matrix_diagonal_unchecked(q)
+            np.multiply(inertia, self._velocity_bw, kv)
+            np.multiply(kv, self._integral_bw_dt, ki_dt)
         self._steps += 1
-        error = q_ref - q
-        velocity_error = qd_ref - qd
-        velocity_error += g.position_gain_1_s * error
-        integral = self.integral + self._ki_dt * velocity_error
-        # np.minimum/np.maximum: several times cheaper than np.clip on six numbers.
-        integral = np.maximum(np.minimum(integral, self._integral_max), -self._integral_max)
+        error, velocity_error, work = self.position_error, self.velocity_error, self._work
+        np.subtract(q_ref, q, error)
+        np.subtract(qd_ref, qd, velocity_error)
+        np.multiply(error, self._kp, work)
+        np.add(velocity_error, work, velocity_error)
+        integral, last_integral = self._integral_next, self.integral
+        np.multiply(ki_dt, velocity_error, work)
+        np.add(last_integral, work, integral)
+        # out= by keyword: numpy 2.4 takes a slow path for minimum/maximum with a positional out (5x)
+        np.minimum(integral, self._integral_max, out=integral)
+        np.maximum(integral, self._integral_min, out=integral)
         tau_ff = self.arm.inverse_dynamics_unchecked(q_ref, qd_ref, qdd_ref)
-        demand = self._kv * velocity_error
-        demand += tau_ff
-        demand += integral
-        demand += self.torque_offset
-        tau = np.maximum(np.minimum(demand, self._tau_max), -self._tau_max)
-        saturated = tau != demand
-        if saturated.any():
+        demand, tau, saturated = self._demand, self.torque, self.saturated
+        np.multiply(kv, velocity_error, demand)
+        np.add(demand, tau_ff, demand)
+        np.add(demand, integral, demand)
+        np.add(demand, self.torque_offset, demand)
+        np.minimum(demand, self._tau_max, out=tau)
+        np.maximum(tau, self._tau_min, out=tau)
+        np.not_equal(tau, demand, saturated)
+        if np.count_nonzero(saturated):
             # Anti-windup: do not integrate further into a saturated motor.
-            integral = np.where(saturated, self.integral, integral)
-        self.integral = integral
-        self.position_error = error
+            np.copyto(integral, last_integral, where=saturated)
+        self.integral, self._integral_next = integral, last_integral
         self.velocity = qd
-        self.torque = tau
         self.torque_ff = tau_ff
-        self.saturated = saturated
         return tau
