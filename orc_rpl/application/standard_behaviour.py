@@ -9,7 +9,7 @@ from orc_rpl.application.registry import Registry, default_registry
 from orc_rpl.application.runtime import BehaviourError, Fine, FunctionParam, InstallContext, MotionCall, MotionRequest
 from orc_rpl.application.standard_functions import IMPLEMENTATIONS
 from orc_rpl.syntax.units import ACCELERATION, LENGTH, MASS, TIME, VELOCITY, Quantity
-from orc_rpl.world.pose import Joints, Pose
+from orc_rpl.world.pose import Pose
 
 #: Motion kind of each standard keyword.
 KINDS = {"MOVE": "joint", "JMOVE": "joint", "LMOVE": "linear", "CMOVE": "circular"}
@@ -180,5 +180,3 @@ def runtime_registry() -> Registry:
     """The default registry with the standard behaviour filled in: what the executive runs with."""
     return install_standard_behaviour(default_registry())
 
-
-__all__ = ["Joints", "install_standard_behaviour", "runtime_registry", "standard_motion"]

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from orc_rpl.executive.machine import Machine
-from orc_rpl.executive.signals import ReturnSignal, RunError, StopSignal
+from orc_rpl.executive.signals import ReturnSignal, StopSignal
 from orc_rpl.syntax import nodes as n
 
 Locals = dict[str, Any]
@@ -107,4 +107,4 @@ def wrap_errors(m: Machine, node: n.Statement, gen: Gen) -> Gen:
     return located
 
 
-__all__ = ["Block", "Compiled", "RunError", "make_block", "wrap_errors"]
+__all__ = ["Block", "Compiled", "make_block", "wrap_errors"]

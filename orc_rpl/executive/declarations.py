@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from typing import Any
 
 from orc_rpl.application.runtime import InstallContext
@@ -153,5 +152,3 @@ def write_channel(m: Machine, channel: IOChannel, value: Any) -> None:
         raise RunError(f"expected an IO channel such as DigOut[3], got {type_name(channel)}")
     m.write_io(channel.bank, channel.number, value)
 
-
-__all__ = ["DeclarationCompiler", "Iterator"]

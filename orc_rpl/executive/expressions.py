@@ -9,7 +9,7 @@ from orc_rpl.executive import operators as ops
 from orc_rpl.executive.machine import Machine
 from orc_rpl.executive.scope import ProgramScopes, Scope
 from orc_rpl.executive.signals import RunError
-from orc_rpl.executive.values import FINE, IO_BANKS, ROBOT, EnumValue, Installed, IOBank, Routine, RobotSignals, type_name
+from orc_rpl.executive.values import FINE, IO_BANKS, ROBOT, Installed, IOBank, Routine, RobotSignals, type_name
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.units import ANGLE, LENGTH, Quantity, parse_literal, to_si, UNIT_CONSTANTS
 from orc_rpl.world.pose import Pose
@@ -272,5 +272,3 @@ def robot_signal(m: Machine, name: str) -> Any:
         raise RunError("ROBOT.Thermal is not implemented yet (feature 'assembly')")
     raise RunError(f"ROBOT has no signal '{name}'; it has Joints, Torque, PosError, Thermal")
 
-
-__all__ = ["ARM_TOOL", "Compiled", "ExpressionCompiler", "EnumValue", "LENGTH"]

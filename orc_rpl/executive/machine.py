@@ -11,7 +11,7 @@ import numpy as np
 from orc_rpl.application.registry import Registry
 from orc_rpl.application.runtime import RobotInterface
 from orc_rpl.errors import MotionFault, OrcError
-from orc_rpl.executive.signals import ControlSignal, ReturnSignal, RunError, StackEntry
+from orc_rpl.executive.signals import ReturnSignal, RunError, StackEntry
 from orc_rpl.executive.values import IOBank, type_name
 from orc_rpl.syntax.nodes import Span
 from orc_rpl.world.pose import Pose
@@ -240,5 +240,3 @@ class CompiledRoutine:
                            f"{'s' if len(self.params) != 1 else ''}, got {len(args)}")
         return dict(zip(self.params, args))
 
-
-__all__ = ["Activation", "CompiledRoutine", "ControlSignal", "Machine", "Options", "TICK"]
