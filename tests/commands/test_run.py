@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[2]
 DEMOS = {
     "demo_pick_and_place": ["placed part 1", "placed part 2", "placed part 3", "done: 3 parts"],
     "demo_pallet": ["pallet full: 12 parts"],
-    "demo_io_cycle": ["part found at z = 559 mm", "part found at z = 559 mm", "cycles done: 2"],
+    "demo_io_cycle": ["part found at z = 559 mm; sensor 1", "part found at z = 559 mm; sensor 1", "cycles done: 2"],
     "demo_recover": ["target 1 reached", "target 2 is out of reach; back to safe", "target 3 reached", "reached 2 skipped 1"],
 }
 
