@@ -121,7 +121,7 @@ class PendantApp:
 
     def start_edit(self) -> None:
         try:
-            stop = self.session.stop
+            stop = self.session.at_cursor
         except Exception as error:  # an empty program: nothing to edit
             self.show(str(error), True)
             return

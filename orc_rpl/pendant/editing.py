@@ -127,25 +127,25 @@ class EditingMixin:
     def teach(self: PendantSession, name: str, action: str | None = None) -> str:
         """Declare a position at the current pose, relative to the FRAME block containing the cursor."""
         name = self._new_name(name)
-        _, frame = context_of(self.stop) if self.stops else (None, "world")
+        _, frame = context_of(self.at_cursor) if self.stops else (None, "world")
         declaration = parse_statement(f"POS {name} = {self._current_pose_text(frame)}", "<teach>")
         at = self._declaration_index(frame)
         program = tree.replace_body(self.program, (), self.program.body[:at] + (declaration,) + self.program.body[at:])
-        keep = _shift_path(self.stop.body, self.stop.index, at) if self.stops else ((), 0)
-        self.commit(program, action or f"teach {name}", cursor=(*keep, self.stop.end if self.stops else False))
+        keep = _shift_path(self.at_cursor.body, self.at_cursor.index, at) if self.stops else ((), 0)
+        self.commit(program, action or f"teach {name}", cursor=(*keep, self.at_cursor.end if self.stops else False))
         where = f"relative to FRAME {frame}" if frame != "world" else "relative to world (the cursor is outside every FRAME block)"
         return self.event(f"taught {simple_statement(declaration)}  -- {where}")
 
     def insert_move(self: PendantSession, name: str | None = None) -> str:
         """Teach a position and insert `MOVE <tool> TO <it>` after the cursor's statement, inside the right block."""
         name = self._new_name(name) if name else self._free_name()
-        _, frame = context_of(self.stop) if self.stops else (None, "world")
+        _, frame = context_of(self.at_cursor) if self.stops else (None, "world")
         declaration = parse_statement(f"POS {name} = {self._current_pose_text(frame)}", "<teach>")
         motion = parse_statement(f"MOVE {self.tool} TO {name}", "<insert>")
         if not self.stops:
             self.commit(n.Program((declaration, motion)), f"insert move {name}", cursor=((), 1, False))
             return self.event(f"inserted MOVE {self.tool} TO {name} at line {self.cursor_line}")
-        program, path, index = tree.insert_at(self.program, self.stop, (motion,))
+        program, path, index = tree.insert_at(self.program, self.at_cursor, (motion,))
         at = self._declaration_index(frame)
         program = tree.replace_body(program, (), program.body[:at] + (declaration,) + program.body[at:])
         path, index = _shift_path(path, index, at)
@@ -167,7 +167,7 @@ class EditingMixin:
         new = parse_statement(text, "<modpos>")
         new = type(new)(new.kind, new.name, new.value, new.frame, declaration.comment)  # keep the line's comment
         self.originals.setdefault(name, simple_statement(declaration))
-        keep = (self.stop.body, self.stop.index, self.stop.end)
+        keep = (self.at_cursor.body, self.at_cursor.index, self.at_cursor.end)
         self.commit(tree.replace_at(self.program, stop.body, stop.index, new), f"modpos {name}", cursor=keep)
         return self.event(f"modpos {simple_statement(new)}  (original kept: {self.originals[name]})")
 
@@ -186,7 +186,7 @@ class EditingMixin:
         if not self.stops:
             self.commit(n.Program((statement,)), "insert", cursor=((), 0, False))
         else:
-            program, path, index = tree.insert_at(self.program, self.stop, (statement,))
+            program, path, index = tree.insert_at(self.program, self.at_cursor, (statement,))
             self.commit(program, "insert", cursor=(path, index, False))
         return self.event(f"inserted at line {self.cursor_line}: {text.splitlines()[0].strip()}")
 
@@ -230,7 +230,7 @@ class EditingMixin:
             raise EditError(f":shift: expected up or down, got {direction!r}")
         path, first, last = self.selection()
         self.commit(tree.shift(self.program, path, first, last, offset), f"shift {direction}",
-                    cursor=(path, (self.stop.index if self.mark is None else first) + offset, False))
+                    cursor=(path, (self.at_cursor.index if self.mark is None else first) + offset, False))
         if self.mark is not None:
             self.mark = None
         return self.event(f"moved {last - first + 1} statement(s) {direction}")
@@ -243,7 +243,7 @@ class EditingMixin:
                 raise EditError(f"position '{name}' was not touched up in this session (:positions lists them)")
             _, stop = self._position(name)
             self.commit(tree.replace_at(self.program, stop.body, stop.index, parse_statement(original)),
-                        f"undo modpos {name}", cursor=(self.stop.body, self.stop.index, self.stop.end))
+                        f"undo modpos {name}", cursor=(self.at_cursor.body, self.at_cursor.index, self.at_cursor.end))
             del self.originals[name]
             return self.event(f"restored {original}")
         if not self._undo:

@@ -237,12 +237,12 @@ class ExecutionMixin(JoggingMixin):
             stmt = parse_statement(text, "<typed>")
         except SourceError as error:
             raise EditError(error.format()) from None
-        routine, frame = context_of(self.stop) if self.stops else (None, "world")
+        routine, frame = context_of(self.at_cursor) if self.stops else (None, "world")
         return self._statement_job("typed", stmt, routine, frame, 0, text)
 
     def exec_cursor(self: PendantSession) -> str:
         """Execute the statement under the cursor in its lexical context: its FRAME block and its scope."""
-        stop = self.stop
+        stop = self.at_cursor
         if stop.end:
             raise EditError(":exec: the cursor is on an END line; move it to a statement")
         return self._statement_job("exec", stop.statement, stop.routine, stop.frame, stop.line, None)
@@ -266,7 +266,7 @@ class ExecutionMixin(JoggingMixin):
     def pp(self: PendantSession) -> str:
         """Program pointer to the cursor; then a slow joint motion to where the statement starts (the end of the
         motion before it), so that :run or :step go on exactly as the program would."""
-        stop = self.stop
+        stop = self.at_cursor
         ex = self.executive()
         status = point_at(ex, self.program, stop)
         if status != "paused":
@@ -327,7 +327,7 @@ class ExecutionMixin(JoggingMixin):
 
     def where_values(self: PendantSession) -> dict[str, Any]:
         """Joints (deg), TCP (relative to the cursor's frame), tool, mode, override: the state panel's numbers."""
-        frame = context_of(self.stop)[1] if self.stops else "world"
+        frame = context_of(self.at_cursor)[1] if self.stops else "world"
         try:
             ex = self.executive()
             world = self.robot.tcp_pose(self.tool_pose())

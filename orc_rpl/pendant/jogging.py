@@ -66,7 +66,7 @@ class JoggingMixin:
         if self.jog_space == "frame":
             from orc_rpl.pendant.editing import context_of
 
-            self.jog_frame = context_of(self.stop)[1] if self.stops else "world"
+            self.jog_frame = context_of(self.at_cursor)[1] if self.stops else "world"
         self.jog_axis = min(self.jog_axis, 5)
         return f"jog in {self.jog_label()}"
 

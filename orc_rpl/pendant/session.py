@@ -94,14 +94,14 @@ class PendantSession(EditingMixin, ExecutionMixin, PanelsMixin):
     # -- the program and the cursor ----------------------------------------------------
 
     @property
-    def stop(self) -> Stop:
+    def at_cursor(self) -> Stop:
         if not self.stops:
             raise PendantError("the program is empty: type a statement, or :insert one")
         return self.stops[min(self.cursor, len(self.stops) - 1)]
 
     @property
     def cursor_line(self) -> int:
-        return self.stop.line if self.stops else 0
+        return self.at_cursor.line if self.stops else 0
 
     @property
     def modified(self) -> bool:
@@ -156,7 +156,7 @@ class PendantSession(EditingMixin, ExecutionMixin, PanelsMixin):
 
     def selection(self) -> tuple[tuple, int, int]:
         """The selected statements: their body and first/last index (the cursor's statement without a selection)."""
-        here = self.stop
+        here = self.at_cursor
         if self.mark is None:
             if here.end:
                 raise EditError("the cursor is on an END line: move it to a statement")

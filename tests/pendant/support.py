@@ -14,7 +14,7 @@ from orc_rpl.world.pose import Pose
 #: The thesis' section 7.3 program (programs/online/thesis_7_3_online_frame.rpl), with the frame rotated
 #: 90 degrees about z so that a position read in the wrong frame is far away *and* turned.
 FRAME_PROGRAM = textwrap.dedent("""\
-    FRAME base_plate = POSE(900mm, 0, 500mm, 0, 0, 90deg)
+    FRAME base_plate = POSE(900mm, 0, 500mm, 90deg, 0, 0)
     POS pos0 = POSE(800mm, -300mm, 800mm, 0, 180deg, 0)
     POS pos1 = POSE(100mm, -100mm, 50mm, 0, 180deg, 0) IN base_plate
     POS pos2 = POSE(100mm, 100mm, 50mm, 0, 180deg, 0) IN base_plate

@@ -10,7 +10,7 @@ from tests.pendant.support import (
     LINE_ENDFRAME, LINE_FRAME, LINE_MOVE_POS0, LINE_MOVE_POS1, LINE_MOVE_POS3, session_on, tcp_m, world_of,
 )
 
-BASE_PLATE = Pose(0.9, 0.0, 0.5, 0.0, 0.0, np.pi / 2)
+BASE_PLATE = Pose(0.9, 0.0, 0.5, np.pi / 2, 0.0, 0.0)
 POS1 = Pose(0.1, -0.1, 0.05, 0.0, np.pi, 0.0)
 #: Where pos1 is when its frame is honoured, and where it would be if the block were ignored (world).
 POS1_WORLD = world_of(BASE_PLATE, POS1)
@@ -115,7 +115,7 @@ def test_a_taught_position_moves_with_its_frame_when_the_fixture_is_relocated(tm
     session.exec_cursor()
     session.insert_move("pos1b")
     session.goto(1)
-    session.replace("FRAME base_plate = POSE(950mm, 20mm, 500mm, 0, 0, 90deg)")
+    session.replace("FRAME base_plate = POSE(950mm, 20mm, 500mm, 90deg, 0, 0)")
     session.goto(session.text.splitlines().index("    MOVE ARM TO pos1b") + 1)
     session.exec_cursor()
     np.testing.assert_allclose(tcp_m(session), POS1_WORLD + [0.05, 0.02, 0.0], atol=1e-4)
