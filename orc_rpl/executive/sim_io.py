@@ -57,8 +57,10 @@ class IOScript:
 
 
 def script_path(program: str | Path, world_dir: str | Path | None = None) -> Path | None:
-    """The IO script of a program: `<stem>.sim.yaml` in `world_dir` if given, else beside the program."""
+    """The IO script of a program: `<stem>.sim.yaml` in `world_dir` (or beside a world file) if given, else beside the program."""
     program = Path(program)
+    if world_dir is not None and Path(world_dir).is_file():
+        world_dir = Path(world_dir).parent
     name = program.with_suffix(".sim.yaml").name
     for folder in ([Path(world_dir)] if world_dir is not None else []) + [program.parent]:
         candidate = folder / name
