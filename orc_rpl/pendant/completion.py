@@ -38,7 +38,7 @@ def candidates(session: PendantSession, before_cursor: str) -> tuple[str, list[s
     stripped = head.lstrip()
     if stripped.startswith(":"):
         if stripped == ":":
-            return word, sorted(COMMANDS)
+            return word, sorted(c for c in COMMANDS if c.startswith(word))
         command = stripped[1:].split()[0] if stripped[1:].split() else ""
         if command in ("teach", "modpos", "undo"):
             pool = _names(session, ("POS",)) if command != "teach" else []
