@@ -169,7 +169,7 @@ def _joint_motion(layer: MotionLayer, request: MotionRequest, tool: np.ndarray |
     """MOVE: to a pose (inverse kinematics near the start) or to joints, through its VIA points."""
     if type(request.target) is Pose and not request.via:
         return CartesianMotion(target=request.target, kind="joint", tool=tool)
-    seed = layer._tail_q()  # where the robot will be when the queued moves are done
+    seed = layer.planned_end_q()  # where the robot will be when the queued moves are done
     via_rad = []
     for point in request.via:
         seed = np.array(point.values) if type(point) is Joints else layer.ik(point.matrix(), seed, tool)

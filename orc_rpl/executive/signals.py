@@ -67,10 +67,18 @@ class RunError(ControlSignal):
     def report(self, path: str, source: str | None = None) -> str:
         """`file:line:col: message`, the line and caret, then the call stack innermost last."""
         text = self.diagnostic(path, source).format()
-        calls = [entry for entry in self.stack if entry.line]
+        calls = ["  " + entry.describe(path) for entry in self.stack if entry.line]
+        if len(calls) > SHOWN_CALLS:
+            # Endless recursion: the outermost calls say how it started, the innermost where it is.
+            hidden = len(calls) - SHOWN_CALLS
+            calls = calls[:3] + [f"  ... {hidden} more calls ..."] + calls[-(SHOWN_CALLS - 3):]
         if calls:
-            text += "\ncall stack (innermost last):\n" + "\n".join("  " + e.describe(path) for e in calls)
+            text += "\ncall stack (innermost last):\n" + "\n".join(calls)
         return text
+
+
+#: A printed call stack shows at most this many calls.
+SHOWN_CALLS = 12
 
 
 def rpl_exception(name: str, message: str | None = None) -> RunError:
