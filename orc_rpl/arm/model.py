@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
 from typing import Any
@@ -121,6 +122,14 @@ class ArmModel:
         t_tool = None if tool is None else self.transform(tool)
         return self._fk_jacobian(q, t_tool)[1]
 
+    def fk_unchecked(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray:
+        """fk for a float array of n_joints and a checked tool, without checking them (per-cycle loggers)."""
+        return self._fk(q, tool)
+
+    def pose_and_jacobian(self, q: np.ndarray, tool: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """TCP pose and Jacobian from one kinematics pass, inputs unchecked (the inner loops of IK)."""
+        return self._fk_jacobian(q, tool)
+
     def _fk(self, q: np.ndarray, tool: np.ndarray | None) -> np.ndarray:
         pin = self._pin
         pin.forwardKinematics(self._model, self._data, q)
@@ -175,6 +184,13 @@ class ArmModel:
     def inverse_dynamics_unchecked(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
         """RNEA with the current payload and no input checks: for the 1 kHz servo loop, which checks once."""
         return self._pin.rnea(self._model, self._data, q, qd, qdd)
+
+    def inverse_dynamics_function(self) -> Any:
+        """The RNEA as a bare callable f(q, qd, qdd) on this model, payload changes included, no checks.
+
+        For the 1 kHz servo loop: one C call without a Python frame around it (about 0.1 us a step).
+        """
+        return functools.partial(self._pin.rnea, self._model, self._data)
 
     def set_payload(self, payload_kg: float = 0.0, payload_com: Any = None) -> None:
         """Make a payload current for the unchecked servo-loop calls."""

@@ -23,6 +23,8 @@ class ArmLike(Protocol):
 
     def jacobian(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray: ...
 
+    def pose_and_jacobian(self, q: np.ndarray, tool: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]: ...
+
     def inverse_dynamics(
         self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, payload_kg: float = 0.0
     ) -> np.ndarray: ...
@@ -79,15 +81,17 @@ class Kinematics:
 
     def _track(self, target: np.ndarray, q: np.ndarray, tool: np.ndarray | None) -> np.ndarray | None:
         """Newton steps from a nearby solution (the previous path sample): a few times faster than a full IK."""
-        arm = self.arm
+        # q and tool come checked from ik_along: one unchecked kinematics pass gives pose and Jacobian
+        pose_and_jacobian = self.arm.pose_and_jacobian
+        target_r, target_p = target[:3, :3], target[:3, 3]
         for _ in range(8):
-            t = arm.fk(q, tool)
-            e = target[:3, :3] @ t[:3, :3].T  # rotation still to go, its vee part is the angle error for small angles
-            err = np.array([*(target[:3, 3] - t[:3, 3]), 0.5 * (e[2, 1] - e[1, 2]), 0.5 * (e[0, 2] - e[2, 0]), 0.5 * (e[1, 0] - e[0, 1])])
-            if float(np.max(np.abs(err))) < 1e-10:
+            t, jac = pose_and_jacobian(q, tool)
+            e = target_r @ t[:3, :3].T  # rotation still to go, its vee part is the angle error for small angles
+            err = np.array([*(target_p - t[:3, 3]), 0.5 * (e[2, 1] - e[1, 2]), 0.5 * (e[0, 2] - e[2, 0]), 0.5 * (e[1, 0] - e[0, 1])])
+            if float(np.abs(err).max()) < 1e-10:
                 return q
             try:
-                q = q + np.linalg.solve(arm.jacobian(q, tool), err)
+                q = q + np.linalg.solve(jac, err)
             except np.linalg.LinAlgError:
                 return None
         return None
@@ -97,6 +101,7 @@ class Kinematics:
         qs = np.empty((len(poses), self.n))
         qs[0] = q_start
         prev = np.asarray(q_start, dtype=float)
+        self.arm.fk(prev, tool)  # checks q_start and the tool once: _track's inner loop does not
         for i in range(1, len(poses)):
             q = self._track(poses[i], prev, tool)
             if q is None or float(np.max(np.abs(q - prev))) > self.joint_step_limit_rad or not np.all(

@@ -87,7 +87,8 @@ def make_virtual_motion_layer(
         log.submit("q_ref", layer.reference_q)
         log.submit("q", layer.current_q)
         log.submit("tau", be.torque)
-        log.submit("tcp", lambda: layer.tcp_pose()[:3, 3])
+        # the measured q is a float array of n_joints: fk need not check it every cycle
+        log.submit("tcp", lambda: arm.fk_unchecked(be.q())[:3, 3])
         log.submit("s", lambda: layer.progress_s())
         layer.logger = log
     return layer

@@ -39,8 +39,12 @@ class SimCell:
             self._model = self._spec.compile()
         except ValueError as exc:  # MuJoCo's compile errors
             raise UsageError(f"cannot build the cell for robot {self.robot!r}: {exc}") from None
-        self._data = mujoco.MjData(self._model)
         m = self._model
+        # Collision detection is about a tenth of a step even when nothing can touch; skip it when no
+        # two geoms can collide (the default cell: contype = conaffinity = 0 everywhere): same numbers.
+        if m.npair == 0 and not (int(np.bitwise_or.reduce(m.geom_contype)) & int(np.bitwise_or.reduce(m.geom_conaffinity))):
+            m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+        self._data = mujoco.MjData(m)
         self.n_joints: int = int(m.nactuator)
         joint_ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{ROBOT_PREFIX}j{i + 1}") for i in range(self.n_joints)]
         if min(joint_ids) < 0:

@@ -55,6 +55,7 @@ class JointServo:
         self._inertia = np.diag(arm.mass_matrix(arm.home_q))
         self._kv = self._inertia * gains.velocity_bw_rad_s
         self._ki_dt = self._kv * (gains.integral_bw_rad_s * period_s)
+        self._inverse_dynamics = arm.inverse_dynamics_function()
         self._steps = 0
         # Scalar gains as arrays: numpy multiplies two arrays faster than an array and a Python float,
         # and the products are the same numbers.
@@ -113,7 +114,7 @@ class JointServo:
         # out= by keyword: numpy 2.4 takes a slow path for minimum/maximum with a positional out (5x)
         np.minimum(integral, self._integral_max, out=integral)
         np.maximum(integral, self._integral_min, out=integral)
-        tau_ff = self.arm.inverse_dynamics_unchecked(q_ref, qd_ref, qdd_ref)
+        tau_ff = self._inverse_dynamics(q_ref, qd_ref, qdd_ref)
         demand, tau, saturated = self._demand, self.torque, self.saturated
         np.multiply(kv, velocity_error, demand)
         np.add(demand, tau_ff, demand)
