@@ -67,9 +67,9 @@ class PendantApp:
             body,
             Window(height=1, char="\u2500", style="class:gutter"),
             Window(FormattedTextControl(lambda: views.messages(self._message_tail(), self.error)),
-                   height=Dimension(min=3, max=12, preferred=8), wrap_lines=True),
+                   height=Dimension(min=3, max=12, preferred=6), wrap_lines=True),
             Window(BufferControl(self.buffer, lexer=PygmentsLexer(RplLexer), input_processors=[prompt]),
-                   height=Dimension(min=1, max=6), wrap_lines=True),
+                   height=lambda: Dimension.exact(min(6, self.buffer.document.line_count)), wrap_lines=True),
             Window(FormattedTextControl(lambda: views.function_bar(labels(self.mode), self.mode)), height=1),
         ])
         layout = Layout(FloatContainer(root, floats=[Float(xcursor=True, ycursor=True, content=CompletionsMenu(max_height=8))]),

@@ -37,7 +37,9 @@ def pose_text(pose: Pose) -> str:
     """`POSE(x mm, y mm, z mm, a deg, b deg, c deg)` to 1 µm and 0.001 deg (the numbers of a taught position)."""
     pose = readable_angles(pose)
     lengths = [number_text(v * 1000.0, "mm", 3) for v in (pose.x, pose.y, pose.z)]
-    angles = [number_text(math.degrees(v), "deg", 3) for v in (pose.a, pose.b, pose.c)]
+    # -180 deg and 180 deg are one angle: write the positive one, as a person would
+    angles = [number_text(180.0 if abs(math.degrees(v) + 180.0) < 5e-4 else math.degrees(v), "deg", 3)
+              for v in (pose.a, pose.b, pose.c)]
     return f"POSE({', '.join(lengths + angles)})"
 
 
@@ -103,7 +105,7 @@ class EditingMixin:
             frame_world = ex.machine.frame_matrix(frame)
         except RunError as error:
             raise EditError(f"cannot teach relative to FRAME {frame}: {error.message}") from None
-        world = self.robot.tcp_pose(self.tool_pose())
+        world = self.robot.commanded_tcp(self.tool_pose())
         relative = Pose.from_matrix(np.linalg.inv(frame_world) @ world.matrix(), frame)
         return pose_text(relative) + (f" IN {frame}" if frame != "world" else "")
 
@@ -161,7 +163,7 @@ class EditingMixin:
         value = self.executive().machine.globals.get(name)
         if type(value) is Joints or (isinstance(declaration.value, n.Call) and getattr(declaration.value.function, "id", "") == "JOINTS"):
             self.robot.run_until_idle()
-            text = f"POS {name} = {joints_text(self.robot.joints())}"
+            text = f"POS {name} = {joints_text(tuple(self.robot.layer.reference_q()))}"
         else:
             text = f"POS {name} = {self._current_pose_text(frame)}"
         new = parse_statement(text, "<modpos>")

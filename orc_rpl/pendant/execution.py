@@ -70,6 +70,8 @@ class ExecutionMixin(JoggingMixin):
         target = next((s for s in self.stops if keep is not None and s.statement == keep and not s.end and s.routine is None), None)
         if target is not None:
             point_at(ex, self.program, target)
+        else:
+            self._restart(ex)  # the pointer shows the first statement, as on a freshly loaded program
         return ex
 
     @property

@@ -109,6 +109,14 @@ class PendantRobot:
         self.stop()
         self.run_until_idle(10.0)
 
+    def commanded_tcp(self, tool: Any) -> Any:
+        """The TCP where the robot is commanded to be (world): what :teach stores, so that moving back to a taught
+        position ends exactly there instead of drifting by the servo's steady-state error each time."""
+        from orc_rpl.world.pose import Pose
+
+        matrix = None if tool is None else tool.matrix()
+        return Pose.from_matrix(self.layer.fk(self.layer.reference_q(), matrix))
+
     def joints_deg(self) -> tuple[float, ...]:
         return tuple(float(np.degrees(q)) for q in self.joints())
 
