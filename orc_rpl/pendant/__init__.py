@@ -1,1 +1,1 @@
-"""The teach pendant: prompt-toolkit application and rich views; no domain logic."""
+"""The teach pendant: a headless session (session.py and its mixins) and a thin prompt-toolkit application (app.py)."""

@@ -105,7 +105,8 @@ class PendantSession(EditingMixin, ExecutionMixin, PanelsMixin):
 
     @property
     def modified(self) -> bool:
-        return self.text != self.saved_text
+        """Edits not yet saved (an empty new program is not an edit)."""
+        return self.text != (self.saved_text if self.saved_text is not None else "")
 
     def commit(self, program: n.Program, action: str, cursor: tuple | None = None, cursor_line: int | None = None) -> None:
         """Make an edited tree the program: printed canonically, parsed back, journaled, undoable."""
