@@ -25,6 +25,10 @@ class ArmLike(Protocol):
 
     def pose_and_jacobian(self, q: np.ndarray, tool: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]: ...
 
+    def fk_unchecked(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray: ...
+
+    def transform(self, value: object, what: str = "tool") -> np.ndarray: ...
+
     def inverse_dynamics(
         self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, payload_kg: float = 0.0
     ) -> np.ndarray: ...
@@ -49,7 +53,14 @@ class Kinematics:
 
     def tcp_positions(self, qs: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray:
         """TCP positions (N, 3) of joint samples (N, n)."""
-        return np.array([self.arm.fk(q, tool)[:3, 3] for q in qs])
+        qs = np.asarray(qs, dtype=float)
+        if qs.ndim != 2 or len(qs) == 0 or not np.isfinite(qs).all():
+            return np.array([self.arm.fk(q, tool)[:3, 3] for q in qs])  # the checked calls say what is wrong
+        # One checked call for the joint count and the tool; the other samples go unchecked (they are
+        # every path's samples: the checks cost more than the kinematics).
+        first = self.arm.fk(qs[0], tool)[:3, 3]
+        fk, tool = self.arm.fk_unchecked, None if tool is None else self.arm.transform(tool)
+        return np.array([first] + [fk(q, tool)[:3, 3] for q in qs[1:]])
 
     def check_limits(self, q: np.ndarray, what: str) -> None:
         """Raise JointLimit naming the joint if q leaves the joint ranges."""

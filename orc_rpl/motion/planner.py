@@ -94,11 +94,18 @@ class Planner:
             qdd_max=arm.qdd_max * params.accel_fraction * share,
             tau_max=arm.tau_max * TORQUE_SHARE * share,
             inverse_dynamics=inverse_dynamics,
-            tcp_jacobian=(lambda q: arm.jacobian(q, tool)[:3]) if tcp is not None else None,
+            tcp_jacobian=self._tcp_jacobian(tool) if tcp is not None else None,
             tcp_speed_m_s=tcp,
             speed_fraction=frac_fn,
             load_kg=load,
         )
+
+    def _tcp_jacobian(self, tool: np.ndarray | None) -> Callable[[np.ndarray], np.ndarray]:
+        """The (3, n) linear TCP Jacobian at q, for the speed bound at every grid point: the tool is checked once here."""
+        arm = self.arm
+        checked = None if tool is None else arm.transform(tool)
+        pose_and_jacobian = arm.pose_and_jacobian
+        return lambda q: pose_and_jacobian(q, checked)[1][:3]
 
     def short_limits(self, q: np.ndarray, params: Params) -> ShortLimits:
         """Short-move limits: the dynamics at the start taken as constant for the whole move."""

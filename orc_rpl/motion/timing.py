@@ -42,8 +42,39 @@ def _toppra() -> Any:
     import toppra.algorithm
     import toppra.constraint
     import toppra.interpolator
+    import toppra.solverwrapper
 
     logging.getLogger("toppra").setLevel(logging.ERROR)  # failures are reported by us, as PlanningError
+    # Every TOPPRA() asks importlib whether optional solver packages are installed (a tenth of a
+    # plan's time); the answer does not change while we run: ask once.
+    solvers = toppra.solverwrapper.available_solvers(output_msg=False)
+    toppra.solverwrapper.available_solvers = lambda output_msg=True: solvers
+    discretization = toppra.constraint.DiscretizationType
+
+    class AccelerationBound(toppra.constraint.JointAccelerationConstraint):
+        """toppra's joint acceleration constraint, built without the printable summary its __init__
+        formats with numpy's array printing (a fifth of a plan's time)."""
+
+        def __init__(self, alim: np.ndarray) -> None:
+            toppra.constraint.LinearConstraint.__init__(self)
+            self.alim = np.array(alim, dtype=float)
+            self.dof = self.alim.shape[0]
+            self.set_discretization_type(discretization.Interpolation)
+            self.identical = True
+            self._format_string = "    Acceleration limit (alim)\n"
+
+    class TorqueBound(toppra.constraint.JointTorqueConstraint):
+        """toppra's joint torque constraint, likewise without the printable summary."""
+
+        def __init__(self, inv_dyn: Callable[..., np.ndarray], tau_lim: np.ndarray, fs_coef: np.ndarray) -> None:
+            toppra.constraint.LinearConstraint.__init__(self)
+            self.inv_dyn = inv_dyn
+            self.tau_lim = np.array(tau_lim, dtype=float)
+            self.fs_coef = np.array(fs_coef)
+            self.dof = self.tau_lim.shape[0]
+            self.set_discretization_type(discretization.Collocation)
+            self.identical = True
+            self._format_string = "    Torque limit (tau_lim)\n"
 
     class GeometricPath(toppra.interpolator.AbstractGeometricPath):
         """Our SplinePath seen as a toppra geometric path."""
@@ -76,7 +107,7 @@ def _toppra() -> Any:
             xb[:, 1] = self._xmax_at(gridpoints)
             return None, None, None, None, None, None, xb
 
-    return toppra, GeometricPath, SpeedBound
+    return toppra, GeometricPath, SpeedBound, AccelerationBound, TorqueBound
 
 
 def xmax(path: SplinePath, grid: np.ndarray, limits: TimingLimits) -> np.ndarray:
@@ -90,11 +121,12 @@ def xmax(path: SplinePath, grid: np.ndarray, limits: TimingLimits) -> np.ndarray
     if limits.tcp_speed_m_s is not None and limits.tcp_jacobian is not None:
         v = limits.tcp_speed_m_s(owner, s)
         q, d1s = path(grid), path(grid, 1)
-        for i in range(len(grid)):
-            if np.isfinite(v[i]):
-                lin = float(np.linalg.norm(limits.tcp_jacobian(q[i]) @ d1s[i]))
-                if lin > 1e-12:
-                    out[i] = min(out[i], (v[i] / lin) ** 2)
+        jacobian = limits.tcp_jacobian
+        for i in np.flatnonzero(np.isfinite(v)):
+            tcp_d1 = jacobian(q[i]) @ d1s[i]
+            lin = math.sqrt(float(tcp_d1.dot(tcp_d1)))  # np.linalg.norm's own formula, without its checks
+            if lin > 1e-12:
+                out[i] = min(out[i], (v[i] / lin) ** 2)
     return np.minimum(out, 1e8)
 
 
@@ -108,17 +140,15 @@ def toppra_profile(
     path: SplinePath, limits: TimingLimits, sd_start: float = 0.0, sd_end: float = 0.0, points: int | None = None
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """(grid, sd) of the time-optimal profile, or None when toppra finds none (never raises for toppra's sake)."""
-    toppra, GeometricPath, SpeedBound = _toppra()
+    toppra, GeometricPath, SpeedBound, AccelerationBound, TorqueBound = _toppra()
     grid = grid_for(path, points)
     cons: list[Any] = [
         SpeedBound(lambda g: xmax(path, g, limits), path.dof),
-        toppra.constraint.JointAccelerationConstraint(np.stack([-limits.qdd_max, limits.qdd_max], axis=1)),
+        AccelerationBound(np.stack([-limits.qdd_max, limits.qdd_max], axis=1)),
     ]
     if limits.tau_max is not None and limits.inverse_dynamics is not None:
         cons.append(
-            toppra.constraint.JointTorqueConstraint(
-                limits.inverse_dynamics, np.stack([-limits.tau_max, limits.tau_max], axis=1), np.zeros(path.dof)
-            )
+            TorqueBound(limits.inverse_dynamics, np.stack([-limits.tau_max, limits.tau_max], axis=1), np.zeros(path.dof))
         )
     try:
         algo = toppra.algorithm.TOPPRA(cons, GeometricPath(path), gridpoints=grid, solver_wrapper="seidel")
