@@ -112,7 +112,7 @@ def main() -> None:
               f"max {v.max():6.2f} ms  ({len(v)} samples, {args.backend} robot)")
     print(f"jog_p50_ms={np.percentile(ms['jog_in'], 50):.3f}")
     print(f"jog_p99_ms={np.percentile(ms['jog_in'], 99):.3f}")
-    print(f"jog_p99_target_ms=10")
+    print("jog_p99_target_ms=10")
     print(f"jog_planned_p99_ms={np.percentile(ms['jog_out'], 99):.3f}")
     print(f"typed_statement_p50_ms={np.percentile(ms['typed_in'], 50):.3f}")
     print(f"typed_statement_p99_ms={np.percentile(ms['typed_in'], 99):.3f}")

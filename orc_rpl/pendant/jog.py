@@ -9,8 +9,8 @@ import numpy as np
 
 from orc_rpl.errors import OrcError
 from orc_rpl.motion import CartesianMotion, JointMotion, MotionLayer, Params
-from orc_rpl.syntax.units import ANGLE, LENGTH, DimensionError, dim_of, magnitude, parse_literal
-from orc_rpl.world.pose import Pose, rotation_zyx
+from orc_rpl.syntax.units import ANGLE, LENGTH, dim_of, magnitude, parse_literal
+from orc_rpl.world.pose import Pose
 
 #: Cartesian axes: translations along x y z, rotations about x y z (about the TCP).
 CARTESIAN_AXES = ("x", "y", "z", "rx", "ry", "rz")
@@ -42,9 +42,7 @@ def parse_amount(text: str, rotation: bool) -> float:
     body = text[1:] if text.startswith("+") else text
     try:
         value = parse_literal(body[1:]) if body.startswith("-") else parse_literal(body)
-    except (ValueError, DimensionError, KeyError):
-        raise JogError(f"cannot read the amount {text!r}; write it like +10mm or -5deg") from None
-    except Exception:
+    except Exception:  # the unit parser's errors vary (unknown unit, bad number): one message for all
         raise JogError(f"cannot read the amount {text!r}; write it like +10mm or -5deg") from None
     wanted = ANGLE if rotation else LENGTH
     dimension = dim_of(value)
@@ -93,5 +91,4 @@ def _axis_rotation(axis: np.ndarray, angle_rad: float) -> np.ndarray:
     return np.eye(3) + math.sin(angle_rad) * k + (1.0 - math.cos(angle_rad)) * (k @ k)
 
 
-__all__ = ["CARTESIAN_AXES", "CONTINUOUS", "STEPS", "Jog", "JogError", "jog_motion", "jog_params", "parse_amount",
-           "rotation_zyx"]
+__all__ = ["CARTESIAN_AXES", "CONTINUOUS", "STEPS", "Jog", "JogError", "jog_motion", "jog_params", "parse_amount"]
