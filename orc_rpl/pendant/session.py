@@ -117,6 +117,7 @@ class PendantSession(EditingMixin, ExecutionMixin, PanelsMixin):
         del self._undo[:-UNDO_DEPTH]
         self.text, self.program = text, parsed
         self.stops = stops(parsed)
+        self.mark = None  # a selection is of statements that may have moved: it ends with the edit
         if self.journal is not None:
             self.journal.append(action, text)
         self._program_changed()

@@ -286,3 +286,19 @@ def test_snapshot_renders_the_cell_or_explains_why_not(tmp_path) -> None:
     with pytest.raises(EditError, match="kinematic backend"):
         session.snapshot(str(tmp_path / "cell.png"))
     assert math.isfinite(session.robot.time_s())
+
+
+def test_snapshot_writes_a_png_of_the_cell_with_offscreen_gl(tmp_path) -> None:
+    import os
+    import subprocess
+    import sys
+
+    script = ("import sys\nfrom orc_rpl.pendant.session import PendantSession\n"
+              "s = PendantSession(sys.argv[1], journal=False)\nprint(s.snapshot(sys.argv[2]))\n")
+    (tmp_path / "cell.rpl").write_text("", encoding="utf-8")
+    env = {**os.environ, "MUJOCO_GL": "egl"}
+    done = subprocess.run([sys.executable, "-c", script, str(tmp_path / "cell.rpl"), str(tmp_path / "cell.png")],
+                          capture_output=True, text=True, env=env, timeout=120)
+    if done.returncode != 0 or not (tmp_path / "cell.png").exists():
+        pytest.skip(f"no offscreen OpenGL here: {(done.stdout + done.stderr).strip().splitlines()[-1:]}")
+    assert (tmp_path / "cell.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
