@@ -28,7 +28,9 @@ from orc_rpl.syntax.printer import print_statement
 PUMP_PERIOD_S = 0.02
 #: At most this many motion cycles per pump, so the screen stays responsive when the simulation is slow.
 MAX_TICKS_PER_PUMP = 50
-#: Lines of the state pane and fixed rows, for the listing's height before the first render.
+#: The message pane grows to this many lines for a long answer (:help, :positions, :log), then shows the last ones.
+MESSAGE_LINES = 18
+#: Width of the robot-state pane (characters).
 STATE_WIDTH = 34
 
 
@@ -67,7 +69,9 @@ class PendantApp:
             body,
             Window(height=1, char="\u2500", style="class:gutter"),
             Window(FormattedTextControl(lambda: views.messages(self._message_tail(), self.error)),
-                   height=Dimension(min=3, max=12, preferred=6), wrap_lines=True),
+                   height=lambda: Dimension(min=3, max=MESSAGE_LINES,
+                                            preferred=min(MESSAGE_LINES, self.message.count("\n") + 1)),
+                   wrap_lines=True),
             Window(BufferControl(self.buffer, lexer=PygmentsLexer(RplLexer), input_processors=[prompt]),
                    height=lambda: Dimension.exact(min(6, self.buffer.document.line_count)), wrap_lines=True),
             Window(FormattedTextControl(lambda: views.function_bar(labels(self.mode), self.mode)), height=1),
@@ -88,7 +92,7 @@ class PendantApp:
 
     def _message_tail(self) -> str:
         lines = self.message.split("\n")
-        return "\n".join(lines[-12:])
+        return "\n".join(lines[-MESSAGE_LINES:])
 
     def show(self, text: str, error: bool = False) -> None:
         if text:

@@ -130,8 +130,11 @@ class PanelsMixin:
         from orc_rpl.pendant.commands import COMMANDS
 
         if not word:
-            listing = "\n".join(f"  {c.usage:<34} {c.doc}" for c in COMMANDS.values())
-            return "pendant commands (type an RPL statement to execute it at once):\n" + listing
+            usages = [f":{c.usage}" for c in COMMANDS.values()]
+            half = (len(usages) + 1) // 2
+            rows = [f"  {left:<44}{right}" for left, right in zip(usages[:half], usages[half:] + [""])]
+            return ("type an RPL statement to execute it at once, or a command (:help WORD explains one, "
+                    "and any statement keyword or registered primitive):\n" + "\n".join(rows))
         word = word.lstrip(":")
         if word in COMMANDS:
             c = COMMANDS[word]
