@@ -81,7 +81,7 @@ def state(session: PendantSession) -> StyleAndTextTuples:
         out += [("class:label", f"  {axis} "), ("class:value", f"{value * 1000:9.2f} mm\n")]
     for axis, value in zip("abc", (pose.a, pose.b, pose.c)):
         degrees = math.degrees(value)
-        degrees = 180.0 if abs(degrees + 180.0) < 0.005 else degrees + 0.0  # one spelling for +-180 and 0
+        degrees = 180.0 if abs(degrees + 180.0) < 0.005 else round(degrees, 2) + 0.0  # one spelling of +-180 and of 0
         out += [("class:label", f"  {axis} "), ("class:value", f"{degrees:9.2f} deg\n")]
     mode_style = "class:manual" if values["mode"] == "manual" else "class:value"
     out += [("class:label", " mode "), (mode_style, values["mode"]),
