@@ -10,6 +10,8 @@ from lark import Token
 
 #: A line that continues the motion or install statement above it.
 _CONTINUATION = re.compile(r"[ \t]*(with|via|until)(?![A-Za-z0-9_])")
+#: Lines that continue the compound statement above them.
+_MIDDLE = re.compile(r"[ \t]*(elif|else|except|end)(?![A-Za-z0-9_])")
 
 
 @dataclass
@@ -107,6 +109,9 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
         previous_blank = False
         width = _width(text)
         comment_only = stripped.startswith("#")
+        if _MIDDLE.match(text):
+            # Blank lines before `else:`, `elif`, `except` or `end` belong to the block above it.
+            pending[:] = [(line, 1 << 30) for line, _ in pending]
         if opener and (width > stack[-1] or (not comment_only and any(w > stack[-1] for _, w in pending))):
             # The block's first line (a blank line indented like the block counts as its first line).
             first = pending[0][0] if pending else number
@@ -114,6 +119,7 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
             stack.append(block_width)
             emit(first, "_INDENT")
             pending.clear()
+            opener = False
             if width < block_width:
                 close_to(width, number)
         elif width > stack[-1]:
@@ -128,6 +134,11 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
                                                    f"indent it by {stack[-1]} spaces"))
         if not comment_only:
             opener = _opens_block(text)
+    if opener and any(w > stack[-1] for _, w in pending):
+        # A block of blank lines at the end of the file.
+        stack.append(max(w for _, w in pending))
+        emit(pending[0][0], "_INDENT")
+        pending.clear()
     for number, width in pending:
         while stack[-1] > 0 and stack[-1] > width:
             stack.pop()

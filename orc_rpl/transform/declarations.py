@@ -10,6 +10,7 @@ from orc_rpl.world.editing import apply, set_entry
 from orc_rpl.world.values import format_pose
 from orc_rpl.transform.job import Job, TransformError
 from orc_rpl.transform.naming import FRAME, OBJECT, Names, name_world
+from orc_rpl.transform.treemap import declared_names, references
 from orc_rpl.transform.poses import frame_pose, literal_path, literal_pose, object_pose, path_poses, pose_literal, tool_pose
 
 DECLARED_KINDS = ("FRAME", "TOOL", "POS", "PATH")
@@ -163,4 +164,10 @@ def absorb_declarations(job: Job, chosen: frozenset[int] | None = None) -> Job:
             if names.online.get(dotted) != stmt.name.id:  # type: ignore[union-attr]
                 raise TransformError(f"'{stmt.name.id}' would be named '{names.online.get(dotted)}' on-line: a name clash in the world")
     program = dataclasses.replace(job.program, body=tuple(kept))
+    if chosen is None:
+        # Given the world the program came from, a name it uses without declaring it is that world's entity too.
+        own = declared_names(program)
+        for expr in references(program):
+            if isinstance(expr, n.Name) and expr.id in names.entity and expr.id not in own:
+                used.setdefault(names.entity[expr.id])
     return dataclasses.replace(job, program=program, world=world, names=names, used=tuple(used))
