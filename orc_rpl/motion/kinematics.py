@@ -92,17 +92,22 @@ class Kinematics:
 
     def _track(self, target: np.ndarray, q: np.ndarray, tool: np.ndarray | None) -> np.ndarray | None:
         """Newton steps from a nearby solution (the previous path sample): a few times faster than a full IK."""
-        # q and tool come checked from ik_along: one unchecked kinematics pass gives pose and Jacobian
+        # q and tool come checked from ik_along: one unchecked kinematics pass gives pose and Jacobian.
+        # The error is formed in Python floats (the same IEEE operations as numpy's, without a
+        # numpy call per element): this loop runs for every sample of every Cartesian path.
         pose_and_jacobian = self.arm.pose_and_jacobian
-        target_r, target_p = target[:3, :3], target[:3, 3]
+        target_r = target[:3, :3]
+        x, y, z = target[:3, 3].tolist()
         for _ in range(8):
             t, jac = pose_and_jacobian(q, tool)
-            e = target_r @ t[:3, :3].T  # rotation still to go, its vee part is the angle error for small angles
-            err = np.array([*(target_p - t[:3, 3]), 0.5 * (e[2, 1] - e[1, 2]), 0.5 * (e[0, 2] - e[2, 0]), 0.5 * (e[1, 0] - e[0, 1])])
-            if float(np.abs(err).max()) < 1e-10:
+            # rotation still to go; its vee part is the angle error for small angles
+            (_, e01, e02), (e10, _, e12), (e20, e21, _) = (target_r @ t[:3, :3].T).tolist()
+            px, py, pz = t[:3, 3].tolist()
+            err = (x - px, y - py, z - pz, 0.5 * (e21 - e12), 0.5 * (e02 - e20), 0.5 * (e10 - e01))
+            if max(map(abs, err)) < 1e-10:
                 return q
             try:
-                q = q + np.linalg.solve(jac, err)
+                q = q + np.linalg.solve(jac, np.array(err))
             except np.linalg.LinAlgError:
                 return None
         return None

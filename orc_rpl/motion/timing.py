@@ -110,6 +110,11 @@ def _toppra() -> Any:
     return toppra, GeometricPath, SpeedBound, AccelerationBound, TorqueBound
 
 
+def preload() -> None:
+    """Import toppra now (about 0.4 s with the matplotlib it pulls in) rather than inside the first move."""
+    _toppra()
+
+
 def xmax(path: SplinePath, grid: np.ndarray, limits: TimingLimits) -> np.ndarray:
     """Upper bound on sd^2 at each grid point from joint and TCP speed limits."""
     d1 = np.abs(path(grid, 1))

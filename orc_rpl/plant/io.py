@@ -53,12 +53,8 @@ class CellIO:
         self.dig_out = Channels("DigOut", n_digital, np.bool_)
         self.ana_in = Channels("AnaIn", n_analog, np.float64)
         self.ana_out = Channels("AnaOut", n_analog, np.float64)
-        self._processes: list[Process] = []
-
-    @property
-    def has_processes(self) -> bool:
-        """Whether update() has anything to run (the cell skips the call when not)."""
-        return bool(self._processes)
+        #: process models run after every plant step, in order (add them with add_process)
+        self.processes: list[Process] = []
 
     def bank(self, name: str) -> Channels:
         """A bank by its language name: DigIn, DigOut, AnaIn or AnaOut."""
@@ -70,11 +66,11 @@ class CellIO:
 
     def add_process(self, process: Process) -> None:
         """Run `process(io, time_s)` after every plant step (a weld gun answering DigOut with DigIn, say)."""
-        self._processes.append(process)
+        self.processes.append(process)
 
     def update(self, time_s: float) -> None:
         """Advance the process models to the plant's time (called by the cell each step)."""
-        for process in self._processes:
+        for process in self.processes:
             process(self, time_s)
 
     def reset(self) -> None:

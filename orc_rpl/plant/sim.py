@@ -126,7 +126,7 @@ class SimCell:
         data = self._data
         self._ctrl[:] = tau_nm
         mj_step(self._model, data)
-        if self.io.has_processes:
+        if self.io.processes:
             self.io.update(data.time)
         if self.realtime:
             ahead_s = data.time - (time.perf_counter() - self._wall_start_s)

@@ -43,6 +43,7 @@ class ServoLoop:
         if self.cell.robot != self.arm.name:
             raise UsageError(f"the cell drives robot {self.cell.robot!r} but the arm model is {self.arm.name!r}")
         self.period_s: float = self.cell.timestep_s
+        self._n = self.arm.n_joints
         # The servo gets its own model: the motion layer's calls on `arm` (another payload, say)
         # must never change the feed-forward in the middle of a motion.
         self.servo = JointServo(ArmModel(self.arm.spec), self.period_s, gains)
@@ -68,28 +69,33 @@ class ServoLoop:
 
     def _checked_references(self, q_ref: Any, qd_ref: Any, qdd_ref: Any, n_steps: int) -> tuple[np.ndarray, ...]:
         """The references of one call as (n_steps, n) arrays, checked once for the whole call."""
-        q_ref, qd_ref, qdd_ref = (np.asarray(v, dtype=float) for v in (q_ref, qd_ref, qdd_ref))
-        n = self.arm.n_joints
-        if n_steps < 1:
-            raise UsageError(f"n_steps must be >= 1, got {n_steps}")
-        if q_ref.ndim == 1:
-            if not (q_ref.shape == qd_ref.shape == qdd_ref.shape == (n,)):
-                raise UsageError(f"references must each have {n} values, got {q_ref.shape}, {qd_ref.shape}, {qdd_ref.shape}")
-        elif not (q_ref.shape == qd_ref.shape == qdd_ref.shape == (n_steps, n)):
-            raise UsageError(f"per-step references must have shape ({n_steps}, {n})")
+        q_ref, qd_ref, qdd_ref = np.asarray(q_ref, dtype=float), np.asarray(qd_ref, dtype=float), np.asarray(qdd_ref, dtype=float)
+        shape = q_ref.shape
+        if not (shape == qd_ref.shape == qdd_ref.shape and shape in ((n_steps, self._n), (self._n,))) or n_steps < 1:
+            self._refuse(q_ref, qd_ref, qdd_ref, n_steps)
         # count_nonzero: a plain C call, several times cheaper than np.all on these small arrays
-        size = q_ref.size
-        if (np.count_nonzero(np.isfinite(q_ref)) != size or np.count_nonzero(np.isfinite(qd_ref)) != size
-                or np.count_nonzero(np.isfinite(qdd_ref)) != size):
+        finite, size = np.isfinite, q_ref.size
+        if (np.count_nonzero(finite(q_ref)) != size or np.count_nonzero(finite(qd_ref)) != size
+                or np.count_nonzero(finite(qdd_ref)) != size):
             raise UsageError("servo reference contains NaN or infinity")
-        if q_ref.ndim == 2:
+        if len(shape) == 2:
             return q_ref, qd_ref, qdd_ref
+        n = self._n
         # Constant acceleration from the given state, the same expression step by step.
         t = (np.arange(n_steps) * self.period_s)[:, None]
         q_steps = q_ref + qd_ref * t + (0.5 * t * t) * qdd_ref
         qd_steps = qd_ref + qdd_ref * t
         q_steps[0], qd_steps[0] = q_ref, qd_ref
         return q_steps, qd_steps, np.broadcast_to(qdd_ref, (n_steps, n))
+
+    def _refuse(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, n_steps: int) -> None:
+        """Raise the UsageError that says what is wrong with the shapes of a call."""
+        n = self._n
+        if n_steps < 1:
+            raise UsageError(f"n_steps must be >= 1, got {n_steps}")
+        if q_ref.ndim == 1:
+            raise UsageError(f"references must each have {n} values, got {q_ref.shape}, {qd_ref.shape}, {qdd_ref.shape}")
+        raise UsageError(f"per-step references must have shape ({n_steps}, {n})")
 
     def hold(self, q_ref: Any, n_steps: int) -> ServoState:
         """Servo to a fixed position at rest for n_steps (settling at the end of a FINE move)."""
