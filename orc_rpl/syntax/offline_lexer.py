@@ -10,6 +10,8 @@ from lark import Token
 
 #: A line that continues the motion or install statement above it.
 _CONTINUATION = re.compile(r"[ \t]*(with|via|until)(?![A-Za-z0-9_])")
+#: Lines that open a block.
+_HEADER = re.compile(r"[ \t]*(if|elif|else|while|for|case|frame|try|except|def|func)(?![A-Za-z0-9_])")
 #: Lines that continue the compound statement above them.
 _MIDDLE = re.compile(r"[ \t]*(elif|else|except|end)(?![A-Za-z0-9_])")
 
@@ -98,6 +100,7 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
         pending.clear()
 
     previous_blank = True
+    last_statement, last_number = "", 0
     for number, text in enumerate(lines, start=1):
         stripped = text.strip(" \t\r")
         if not stripped:
@@ -124,8 +127,10 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
                 close_to(width, number)
         elif width > stack[-1]:
             if not comment_only:
-                plan.problems.append(IndentProblem(number, 1, "unexpected indentation",
-                                                   "only the lines of a block (after a line ending with ':') are indented"))
+                hint = "only the lines of a block (after a line ending with ':') are indented"
+                if _HEADER.match(last_statement):
+                    hint = f"is a ':' missing at the end of line {last_number}?"
+                plan.problems.append(IndentProblem(number, 1, "unexpected indentation", hint))
             close_to(stack[-1], number)
         else:
             close_to(width, number)
@@ -134,6 +139,7 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
                                                    f"indent it by {stack[-1]} spaces"))
         if not comment_only:
             opener = _opens_block(text)
+            last_statement, last_number = text, number
     if opener and any(w > stack[-1] for _, w in pending):
         # A block of blank lines at the end of the file.
         stack.append(max(w for _, w in pending))

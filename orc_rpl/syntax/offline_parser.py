@@ -51,6 +51,13 @@ def _offline_diagnostic(path: str, error: Exception, lines: list[str]) -> tuple[
         message = "unexpected indentation" if token.type == "_INDENT" else "a block ends here, but the statement above is not complete"
         return Diagnostic(Location(path, line, column, line, column + 1), message), line
     diagnostic, line = _diagnostic(path, error, lines)
+    middle = _HEADER_WORD.match(lines[line - 1]) if 0 < line <= len(lines) else None
+    if middle is not None and isinstance(error, UnexpectedInput):
+        word = middle.group(2)
+        owner = {"elif": "an if", "else": "an if or a case", "except": "a try"}[word]
+        column = len(middle.group(1)) + 1
+        return Diagnostic(Location(path, line, column, line, column + len(word)),
+                          f"'{word}' must follow the block of {owner} at its indentation"), line
     message = diagnostic.message
     for terminal, word in _OFFLINE_NAMES.items():
         message = message.replace(f"'{terminal}'", word)
