@@ -53,7 +53,7 @@ def convert(args: argparse.Namespace) -> dict[str, str]:
         world_path = args.world or declared_world(args.file, text)
         if world_path is None:
             raise UsageError(f"--world: '{args.file}' is an off-line program; give its world model")
-        job = to_online(program, load_world_file(world_path), args.file, text)
+        job = to_online(program, load_world_file(world_path), args.file, text, reduce=bool(args.online_world))
         outputs[args.output or "-"] = print_program(job.program)
         if args.online_world:
             outputs[args.online_world] = job.world.dump()

@@ -112,19 +112,23 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
         previous_blank = False
         width = _width(text)
         comment_only = stripped.startswith("#")
-        if _MIDDLE.match(text):
-            # Blank lines before `else:`, `elif`, `except` or `end` belong to the block above it.
-            pending[:] = [(line, 1 << 30) for line, _ in pending]
-        if opener and (width > stack[-1] or (not comment_only and any(w > stack[-1] for _, w in pending))):
-            # The block's first line (a blank line indented like the block counts as its first line).
-            first = pending[0][0] if pending else number
-            block_width = width if width > stack[-1] else max(w for _, w in pending)
-            stack.append(block_width)
-            emit(first, "_INDENT")
+        if _MIDDLE.match(text) and pending:
+            # Blank lines before `else:`, `elif`, `except` or `end` belong to the block above it: the header's
+            # own block when the header is right above, else the block the keyword continues.
+            inside = 1 << 30 if opener and width == stack[-1] else min((w for w in stack if w > width), default=width)
+            pending[:] = [(line, max(w, inside)) for line, w in pending]
+        if opener and width > stack[-1]:
+            # The block's first line; blank lines between the header and it are inside the block.
+            stack.append(width)
+            emit(pending[0][0] if pending else number, "_INDENT")
             pending.clear()
             opener = False
-            if width < block_width:
-                close_to(width, number)
+        elif opener and not comment_only and pending and pending[0][1] > stack[-1]:
+            # A block of blank lines only (printed with the block's indentation); it ends at the first shallower line.
+            stack.append(pending[0][1])
+            emit(pending[0][0], "_INDENT")
+            opener = False
+            close_to(width, number)
         elif width > stack[-1]:
             if not comment_only:
                 hint = "only the lines of a block (after a line ending with ':') are indented"
@@ -140,11 +144,10 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
         if not comment_only:
             opener = _opens_block(text)
             last_statement, last_number = text, number
-    if opener and any(w > stack[-1] for _, w in pending):
+    if opener and pending and pending[0][1] > stack[-1]:
         # A block of blank lines at the end of the file.
-        stack.append(max(w for _, w in pending))
+        stack.append(pending[0][1])
         emit(pending[0][0], "_INDENT")
-        pending.clear()
     for number, width in pending:
         while stack[-1] > 0 and stack[-1] > width:
             stack.pop()

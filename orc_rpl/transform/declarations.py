@@ -73,6 +73,21 @@ def collapse_tools(job: Job) -> Job:
     return _insert(job, [declaration_for(job.world, names, d) for d in _objects_used(job, lambda o: o.tool)])
 
 
+def online_frames_in_order(world: World) -> list[str]:
+    """The tagged on-line frames, depth first from the world in file order: outer frames before the frames inside them."""
+    children: dict[str, list[str]] = {WORLD: ["robot"], "robot": ["flange"]}
+    for obj in world.objects:
+        children.setdefault(obj.parent, []).append(obj.name)
+    out: list[str] = []
+    stack = list(reversed(children[WORLD]))
+    while stack:
+        name = stack.pop()
+        if name not in ("robot", "flange") and world.object(name).online_frame:
+            out.append(name)
+        stack.extend(reversed(children.get(name, [])))
+    return out
+
+
 def declare_frames(job: Job) -> Job:
     """`FRAME base_plate = POSE(...)` for every on-line frame a used position needs, outer frames first."""
     names = job.names
@@ -80,7 +95,7 @@ def declare_frames(job: Job) -> Job:
     needed = {f for chain in job.chains.values() for f in chain} | set(_objects_used(job, lambda o: o.online_frame))
     for frame in list(needed):
         needed |= set(job.world.ancestors(frame)) & {o.name for o in job.world.objects if o.online_frame}
-    ordered = [f.name for f in job.world.online_frames() if f.name in needed]
+    ordered = [f for f in online_frames_in_order(job.world) if f in needed]
     used = dict.fromkeys(job.used)
     used.update(dict.fromkeys(ordered))
     job = dataclasses.replace(job, used=tuple(used))

@@ -67,9 +67,12 @@ def run(job: Job, passes: tuple[Pass, ...]) -> Job:
     return job
 
 
-def to_online(program: n.Program, world: World, path: str = "<program>", source: str | None = None) -> Job:
-    """The on-line program (declarations, FRAME blocks, on-line names) and the reduced world with its model store."""
-    return reduce_world(run(Job(program, world, path, source), TO_ONLINE))
+def to_online(program: n.Program, world: World, path: str = "<program>", source: str | None = None, *,
+              reduce: bool = False) -> Job:
+    """The on-line program (declarations, FRAME blocks, on-line names); with `reduce`, also the reduced world
+    and its model store (reading the reduced world back costs as much as reading the world, so only on request)."""
+    job = run(Job(program, world, path, source), TO_ONLINE)
+    return reduce_world(job) if reduce else job
 
 
 def to_offline(program: n.Program, world: World | None, path: str = "<program>", store: ModelStore | None = None) -> Job:

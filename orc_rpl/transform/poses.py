@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.units import ANGLE, LENGTH, Quantity, parse_literal
 from orc_rpl.world import WORLD, Pose, World
@@ -10,8 +12,9 @@ from orc_rpl.world.pose import readable_angles
 from orc_rpl.world.values import format_angle, format_length
 
 
+@lru_cache(maxsize=4096)
 def _number(text: str) -> n.Expression:
-    """`-40mm` as the parser reads it: a minus applied to `40mm`."""
+    """`-40mm` as the parser reads it: a minus applied to `40mm` (nodes are immutable, so equal ones are shared)."""
     if text.startswith("-"):
         return n.Unary("-", n.Number(text[1:]))
     return n.Number(text)

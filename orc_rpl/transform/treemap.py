@@ -59,10 +59,23 @@ def references(node: n.Node) -> Iterator[n.Expression]:
                     yield from references(item)
 
 
+def statements(body: n.Body) -> Iterator[n.Statement]:
+    """Every statement of a body and of the blocks inside it (expressions are not visited)."""
+    stack = list(reversed(body))
+    while stack:
+        stmt = stack.pop()
+        yield stmt
+        for child in reversed(list(stmt.children())):
+            if isinstance(child, n.Statement):
+                stack.append(child)
+            elif isinstance(child, (n.Branch, n.CaseArm, n.Handler)):
+                stack.extend(c for c in reversed(list(child.children())) if isinstance(c, n.Statement))
+
+
 def declared_names(program: n.Program) -> set[str]:
     """Names the program itself declares or assigns: they shadow world objects (INSTALL may name a world tool: no shadow)."""
     out: set[str] = set()
-    for node in program.walk():
+    for node in statements(program.body):
         if isinstance(node, n.Declaration):
             out.add(node.name.id)
         elif isinstance(node, n.EnumDecl):
