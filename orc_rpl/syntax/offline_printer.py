@@ -245,8 +245,20 @@ def print_offline_statement(stmt: n.Statement, depth: int = 0) -> str:
     return "\n".join(writer.lines) + "\n"
 
 
+def check_spellable(program: n.Program) -> None:
+    """Refuse names that are off-line keywords (`VAR to = 1` on-line): their off-line text would not read back."""
+    from orc_rpl.syntax.offline_builder import OFFLINE_KEYWORDS
+
+    fields = {id(node.name) for node in program.walk() if isinstance(node, n.Field)}
+    for node in program.walk():
+        if isinstance(node, n.Name) and node.id in OFFLINE_KEYWORDS and id(node) not in fields:
+            where = f" (line {node.span.line})" if node.span.line else ""
+            raise OfflineSpellingError(f"the name '{node.id}'{where} is an off-line keyword; rename it to convert the program")
+
+
 def print_offline(program: n.Program) -> str:
-    """Canonical off-line text of a whole program."""
+    """Canonical off-line text of a whole program (OfflineSpellingError for a tree the syntax cannot spell)."""
+    check_spellable(program)
     writer = _Writer()
     writer.body(program.body, 0)
     return "\n".join(writer.lines) + "\n" if writer.lines else ""

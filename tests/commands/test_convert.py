@@ -123,3 +123,10 @@ def test_fmt_writes_canonical_offline_text(tmp_path: Path, capsys: pytest.Captur
     assert main(["fmt", "--write", str(program), "--world", str(CELL)]) == 2
     assert program.read_text() == "moveto base_plate.posX\n"
     assert "p.orl:1:19:" in capsys.readouterr().out
+
+
+def test_convert_refuses_an_online_name_that_is_an_offline_keyword(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "p.rpl").write_text("VAR step = 1\nPRINT step\n")
+    assert main(["convert", str(tmp_path / "p.rpl"), "--world", str(tmp_path / "w.yaml"), "-o", str(tmp_path / "p.orl")]) == 2
+    assert "the name 'step' (line 1) is an off-line keyword" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.rpl"]
