@@ -130,3 +130,18 @@ def test_convert_refuses_an_online_name_that_is_an_offline_keyword(tmp_path: Pat
     assert main(["convert", str(tmp_path / "p.rpl"), "--world", str(tmp_path / "w.yaml"), "-o", str(tmp_path / "p.orl")]) == 2
     assert "the name 'step' (line 1) is an off-line keyword" in capsys.readouterr().err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.rpl"]
+
+
+def test_run_offline_program_moves_like_its_online_form(cell: Path) -> None:
+    import json
+
+    main(["convert", str(cell / "prog.orl"), "--world", str(cell / "cell.yaml"), "-o", str(cell / "prog.rpl")])
+    assert main(["run", str(cell / "prog.orl"), "--world", str(cell / "cell.yaml"), "--summary-json", str(cell / "off.json")]) == 0
+    assert main(["run", str(cell / "prog.rpl"), "--summary-json", str(cell / "on.json")]) == 0
+    offline, online = (json.loads((cell / name).read_text()) for name in ("off.json", "on.json"))
+    assert offline == online and offline["motions"] == 4 and offline["status"] == "finished"
+
+
+def test_run_offline_program_finds_its_world_by_its_world_line(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["run", str(THESIS)]) == 0
+    assert "motions: 4" in capsys.readouterr().err
