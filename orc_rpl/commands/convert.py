@@ -87,7 +87,13 @@ def run(args: argparse.Namespace) -> int:
         return 2
     for path, text in outputs.items():
         if path == "-":
-            sys.stdout.write(text)
+            try:
+                sys.stdout.write(text)
+                sys.stdout.flush()
+            except BrokenPipeError:
+                from orc_rpl.commands.diff import quiet_stdout
+
+                quiet_stdout()
             continue
         try:
             write_text_atomic(path, text)

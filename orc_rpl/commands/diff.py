@@ -25,16 +25,18 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     return parser
 
 
-def positions(program: n.Program) -> dict[str, tuple[str, object]]:
-    """Name -> (kind, value) of every FRAME, TOOL, POS and PATH declaration at the top level."""
+def positions(program: n.Program) -> dict[str, tuple[str, object, str]]:
+    """Name -> (kind, value, text) of every FRAME, TOOL, POS and PATH declaration at the top level."""
+    from orc_rpl.syntax.printer import expression
     from orc_rpl.transform.poses import literal_path, literal_pose
 
-    out: dict[str, tuple[str, object]] = {}
+    out: dict[str, tuple[str, object, str]] = {}
     for stmt in program.body:
         if isinstance(stmt, n.Declaration) and stmt.kind in ("FRAME", "TOOL", "POS", "PATH"):
             frame = stmt.frame.id if stmt.frame is not None else "world"
             value = literal_pose(stmt.value, frame) if stmt.kind != "PATH" else literal_path(stmt.value, frame)
-            out[stmt.name.id] = (stmt.kind, value if value is not None else stmt.value)
+            text = expression(stmt.value) + (f" IN {frame}" if stmt.frame is not None else "")
+            out[stmt.name.id] = (stmt.kind, value if value is not None else stmt.value, text)
     return out
 
 
@@ -84,7 +86,7 @@ def difference(a: n.Program, b: n.Program, name_a: str = "A", name_b: str = "B")
         elif name not in pa:
             lines.append(f"+ {pb[name][0]} {name} (only in {name_b})")
         elif not _same(pa[name][1], pb[name][1]):
-            lines.append(f"~ {pa[name][0]} {name} changed")
+            lines.append(f"~ {pa[name][0]} {name} changed: {pa[name][2]} -> {pb[name][2]}")
     diff = list(difflib.unified_diff(statements(a), statements(b), name_a, name_b, lineterm="", n=1))
     return lines + diff
 
@@ -105,6 +107,18 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(f"orc diff: error: {error}\n")
         return 2
     report = difference(a, b, args.a, args.b)
-    for line in report:
-        sys.stdout.write(line + "\n")
+    try:
+        for line in report:
+            sys.stdout.write(line + "\n")
+        sys.stdout.flush()
+    except BrokenPipeError:
+        quiet_stdout()
     return 1 if report else 0
+
+
+def quiet_stdout() -> None:
+    """The reader went away (`orc diff A B | head`): drop the rest of the output without a traceback."""
+    import os
+
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
