@@ -16,7 +16,8 @@ GRAVITY_M_S2 = 9.81
 
 
 def _skew(v: np.ndarray) -> np.ndarray:
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    x, y, z = v.tolist()  # Python floats: a third of the time of indexing the array nine times
+    return np.array(((0.0, -z, y), (z, 0.0, -x), (-y, x, 0.0)))
 
 
 class ArmModel:
@@ -130,6 +131,15 @@ class ArmModel:
         """TCP pose and Jacobian from one kinematics pass, inputs unchecked (the inner loops of IK)."""
         return self._fk_jacobian(q, tool)
 
+    def linear_jacobian_unchecked(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray:
+        """The (3, n) linear rows of the TCP Jacobian, inputs unchecked (TCP speed bounds at every grid point)."""
+        pin = self._pin
+        j = pin.computeFrameJacobian(self._model, self._data, q, self._flange_id, self._lwa)
+        if tool is None:
+            return j[:3]
+        t = pin.updateFramePlacement(self._model, self._data, self._flange_id).homogeneous
+        return j[:3] - _skew(t[:3, :3] @ tool[:3, 3]) @ j[3:]  # as in _fk_jacobian
+
     def _fk(self, q: np.ndarray, tool: np.ndarray | None) -> np.ndarray:
         pin = self._pin
         pin.forwardKinematics(self._model, self._data, q)
@@ -184,6 +194,11 @@ class ArmModel:
     def inverse_dynamics_unchecked(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
         """RNEA with the current payload and no input checks: for the 1 kHz servo loop, which checks once."""
         return self._pin.rnea(self._model, self._data, q, qd, qdd)
+
+    @property
+    def payload(self) -> tuple[float, float, float, float]:
+        """The payload the unchecked calls include: (kg, com x, y, z in the flange frame, m)."""
+        return self._payload
 
     def inverse_dynamics_function(self) -> Any:
         """The RNEA as a bare callable f(q, qd, qdd) on this model, payload changes included, no checks.

@@ -63,14 +63,17 @@ class Planner:
         load = params.load_kg
         arm = self.arm
 
-        fast = getattr(arm, "inverse_dynamics_unchecked", None)
+        # toppra calls this three times per grid point: the bare RNEA, the payload set only when it differs
+        rnea = arm.inverse_dynamics_function() if hasattr(arm, "inverse_dynamics_function") else None
+        payload = (float(load), 0.0, 0.0, 0.0)
 
         def inverse_dynamics(q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
-            if fast is None:
+            if rnea is None:
                 return np.array(arm.inverse_dynamics(q, qd, qdd, load))
             # The planner's own model (virtual.py gives the servo another): its payload may be set here.
-            arm.set_payload(load)
-            return np.array(fast(q, qd, qdd))
+            if arm.payload != payload:
+                arm.set_payload(load)
+            return rnea(q, qd, qdd)  # a new array each call
 
         speed = params.speed_m_s
         frac = params.speed_fraction
@@ -104,8 +107,8 @@ class Planner:
         """The (3, n) linear TCP Jacobian at q, for the speed bound at every grid point: the tool is checked once here."""
         arm = self.arm
         checked = None if tool is None else arm.transform(tool)
-        pose_and_jacobian = arm.pose_and_jacobian
-        return lambda q: pose_and_jacobian(q, checked)[1][:3]
+        linear_jacobian = arm.linear_jacobian_unchecked
+        return lambda q: linear_jacobian(q, checked)
 
     def short_limits(self, q: np.ndarray, params: Params) -> ShortLimits:
         """Short-move limits: the dynamics at the start taken as constant for the whole move."""

@@ -9,6 +9,11 @@ import numpy as np
 from orc_rpl.arm.model import ArmModel
 from orc_rpl.errors import UsageError
 
+# The ufuncs of the servo law as module names: update() runs a thousand times per simulated
+# second, and `np.subtract` is two lookups where `subtract` is one.
+add, subtract, multiply, minimum, maximum = np.add, np.subtract, np.multiply, np.minimum, np.maximum
+not_equal, count_nonzero, copyto = np.not_equal, np.count_nonzero, np.copyto
+
 
 @dataclass(frozen=True, slots=True)
 class ServoGains:
@@ -52,11 +57,12 @@ class JointServo:
         self._tau_min = -self._tau_max
         self._integral_max = gains.integral_limit * self._tau_max
         self._integral_min = -self._integral_max
-        self._inertia = np.diag(arm.mass_matrix(arm.home_q))
-        self._kv = self._inertia * gains.velocity_bw_rad_s
+        # gains at home until the first update schedules them at the measured pose
+        self._kv = np.diag(arm.mass_matrix(arm.home_q)) * gains.velocity_bw_rad_s
         self._ki_dt = self._kv * (gains.integral_bw_rad_s * period_s)
         self._inverse_dynamics = arm.inverse_dynamics_function()
         self._steps = 0
+        self._inertia_every = gains.inertia_every_steps
         # Scalar gains as arrays: numpy multiplies two arrays faster than an array and a Python float,
         # and the products are the same numbers.
         self._kp = np.full(n, gains.position_gain_1_s)
@@ -96,36 +102,35 @@ class JointServo:
 
         The result is the `torque` signal itself: apply or copy it before the next update.
         """
-        g = self.gains
         kv, ki_dt = self._kv, self._ki_dt
-        if self._steps % g.inertia_every_steps == 0:
-            inertia = self._inertia = self.arm.mass_matrix_diagonal_unchecked(q)
-            np.multiply(inertia, self._velocity_bw, kv)
-            np.multiply(kv, self._integral_bw_dt, ki_dt)
-        self._steps += 1
+        steps = self._steps
+        if steps % self._inertia_every == 0:
+            multiply(self.arm.mass_matrix_diagonal_unchecked(q), self._velocity_bw, kv)
+            multiply(kv, self._integral_bw_dt, ki_dt)
+        self._steps = steps + 1
         error, velocity_error, work = self.position_error, self.velocity_error, self._work
-        np.subtract(q_ref, q, error)
-        np.subtract(qd_ref, qd, velocity_error)
-        np.multiply(error, self._kp, work)
-        np.add(velocity_error, work, velocity_error)
+        subtract(q_ref, q, error)
+        subtract(qd_ref, qd, velocity_error)
+        multiply(error, self._kp, work)
+        add(velocity_error, work, velocity_error)
         integral, last_integral = self._integral_next, self.integral
-        np.multiply(ki_dt, velocity_error, work)
-        np.add(last_integral, work, integral)
+        multiply(ki_dt, velocity_error, work)
+        add(last_integral, work, integral)
         # out= by keyword: numpy 2.4 takes a slow path for minimum/maximum with a positional out (5x)
-        np.minimum(integral, self._integral_max, out=integral)
-        np.maximum(integral, self._integral_min, out=integral)
+        minimum(integral, self._integral_max, out=integral)
+        maximum(integral, self._integral_min, out=integral)
         tau_ff = self._inverse_dynamics(q_ref, qd_ref, qdd_ref)
         demand, tau, saturated = self._demand, self.torque, self.saturated
-        np.multiply(kv, velocity_error, demand)
-        np.add(demand, tau_ff, demand)
-        np.add(demand, integral, demand)
-        np.add(demand, self.torque_offset, demand)
-        np.minimum(demand, self._tau_max, out=tau)
-        np.maximum(tau, self._tau_min, out=tau)
-        np.not_equal(tau, demand, saturated)
-        if np.count_nonzero(saturated):
+        multiply(kv, velocity_error, demand)
+        add(demand, tau_ff, demand)
+        add(demand, integral, demand)
+        add(demand, self.torque_offset, demand)
+        minimum(demand, self._tau_max, out=tau)
+        maximum(tau, self._tau_min, out=tau)
+        not_equal(tau, demand, saturated)
+        if count_nonzero(saturated):
             # Anti-windup: do not integrate further into a saturated motor.
-            np.copyto(integral, last_integral, where=saturated)
+            copyto(integral, last_integral, where=saturated)
         self.integral, self._integral_next = integral, last_integral
         self.velocity = qd
         self.torque_ff = tau_ff
