@@ -157,15 +157,16 @@ def _changed(world: World, names: Names, dotted: str, stmt: n.Declaration, frame
     return world.with_pose(dotted, pose)
 
 
-def absorb_declarations(job: Job, chosen: frozenset[int] | None = None) -> Job:
-    """Top-level declarations of world entities leave the program and go into the world (all absorbable, or `chosen` ones)."""
+def absorb_declarations(job: Job) -> Job:
+    """Top-level declarations of the world's entities leave the program: unchanged ones vanish, touched-up and taught ones
+    change the world."""
     world, names = job.world, job.named().names
     assert names is not None
     kept: list[n.Statement] = []
     used: dict[str, None] = dict.fromkeys(job.used)
-    for i, stmt in enumerate(job.program.body):
-        take = chosen is not None and i in chosen
-        if chosen is None and absorbable(stmt):
+    for stmt in job.program.body:
+        take = False
+        if absorbable(stmt):
             known = stmt.name.id in names.entity  # type: ignore[union-attr]
             taught = stmt.kind in ("POS", "PATH") and stmt.frame is not None and stmt.frame.id in names.entity  # type: ignore[union-attr]
             take = known or taught
@@ -179,10 +180,9 @@ def absorb_declarations(job: Job, chosen: frozenset[int] | None = None) -> Job:
             if names.online.get(dotted) != stmt.name.id:  # type: ignore[union-attr]
                 raise TransformError(f"'{stmt.name.id}' would be named '{names.online.get(dotted)}' on-line: a name clash in the world")
     program = dataclasses.replace(job.program, body=tuple(kept))
-    if chosen is None:
-        # Given the world the program came from, a name it uses without declaring it is that world's entity too.
-        own = declared_names(program)
-        for expr in references(program):
-            if isinstance(expr, n.Name) and expr.id in names.entity and expr.id not in own:
-                used.setdefault(names.entity[expr.id])
+    # Given the world the program came from, a name it uses without declaring it is that world's entity too.
+    own = declared_names(program)
+    for expr in references(program):
+        if isinstance(expr, n.Name) and expr.id in names.entity and expr.id not in own:
+            used.setdefault(names.entity[expr.id])
     return dataclasses.replace(job, program=program, world=world, names=names, used=tuple(used))

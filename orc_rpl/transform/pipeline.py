@@ -6,19 +6,21 @@ import dataclasses
 from typing import Callable
 
 from orc_rpl.syntax import nodes as n
-from orc_rpl.world import World, loads_world, restore_model_attributes, split_model_attributes
+from orc_rpl.errors import InternalError, OrcError
+from orc_rpl.world import World, restore_model_attributes, split_model_attributes
 from orc_rpl.world.online import ModelStore
 from orc_rpl.transform.declarations import (absorb_declarations, absorbable, collapse_tools, declare_frames, declare_positions,
                                             leading_comments)
 from orc_rpl.transform.frames import insert_frame_blocks, remove_frame_blocks
 from orc_rpl.transform.job import Job, TransformError
+from orc_rpl.transform.new_world import absorb_new
 from orc_rpl.transform.references import resolve_positions, unresolve_positions
 from orc_rpl.transform.treemap import declared_names
 
 Pass = Callable[[Job], Job]
 
-#: The world an on-line program that was never off-line starts from: its declarations become objects and frames.
-EMPTY_WORLD = "# The world model of an on-line program, made from its declarations by `orc convert`.\nworld:\n"
+#: How many shorter runs of declarations are tried before none (each try is one transformation).
+MAX_CANDIDATES = 8
 
 
 def refuse_clashes(job: Job) -> Job:
@@ -84,26 +86,28 @@ def to_offline(program: n.Program, world: World | None, path: str = "<program>",
 
 
 def _from_declarations(program: n.Program, path: str) -> Job:
-    """An on-line program that was never off-line: take as many leading declarations into a new world as round-trip exactly."""
+    """An on-line program that was never off-line: take as many leading declarations into a new world as round-trip exactly.
+
+    Candidates, best first: the whole leading run of declarations the world can hold, its FRAME blocks removed, then
+    kept as written; then shorter runs (at most MAX_CANDIDATES), and at last none, which is always exact.
+    """
     body = program.body
     start = leading_comments(body)
     end = start
     while end < len(body) and absorbable(body[end], new=True):
         end += 1
-    empty = loads_world(EMPTY_WORLD, "<new world>")
-    for count in range(end - start, -1, -1):
+    counts = list(range(end - start, max(end - start - MAX_CANDIDATES, 0), -1)) + [0]
+    for count in counts:
         chosen = frozenset(range(start, start + count))
-        for strip in (True, False):
+        for strip in (True, False) if count else (False,):
             try:
-                job = absorb_declarations(Job(program, empty, path), chosen)
+                job = absorb_new(program, chosen, path)
                 if strip:
                     job = remove_frame_blocks(job)
                 job = unresolve_positions(job)
                 back = run(Job(job.program, job.world, path), TO_ONLINE)
-            except TransformError:
-                continue
-            except Exception:  # a candidate the world model refuses (a bad name, a frame cycle): try a smaller one
-                continue
+            except OrcError:
+                continue  # a candidate the world model or the names refuse: try a smaller one
             if back.program == program:
                 return dataclasses.replace(job, names=None, chains={})
-    raise TransformError("no exact off-line form found (a bug of ours)")
+    raise InternalError(f"no exact off-line form of {path} found")
