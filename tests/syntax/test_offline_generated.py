@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -20,12 +22,15 @@ def offline_spellable(program: n.Program) -> bool:
     return not any(isinstance(node, n.Name) and node.id in OFFLINE_KEYWORDS for node in program.walk())
 
 
+#: ORC_HYPOTHESIS_EXAMPLES=N runs N examples of each test instead of the default.
+EXAMPLES = os.environ.get("ORC_HYPOTHESIS_EXAMPLES")
+
 ORL_ALPHABET = st.sampled_from(list("movetowithifelsecasefor abcxyz0123456789_=<>+-*/()[],.:\"\n\t%#")
                                + ["moveto ", "if ", ":\n    ", "\n", "\n    ", "# c", "with ", "\n    with ", "frame ",
                                   "for i in 1..3:\n", "def f():\n", "end\n", "  "])
 
 
-@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@settings(max_examples=int(EXAMPLES or 400), deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(programs.filter(offline_spellable))
 def test_generated_trees_print_offline_and_reparse_equal(program: n.Program) -> None:
     text = print_offline(program)
@@ -35,7 +40,7 @@ def test_generated_trees_print_offline_and_reparse_equal(program: n.Program) -> 
     assert parse(print_program(reparsed)) == program
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=int(EXAMPLES or 300), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(ORL_ALPHABET, max_size=40).map("".join))
 def test_arbitrary_orl_like_text_raises_only_source_error(text: str) -> None:
     try:
