@@ -12,10 +12,9 @@ from orc_rpl.world.online import ModelStore
 from orc_rpl.transform.declarations import (absorb_declarations, absorbable, collapse_tools, declare_frames, declare_positions,
                                             leading_comments)
 from orc_rpl.transform.frames import insert_frame_blocks, remove_frame_blocks
-from orc_rpl.transform.job import Job, TransformError
+from orc_rpl.transform.job import Job
 from orc_rpl.transform.new_world import absorb_new
 from orc_rpl.transform.references import resolve_positions, unresolve_positions
-from orc_rpl.transform.treemap import declared_names
 
 Pass = Callable[[Job], Job]
 
@@ -34,11 +33,6 @@ def refuse_clashes(job: Job) -> Job:
         if isinstance(stmt, n.Declaration) and stmt.frame is not None and stmt.frame.id in job.world._by_name():
             raise job.error(stmt.frame, f"positions relative to the world's frame '{stmt.frame.id}' belong in the world model",
                             f"add '{stmt.name.id}' to the frames of '{stmt.frame.id}' and write {stmt.frame.id}.{stmt.name.id}")
-    shadowed = declared_names(job.program)
-    clashes = [d for d, name in names.online.items() if name in shadowed and name != d]
-    if clashes:
-        dotted = clashes[0]
-        raise TransformError(f"'{dotted}' is named '{names.online[dotted]}' on-line, which the program uses for something else")
     return job.named()
 
 

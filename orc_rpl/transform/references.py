@@ -10,7 +10,7 @@ from orc_rpl.syntax import nodes as n
 from orc_rpl.world import WORLD, World
 from orc_rpl.world.objects import WorldObject
 from orc_rpl.world.source import did_you_mean
-from orc_rpl.transform.job import Job
+from orc_rpl.transform.job import Job, TransformError
 from orc_rpl.transform.naming import FRAME, OBJECT, PATH
 from orc_rpl.transform.treemap import declared_names, map_references, references
 
@@ -88,10 +88,18 @@ def resolve_positions(job: Job) -> Job:
             return use(f"{obj.name}.{expr.name.id}", expr)
         if isinstance(expr, n.Name):
             obj = _object(world, expr.id, shadowed)
-            return use(obj.name, expr) if obj is not None else None
+            if obj is not None:
+                return use(obj.name, expr)
+            if expr.id in names.entity and expr.id not in shadowed:
+                # On-line this name would read as the world's entity: the inverse could not tell them apart.
+                raise job.error(expr, f"'{expr.id}' is the on-line name of '{names.entity[expr.id]}' of the world model",
+                                f"write {names.entity[expr.id]}, or declare '{expr.id}' in the program")
         return None
 
     program = map_references(job.program, resolve)
+    for dotted in used:
+        if names.online[dotted] in shadowed and names.online[dotted] != dotted:
+            raise TransformError(f"'{dotted}' is named '{names.online[dotted]}' on-line, which the program uses for something else")
     return dataclasses.replace(job, program=program, used=tuple(used), chains=MappingProxyType(frame_chains(world, names, used)))
 
 
@@ -131,7 +139,8 @@ def unresolve_positions(job: Job) -> Job:
     job = job.named()
     names = job.names
     assert names is not None
-    wanted = {names.online[d]: d for d in job.used}
+    own = declared_names(job.program)
+    wanted = {names.online[d]: d for d in job.used if names.online[d] not in own}
 
     def back(expr: n.Expression) -> n.Expression | None:
         if isinstance(expr, n.Name) and expr.id in wanted:

@@ -51,3 +51,8 @@ def test_clashing_frame_names_go_online_qualified_and_come_back() -> None:
     assert "MOVE ARM TO fixture_a_p\nMOVE ARM TO fixture_b_p\n" in text
     job = to_offline(parse(text), nested())
     assert print_offline(job.program) == source and job.world.dump() == nested().dump()
+
+
+def test_an_undeclared_name_that_is_a_frames_online_name_is_refused() -> None:
+    with pytest.raises(SourceError, match=r"p.orl:1:7: 'grip' is the on-line name of 'clamp.grip' of the world model"):
+        to_online(parse_offline("print(grip)\n", "p.orl"), nested(), "p.orl")
