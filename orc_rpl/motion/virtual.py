@@ -92,6 +92,6 @@ def make_virtual_motion_layer(
         log.submit("tau", be.torque)
         # the measured q is a float array of n_joints: fk need not check it every cycle
         log.submit("tcp", lambda: arm.fk_unchecked(be.q())[:3, 3])
-        log.submit("s", lambda: layer.progress_s())
+        log.submit("s", layer.progress_s)
         layer.logger = log
     return layer

@@ -25,6 +25,7 @@ class Logger:
         self._clock = clock
         self._names: list[str] = []
         self._channels: list[tuple[Getter, int, int]] = []
+        self._columns: list[tuple[Getter, slice]] = []  #: the same, as update() uses them
         self._shapes: dict[str, tuple[int, ...]] = {}
         self._width = 1  # column 0 is the time stamp
         self._rows = np.empty((max(16, capacity), self._width))
@@ -48,6 +49,7 @@ class Logger:
         start = self._width
         self._width += width
         self._channels.append((getter, start, self._width))
+        self._columns.append((getter, slice(start, self._width)))
         self._names.append(name)
         self._shapes[name] = first.shape
         self._rows = np.empty((self._rows.shape[0], self._width))
@@ -62,15 +64,14 @@ class Logger:
 
     def update(self) -> None:
         """Take one sample of every signal, stamped with the clock's time."""
-        if self._count == self._rows.shape[0]:
-            grown = np.empty((2 * self._rows.shape[0], self._width))
-            grown[: self._count] = self._rows
-            self._rows = grown
-        row = self._rows[self._count]
+        count, rows = self._count, self._rows
+        if count == len(rows):
+            rows = self._rows = np.concatenate([rows, np.empty_like(rows)])
+        row = rows[count]
         row[0] = self._clock()
-        for getter, start, stop in self._channels:
-            row[start:stop] = getter()
-        self._count += 1
+        for getter, columns in self._columns:
+            row[columns] = getter()
+        self._count = count + 1
 
     def clear(self) -> None:
         """Drop the samples; the signals stay submitted."""
