@@ -7,6 +7,8 @@ from typing import TYPE_CHECKING
 from prompt_toolkit.filters import Condition
 from prompt_toolkit.key_binding import KeyBindings, KeyPressEvent
 
+from orc_rpl.pendant.completion import candidates
+
 if TYPE_CHECKING:
     from orc_rpl.pendant.app import PendantApp
 
@@ -34,7 +36,9 @@ def build_key_bindings(app: PendantApp) -> KeyBindings:
     kb = KeyBindings()
     empty = Condition(lambda: app.buffer.text == "")
     jogging = Condition(lambda: app.mode == "jog")
-    completing = Condition(lambda: app.buffer.complete_state is not None)
+    # Enter takes a completion chosen in the menu; with none chosen it runs the line as usual
+    completing = Condition(lambda: app.buffer.complete_state is not None
+                           and app.buffer.complete_state.current_completion is not None)
 
     for number in range(8):
         @kb.add(f"f{number + 1}")
@@ -80,13 +84,18 @@ def build_key_bindings(app: PendantApp) -> KeyBindings:
     @kb.add("enter", filter=completing)
     def _take_completion(event: KeyPressEvent) -> None:
         app.buffer.complete_state = None
+        app.buffer.insert_text(" ")
 
     @kb.add("tab")
     def _complete(event: KeyPressEvent) -> None:
         buffer = app.buffer
         if buffer.complete_state:
             buffer.complete_next()
-        else:
+            return
+        word, words = candidates(app.session, buffer.document.current_line_before_cursor)
+        if len(words) == 1:  # one way to go on: take it at once, as a shell does
+            buffer.insert_text(words[0][len(word):] + " ")
+        elif words:
             buffer.start_completion(select_first=False)
 
     @kb.add("escape", eager=True)

@@ -91,3 +91,10 @@ def test_the_screen_renders_listing_state_and_messages(tmp_path) -> None:
     assert f"{LINE_MOVE_POS1:4}     MOVE ARM TO pos1" in text
     state = "".join(t for _, t in views.state(session))
     assert "TCP of ARM in base_plate" in state and "override" in state
+
+
+def test_tab_completes_a_command_and_a_position_name(tmp_path) -> None:
+    session = session_on(tmp_path)
+    drive(session, f":goto {LINE_MOVE_POS1}\r", ":exec\r", ":jog world z +1mm\r", ":mo\t", "\t", "\t", "\r", "pos2\r")
+    # Tab opens the menu (mode, modpos), Tab Tab chooses modpos, Enter takes it; then the name and Enter
+    assert "POS pos2 = POSE(100mm, -100mm, 51mm, " in session.text
