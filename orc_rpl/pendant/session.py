@@ -96,7 +96,7 @@ class PendantSession(EditingMixin, ExecutionMixin, PanelsMixin):
     @property
     def at_cursor(self) -> Stop:
         if not self.stops:
-            raise PendantError("the program is empty: type a statement, or :insert one")
+            raise EditError("the program is empty: :insert a statement, or :insert move")
         return self.stops[min(self.cursor, len(self.stops) - 1)]
 
     @property

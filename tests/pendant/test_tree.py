@@ -19,7 +19,7 @@ EDITS = st.lists(st.tuples(st.sampled_from(["insert", "delete", "wrap", "up", "d
 
 
 def _apply(session: PendantSession, edit: str, where: int, text: str) -> None:
-    session.cursor = where % len(session.stops)
+    session.cursor = where % len(session.stops) if session.stops else 0
     actions = {"insert": lambda: session.insert(text), "delete": session.delete,
                "wrap": lambda: session.wrap("base_plate"), "up": lambda: session.shift("up"),
                "down": lambda: session.shift("down"), "replace": lambda: session.replace(text),
