@@ -4,16 +4,20 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
 
 from orc_rpl.application.declarations import describe_types
 from orc_rpl.checking.checker import check_program
 from orc_rpl.errors import Diagnostic, OrcError
+from orc_rpl.executive.signals import RunError
+from orc_rpl.pendant.editing import context_of
 from orc_rpl.pendant.tree import EditError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.lexicon import RESERVED
 from orc_rpl.syntax.printer import simple_statement
-from orc_rpl.world.pose import Joints, Pose
+from orc_rpl.world.pose import Joints, Pose, readable_angles
 
 if TYPE_CHECKING:
     from orc_rpl.pendant.session import PendantSession
@@ -167,3 +171,15 @@ class PanelsMixin:
         if word in RESERVED:
             return f"{word}: a reserved word of RPL (docs/language.md)"
         raise EditError(f":help: nothing is called {word!r} (:help lists the commands)")
+
+    def where_values(self: PendantSession) -> dict[str, Any]:
+        """Joints (deg), TCP (relative to the cursor's frame), tool, mode, override: the state panel's numbers."""
+        frame = context_of(self.at_cursor)[1] if self.stops else "world"
+        try:
+            ex = self.executive()
+            world = self.robot.tcp_pose(self.tool_pose())
+            pose = readable_angles(Pose.from_matrix(np.linalg.inv(ex.machine.frame_matrix(frame)) @ world.matrix(), frame))
+        except (RunError, OrcError):
+            pose, frame = self.robot.tcp_pose(None), "world"
+        return {"joints_deg": self.robot.joints_deg(), "tcp": pose, "frame": frame, "tool": self.tool,
+                "mode": self.mode, "override": self.override, "time_s": self.robot.time_s()}
