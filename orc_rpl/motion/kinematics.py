@@ -120,17 +120,18 @@ class Kinematics:
         qs[0] = q_start
         prev = np.asarray(q_start, dtype=float)
         self.arm.fk(prev, tool)  # checks q_start and the tool once: _track's inner loop does not
+        q_min, q_max, limit, n = self.arm.q_min, self.arm.q_max, self.joint_step_limit_rad, self.n
         for i in range(1, len(poses)):
             q = self._track(poses[i], prev, tool)
-            if q is None or float(np.max(np.abs(q - prev))) > self.joint_step_limit_rad or not np.all(
-                (q >= self.arm.q_min) & (q <= self.arm.q_max)
-            ):
+            # (count_nonzero of the in-range test: a NaN counts as out of range, as with np.all)
+            if (q is None or float(np.abs(q - prev).max()) > limit
+                    or np.count_nonzero((q >= q_min) & (q <= q_max)) != n):
                 try:
                     q = self.ik(poses[i], prev, tool, what=f"{what} at {100.0 * i / (len(poses) - 1):.0f} % of the path")
                 except Unreachable as exc:
                     raise Unreachable(f"{exc}; the path leaves the workspace") from None
-            jump = float(np.max(np.abs(q - prev)))
-            if jump > self.joint_step_limit_rad:
+            jump = float(np.abs(q - prev).max())
+            if jump > limit:
                 j = int(np.argmax(np.abs(q - prev)))
                 raise Unreachable(
                     f"{what}: configuration flip at {100.0 * i / (len(poses) - 1):.0f} % of the path "
