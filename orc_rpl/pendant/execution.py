@@ -29,10 +29,10 @@ SYNC_LIMIT_TICKS = 900_000
 class ExecutionMixin(JoggingMixin, PointerMixin):
     """The executive behind the pendant, and the jobs that move the robot."""
 
-    def _init_execution(self: PendantSession) -> None:
+    def _init_execution(self: PendantSession, mode: str) -> None:
         self.tool = "ARM"
         self.override = 1.0
-        self.mode = "auto"
+        self.mode = mode
         self.notices: list[str] = []
         self.job: Iterator[object] | None = None
         self.job_name = ""
@@ -40,7 +40,7 @@ class ExecutionMixin(JoggingMixin, PointerMixin):
         self._ex_dirty = True
         self._slice_ticks = SYNC_LIMIT_TICKS
         self._sliced = False
-        self.robot.set_mode("auto")
+        self.robot.set_mode(mode)
         self._init_jogging()
 
     def _program_changed(self: PendantSession) -> None:

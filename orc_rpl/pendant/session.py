@@ -29,12 +29,13 @@ class PendantSession(EditingMixin, ExecutionMixin, PanelsMixin):
     """One pendant: every method is a command and returns the text to show; nothing here knows about the terminal.
 
     `synchronous=True` (tests, scripts) runs each motion to its end in simulated time before returning;
-    the terminal application passes False and advances time with `pump()`.
+    the terminal application passes False and advances time with `pump()`. The session starts in manual mode
+    (every motion capped at 250 mm/s at the TCP), as an industrial pendant does.
     """
 
     def __init__(self, path: str | Path | None = None, text: str | None = None, robot: PendantRobot | None = None,
                  registry: object = None, journal: bool = True, synchronous: bool = True,
-                 on_print: Callable[[str], None] | None = None) -> None:
+                 on_print: Callable[[str], None] | None = None, mode: str = "manual") -> None:
         self.path = Path(path) if path is not None else Path("untitled.rpl")
         self.registry = registry or runtime_registry()
         self.robot = robot or PendantRobot.virtual()
@@ -56,7 +57,7 @@ class PendantSession(EditingMixin, ExecutionMixin, PanelsMixin):
         self.stops: list[Stop] = stops(self.program)
         self.cursor = 0
         self.mark: int | None = None
-        self._init_execution()
+        self._init_execution(mode)  # manual by default, as an industrial pendant starts in T1
         self.event(f"opened {self.path} ({len(text.splitlines())} lines)")
 
     # -- recovery ----------------------------------------------------------------------

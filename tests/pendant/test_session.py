@@ -86,6 +86,8 @@ def _peak_tcp_speed(session, text: str) -> float:  # noqa: ANN001
 
 def test_manual_mode_caps_program_motions_at_250_mm_per_s(tmp_path) -> None:
     session = session_on(tmp_path)
+    assert session.mode == "manual", "a pendant starts in manual mode"
+    session.set_mode("auto")
     assert _peak_tcp_speed(session, "MOVE ARM TO pos0") > 0.5, "the auto-mode motion should be fast"
     session.set_mode("manual")
     peak = _peak_tcp_speed(session, "MOVE ARM TO pos3")
