@@ -197,7 +197,7 @@ class MotionPipeline:
         stop = False
         if active is not None:
             active.s = float(traj.s[self._k])
-            if active.actions.stage("during"):
+            if active.actions and active.actions.stage("during"):
                 stop = active.actions.run("during", self._data(active, "during"))
                 if stop:
                     self._stop_by = next(e.name for e in active.actions.stage("during") if e.slot.stop_requested)

@@ -12,7 +12,7 @@ from orc_rpl.errors import UsageError
 # The ufuncs of the servo law as module names: update() runs a thousand times per simulated
 # second, and `np.subtract` is two lookups where `subtract` is one.
 add, subtract, multiply, minimum, maximum = np.add, np.subtract, np.multiply, np.minimum, np.maximum
-not_equal, count_nonzero, copyto = np.not_equal, np.count_nonzero, np.copyto
+not_equal, copyto = np.not_equal, np.copyto
 
 
 @dataclass(frozen=True, slots=True)
@@ -128,7 +128,7 @@ class JointServo:
         minimum(demand, self._tau_max, out=tau)
         maximum(tau, self._tau_min, out=tau)
         not_equal(tau, demand, saturated)
-        if count_nonzero(saturated):
+        if True in saturated.tolist():  # half the time of count_nonzero on six flags
             # Anti-windup: do not integrate further into a saturated motor.
             copyto(integral, last_integral, where=saturated)
         self.integral, self._integral_next = integral, last_integral
