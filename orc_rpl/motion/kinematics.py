@@ -6,6 +6,7 @@ from collections.abc import Callable
 from typing import Protocol
 
 import numpy as np
+from scipy.linalg.lapack import dgesv
 
 from orc_rpl.errors import JointLimit, OrcError, Unreachable
 
@@ -108,10 +109,11 @@ class Kinematics:
             err = (x - px, y - py, z - pz, 0.5 * (e21 - e12), 0.5 * (e02 - e20), 0.5 * (e10 - e01))
             if max(map(abs, err)) < 1e-10:
                 return q
-            try:
-                q = q + np.linalg.solve(jac, np.array(err))
-            except np.linalg.LinAlgError:
+            # LAPACK dgesv (what np.linalg.solve runs) called directly: numpy's wrapper is two thirds of the call
+            step, info = dgesv(jac, err)[2:]
+            if info != 0:  # singular: np.linalg.solve would raise LinAlgError
                 return None
+            q = q + step
         return None
 
     def ik_along(self, poses: np.ndarray, q_start: np.ndarray, tool: np.ndarray | None, what: str) -> np.ndarray:
