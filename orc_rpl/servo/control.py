@@ -76,7 +76,7 @@ class JointServo:
         # Internal signals (software sensors), overwritten in place each cycle; read them, do not keep them.
         self.position_error = np.zeros(n)     #: q_ref - q (rad)
         self.velocity_error = np.zeros(n)     #: qd_ref + position_gain * position_error - qd (rad/s)
-        self.velocity = np.zeros(n)           #: measured qd (rad/s)
+        self.velocity = np.zeros(n)           #: measured qd (rad/s); the loop lends the plant's own (read-only) array
         self.torque = np.zeros(n)             #: commanded torque after saturation (N m): the torque estimate
         self.torque_ff = np.zeros(n)          #: inverse-dynamics feed-forward (N m)
         self.integral = np.zeros(n)           #: integral torque of the velocity loop (N m)
@@ -90,7 +90,7 @@ class JointServo:
         n = self.arm.n_joints
         for signal in (self.position_error, self.velocity_error, self.torque, self.integral):
             signal[:] = 0.0
-        # velocity and torque_ff may be the plant's and the model's own arrays: rebind, never write into them
+        # velocity may be the plant's own array, torque_ff the last RNEA result: rebind, never write into them
         self.velocity, self.torque_ff = np.zeros(n), np.zeros(n)
         self.saturated[:] = False
         self.torque_offset = np.zeros(n)
