@@ -17,7 +17,8 @@ from orc_rpl.syntax import nodes as n
 DECLARATIONS = (n.Declaration, n.EnumDecl, n.Install)
 
 
-def statement_steps(ex: Executive, stmt: n.Statement, routine: str | None, frame: str) -> Iterator[object]:
+def statement_steps(ex: Executive, stmt: n.Statement, routine: str | None, frame: str,
+                    settle: bool = True) -> Iterator[object]:
     """Run one statement in a lexical context (its routine's scope and locals, its FRAME block), yielding once per
     motion cycle. Executive.execute does the same in one go; the pendant needs the cycles to show and stop the motion."""
     scope = ex.scopes.scope_of(routine).with_frame(frame)
@@ -30,7 +31,8 @@ def statement_steps(ex: Executive, stmt: n.Statement, routine: str | None, frame
         for event in block.gen(local_values):
             if event is TICK:
                 yield event
-        yield from m.sync()  # the statement is done when the robot has arrived
+        if settle:
+            yield from m.sync()  # the statement is done when the robot has arrived
     except (StopSignal, ReturnSignal):
         return
     finally:
@@ -58,7 +60,7 @@ def prepare(ex: Executive, program: n.Program) -> list[RunError]:
     failures = []
     for stmt, frame in declarations(program):
         try:
-            for _ in statement_steps(ex, stmt, None, frame):
+            for _ in statement_steps(ex, stmt, None, frame, settle=False):  # a jog may be running: leave it
                 pass
         except RunError as error:
             failures.append(error)

@@ -51,8 +51,8 @@ class ExecutionMixin(JoggingMixin, PointerMixin):
     def executive(self: PendantSession) -> Executive:
         """The executive of the current program, its names given values; rebuilt after an edit, keeping the pointer
         on the same statement when it is still there."""
-        if self._ex is not None and not self._ex_dirty:
-            return self._ex
+        if self._ex is not None and (not self._ex_dirty or self.job is not None):
+            return self._ex  # a running job keeps its executive; the edited program is compiled when it ends
         old = self._ex
         keep = old.pointer.statement if old is not None and old.pointer is not None and old.status == "paused" else None
         ex = Executive(self.program, self.robot, self.registry, path=str(self.path), source=self.text,
