@@ -123,7 +123,7 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
             emit(pending[0][0] if pending else number, "_INDENT")
             pending.clear()
             opener = False
-        elif opener and not comment_only and pending and pending[0][1] > stack[-1]:
+        elif opener and pending and pending[0][1] > stack[-1]:
             # A block of blank lines only (printed with the block's indentation); it ends at the first shallower line.
             stack.append(pending[0][1])
             emit(pending[0][0], "_INDENT")

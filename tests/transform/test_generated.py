@@ -1,6 +1,6 @@
 """Hypothesis: generated worlds and off-line programs, and generated on-line programs, come back byte for byte.
 
-The normal run checks 1,000 cases; ORC_HYPOTHESIS_EXAMPLES=N checks N of each kind.
+The normal run checks 1,100 cases; ORC_HYPOTHESIS_EXAMPLES=N checks N of each kind.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ def cells(draw):  # type: ignore[no-untyped-def]
     return world_text, draw(programs(entity))
 
 
-@settings(max_examples=int(EXAMPLES or 700), **SETTINGS)
+@settings(max_examples=int(EXAMPLES or 600), **SETTINGS)
 @given(cells())
 def test_offline_program_and_world_come_back_byte_for_byte(cell: tuple[str, str]) -> None:
     world_text, program_text = cell
@@ -57,3 +57,14 @@ def test_online_program_comes_back_byte_for_byte(program: n.Program) -> None:
     job = to_offline(parse(text, "generated.rpl"), None)
     world = loads_world(job.world.dump(), "made.yaml")
     assert print_program(to_online(parse_offline(print_offline(job.program)), world).program) == text
+
+
+@settings(max_examples=int(EXAMPLES or 200), **SETTINGS)
+@given(cells())
+def test_online_form_of_a_generated_cell_comes_back_without_its_world(cell: tuple[str, str]) -> None:
+    """The on-line program alone (as if written on the pendant) makes a world that gives it back exactly."""
+    world_text, program_text = cell
+    online_text = print_program(run(Job(parse_offline(program_text), loads_world(world_text, "g.yaml")), TO_ONLINE).program)
+    job = to_offline(parse(online_text, "generated.rpl"), None)
+    made = loads_world(job.world.dump(), "made.yaml")
+    assert print_program(run(Job(parse_offline(print_offline(job.program)), made), TO_ONLINE).program) == online_text
