@@ -22,8 +22,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         description="Check a program, then run it on the simulated cell. PRINT output goes to standard output, "
                     "progress and a summary to standard error. Exit 0 when it ends, 1 on a run-time error, "
                     "2 on usage, syntax or check errors.")
-    parser.add_argument("file", metavar="FILE", help="program file (.rpl)")
-    parser.add_argument("--world", metavar="DIR", help="folder with the program's simulated-IO script (<name>.sim.yaml)")
+    parser.add_argument("file", metavar="FILE", help="program file (.rpl, or .orl with its world model)")
+    parser.add_argument("--world", metavar="DIR|FILE", help="folder with the program's simulated-IO script (<name>.sim.yaml), "
+                                                           "or the world model (YAML) of an off-line program (.orl)")
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
     parser.add_argument("--log", metavar="OUT.npz", help="write the recorded signals (q, q_ref, tau, tcp, s) as NPZ")
     parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
