@@ -90,3 +90,13 @@ def test_an_online_program_made_online_puts_its_positions_into_a_new_world() -> 
     assert world.object("base_plate").online_frame
     assert [f.name for f in world.object("base_plate").frames] == ["pos1", "pos2"]
     assert world.object("pos0").parent == "world"
+
+
+@pytest.mark.parametrize("program", sorted((HERE / "foreign").glob("*.orl")), ids=lambda p: p.stem)
+def test_offline_programs_written_by_others_come_back_in_canonical_form(program: Path) -> None:
+    text = print_offline(parse_offline(program.read_text(encoding="utf-8"), str(program)))
+    world_path = world_of(program)
+    online_text = print_program(to_online(parse_offline(text), load_world(world_path)).program)
+    back = to_offline(parse(online_text), load_world(world_path))
+    assert print_offline(back.program) == text
+    assert back.world.dump() == world_path.read_text(encoding="utf-8")
