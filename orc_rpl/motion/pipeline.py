@@ -185,7 +185,7 @@ class MotionPipeline:
 
     def _progress(self, traj: Trajectory) -> bool:
         """Hand the cycle's sample to its owning move; start and finish moves; run during actions."""
-        owner = int(traj.owner[self._k])
+        owner = traj.owner.item(self._k)  # item(): a Python int without a numpy scalar between
         active = self._active
         if active is None or active.id != owner:
             if active is not None and not active.done and active.id != owner:
@@ -196,7 +196,7 @@ class MotionPipeline:
             active = self._active
         stop = False
         if active is not None:
-            active.s = float(traj.s[self._k])
+            active.s = traj.s.item(self._k)
             if active.actions and active.actions.stage("during"):
                 stop = active.actions.run("during", self._data(active, "during"))
                 if stop:
