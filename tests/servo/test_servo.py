@@ -140,3 +140,55 @@ def test_torque_offset_pushes_the_joint_against_its_servo() -> None:
     state = loop.hold(q0, 20)
     assert state.q[5] > q0[5], "the offset turns j6 before the loops catch it"
     assert loop.servo.torque[5] < 5.0, "and the loops answer"
+
+
+def _plain_law(servo, state: dict, q_ref, qd_ref, qdd_ref, q, qd) -> np.ndarray:
+    """The servo law written plainly (allocating numpy expressions): the reference the fast update must equal."""
+    g, arm = servo.gains, servo.arm
+    if state["steps"] % g.inertia_every_steps == 0:
+        state["kv"] = arm.mass_matrix_diagonal_unchecked(q) * g.velocity_bw_rad_s
+        state["ki_dt"] = state["kv"] * (g.integral_bw_rad_s * servo.period_s)
+    state["steps"] += 1
+    velocity_error = qd_ref - qd
+    velocity_error += g.position_gain_1_s * (q_ref - q)
+    integral = state["integral"] + state["ki_dt"] * velocity_error
+    integral = np.maximum(np.minimum(integral, servo._integral_max), -servo._integral_max)
+    demand = state["kv"] * velocity_error
+    demand += arm.inverse_dynamics_unchecked(q_ref, qd_ref, qdd_ref)
+    demand += integral
+    demand += servo.torque_offset
+    tau = np.maximum(np.minimum(demand, servo._tau_max), -servo._tau_max)
+    state["integral"] = np.where(tau != demand, state["integral"], integral)
+    return tau
+
+
+def test_servo_update_equals_the_plain_law_to_the_last_bit() -> None:
+    loop = ServoLoop()
+    servo, rng = loop.servo, np.random.default_rng(7)
+    servo.torque_offset = rng.normal(0.0, 20.0, 6)
+    state = {"steps": 0, "integral": np.zeros(6), "kv": None, "ki_dt": None}
+    q0 = loop.arm.home_q
+    saturated = 0
+    for k in range(200):
+        # errors large enough now and then to saturate the motors and wind the integral against its limit
+        spread = 0.5 if k % 10 == 0 else 0.01
+        q_ref, q = q0 + rng.normal(0.0, 0.3, 6), q0 + rng.normal(0.0, spread, 6)
+        qd_ref, qd, qdd_ref = rng.normal(0.0, 1.0, 6), rng.normal(0.0, 1.0, 6), rng.normal(0.0, 5.0, 6)
+        expected = _plain_law(servo, state, q_ref, qd_ref, qdd_ref, q, qd)
+        tau = servo.update(q_ref, qd_ref, qdd_ref, q, qd)
+        assert np.array_equal(tau, expected), f"step {k}: the fast law differs from the plain one"
+        assert np.array_equal(servo.integral, state["integral"]), f"step {k}: integral (anti-windup) differs"
+        saturated += int(servo.saturated.any())
+    assert saturated > 0, "the case should exercise saturation and the anti-windup"
+
+
+def test_a_single_reference_is_continued_exactly_as_per_step_references() -> None:
+    one, steps = ServoLoop(), ServoLoop()
+    q0, qd0, qdd0 = one.arm.home_q + 0.05, np.full(6, 0.3), np.full(6, -0.8)
+    rows = []
+    for k in range(4):
+        t = k * one.period_s  # the constant-acceleration continuation, one step at a time
+        rows.append((q0 + qd0 * t + (0.5 * t * t) * qdd0 if k else q0, qd0 + qdd0 * t if k else qd0, qdd0))
+    a = one.run(q0, qd0, qdd0, n_steps=4)
+    b = steps.run(*(np.array(column) for column in zip(*rows)), n_steps=4)
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.qd, b.qd) and np.array_equal(a.tau, b.tau)
