@@ -12,6 +12,10 @@ from orc_rpl.errors import PlanningError
 from orc_rpl.motion.paths import DensePath
 
 
+#: grids up to this many points have their spline values kept (toppra's; not the servo-rate samples)
+GRID_CACHE_MAX = 512
+
+
 class SplinePath:
     """A C2 joint path q(x) through a dense path's samples, x being the joint-space chord length (rad)."""
 
@@ -29,9 +33,21 @@ class SplinePath:
         else:
             self.spline = CubicSpline(self.x_knots, q, bc_type="not-a-knot")
         self.dof = q.shape[1]
+        # toppra's constraints and our speed bound evaluate the same grid eight times per timing:
+        # keep the last grid's values (by content) and hand out copies
+        self._grid_key: bytes | None = None
+        self._on_grid: dict[int, np.ndarray] = {}
 
     def __call__(self, x: np.ndarray | float, order: int = 0) -> np.ndarray:
-        return self.spline(x, order)
+        if not isinstance(x, np.ndarray) or x.ndim != 1 or x.dtype != np.float64 or len(x) > GRID_CACHE_MAX:
+            return self.spline(x, order)
+        key = x.tobytes()
+        if key != self._grid_key:
+            self._grid_key, self._on_grid = key, {}
+        values = self._on_grid.get(order)
+        if values is None:
+            values = self._on_grid[order] = self.spline(x, order)
+        return values.copy()
 
     def owner_and_s(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The owning motion id and its path coordinate s at path parameters x."""
