@@ -92,8 +92,11 @@ class MotionPipeline:
         piece = h.pieces_left.pop(0)
         if h.short:
             lim = self.planner.short_limits(self._q_ref, h.params)
+            caps = [c for c in (h.params.speed_m_s if not callable(h.params.speed_m_s) else None,
+                                self.planner.tcp_speed_cap_m_s) if c is not None]
             traj = short_trajectory(self._q_ref, self._qd_ref * 0, self._qdd_ref * 0, piece.q[-1], lim, self.dt_s,
-                                    self.sub, h.id, lambda q: self.kin.fk(q, h.motion.tool)[:3, 3])
+                                    self.sub, h.id, lambda q: self.kin.fk(q, h.motion.tool)[:3, 3],
+                                    min(caps) if caps else None)
         elif plan.timed is not None:
             traj = plan.timed
         elif plan.saved_first is not None and len(h.pieces_left) == len(plan.pieces) - 1:

@@ -68,8 +68,11 @@ def short_trajectory(
     sub: int,
     owner: int,
     tcp_of: Callable[[np.ndarray], np.ndarray],
+    tcp_speed_max_m_s: float | None = None,
 ) -> Trajectory:
-    """A short move sampled every dt_s; on ruckig's -110 (execution-time error) retries with softened limits."""
+    """A short move sampled every dt_s, its TCP kept under `tcp_speed_max_m_s`; ruckig's -110 retried softer."""
+    if tcp_speed_max_m_s is not None and not np.any(qd0) and not np.any(qdd0):
+        lim = _capped(q0, q1, lim, tcp_of, tcp_speed_max_m_s)
     traj = _ruckig(q0, qd0, qdd0, q1, lim)
     tries = 0
     while isinstance(traj, int):
@@ -101,6 +104,29 @@ def short_trajectory(
     return Trajectory(
         dt_s, sub, path, s * path.length, sd, q, qd, qdd, np.full(cycles + 1, owner), s[::sub], duration, blendable=False, kind="short"
     )
+
+
+def _capped(q0: np.ndarray, q1: np.ndarray, lim: ShortLimits, tcp_of: Callable[[np.ndarray], np.ndarray],
+            cap_m_s: float) -> ShortLimits:
+    """Limits whose rest-to-rest trajectory keeps the TCP under the cap (manual mode: 250 mm/s).
+
+    ruckig limits joints only. A rest-to-rest profile slowed uniformly in time by a factor r keeps its
+    path and scales velocity by r, acceleration by r^2 and jerk by r^3, so the TCP's peak speed measured
+    on the unscaled profile gives the exact factor.
+    """
+    traj = _ruckig(q0, np.zeros_like(q0), np.zeros_like(q0), q1, lim)
+    if isinstance(traj, int):
+        return lim  # the caller reports the failure
+    duration = float(traj.duration)
+    if duration <= 0.0:
+        return lim
+    t = np.linspace(0.0, duration, max(8, math.ceil(duration / 0.001)) + 1)
+    tcp = np.array([tcp_of(np.asarray(traj.at_time(float(ti))[0])) for ti in t])
+    peak_m_s = float(np.max(np.linalg.norm(np.diff(tcp, axis=0), axis=1) / np.diff(t)))
+    if peak_m_s <= cap_m_s:
+        return lim
+    r = 0.98 * cap_m_s / peak_m_s  # 2 % for the chords between samples
+    return ShortLimits(lim.qd_max * r, lim.qdd_max * r * r, lim.qddd_max * r**3)
 
 
 def stop_trajectory(

@@ -134,3 +134,25 @@ def test_speed_cap_limits_joint_moves_at_the_tcp(kinematic: MotionLayer) -> None
     tcp = np.array([kinematic.fk(q)[:3, 3] for q in traj.q])
     v = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / traj.dt_s
     assert v.max() <= 0.25 * 1.02, f"manual-mode cap exceeded: {v.max():.3f} m/s"
+
+
+@pytest.mark.parametrize("cap_m_s", [0.25, 0.1])
+def test_short_move_keeps_the_manual_tcp_speed_cap(kinematic: MotionLayer, cap_m_s: float) -> None:
+    kinematic.set_speed_cap(cap_m_s)
+    target = pose_here(kinematic, 0.0, 0.08, -0.05)
+    h = kinematic.short_move(CartesianMotion(target))
+    traj = kinematic._traj
+    assert traj is not None and traj.kind == "short"
+    tcp = np.array([kinematic.fk(q)[:3, 3] for q in traj.q_f])
+    speed = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / (traj.dt_s / traj.sub)
+    assert speed.max() <= cap_m_s, f"short move TCP at {speed.max():.3f} m/s over the {cap_m_s} m/s cap (manual mode)"
+    kinematic.wait(h)
+
+
+def test_short_move_keeps_its_speed_attribute(kinematic: MotionLayer) -> None:
+    h = kinematic.short_move(CartesianMotion(pose_here(kinematic, 0.0, 0.08, 0.0)), Params(speed_m_s=0.05))
+    traj = kinematic._traj
+    tcp = np.array([kinematic.fk(q)[:3, 3] for q in traj.q_f])
+    speed = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / (traj.dt_s / traj.sub)
+    assert speed.max() <= 0.05, f"short move TCP at {speed.max():.3f} m/s over SPEED = 50mm/s"
+    kinematic.wait(h)
