@@ -92,7 +92,7 @@ def difference(a: n.Program, b: n.Program, name_a: str = "A", name_b: str = "B")
 
 
 def run(args: argparse.Namespace) -> int:
-    from orc_rpl.syntax.files import load_program
+    from orc_rpl.transform.loading import load_program
 
     try:
         _, a = load_program(args.a, args.world)

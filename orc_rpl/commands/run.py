@@ -61,7 +61,7 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.arm.robots import ROBOTS
-    from orc_rpl.syntax.files import load_program
+    from orc_rpl.transform.loading import load_program
 
     try:
         override = speed_override(args.speed_override)

@@ -68,22 +68,3 @@ def declared_world(path: str | Path, text: str) -> Path | None:
         if match:
             return Path(path).parent / match.group(1)
     return None
-
-
-def load_program(path: str | Path, world: str | Path | None = None) -> tuple[str, n.Program]:
-    """The source text and the on-line tree of a program: an `.orl` file is transformed with its world model first.
-
-    The world is `world`, else the program's `# world: FILE` line. Spans of the tree point into the source text.
-    """
-    text, program = parse_file(path)
-    if not is_offline(path):
-        return text, program
-    from orc_rpl.transform.pipeline import to_online
-    from orc_rpl.world import load_world
-
-    world_path = Path(world) if world is not None else declared_world(path, text)
-    if world_path is None:
-        raise UsageError(f"'{path}' is an off-line program: give its world model (--world FILE or a '# world: FILE' line)")
-    if not world_path.is_file():
-        raise UsageError(f"world model '{world_path}' of '{path}' does not exist")
-    return text, to_online(program, load_world(world_path), str(path), text).program
