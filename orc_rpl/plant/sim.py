@@ -16,7 +16,13 @@ from orc_rpl.plant.io import CellIO
 # Headless offscreen rendering: EGL unless the user chose otherwise (read when mujoco is first imported).
 os.environ.setdefault("MUJOCO_GL", "egl")
 
-import mujoco  # noqa: E402  (after MUJOCO_GL)
+try:
+    import mujoco  # noqa: E402  (after MUJOCO_GL)
+except Exception as error:  # a MUJOCO_GL backend that is not installed makes the import itself fail
+    raise UsageError(
+        f"MuJoCo could not start with MUJOCO_GL={os.environ.get('MUJOCO_GL')!r} ({type(error).__name__}: {error}); "
+        "unset MUJOCO_GL or set MUJOCO_GL=egl"
+    ) from None
 
 mj_step = mujoco.mj_step  # looked up once: step() runs a thousand times per simulated second
 
