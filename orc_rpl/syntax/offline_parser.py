@@ -10,11 +10,10 @@ from lark.exceptions import UnexpectedInput, UnexpectedToken
 
 from orc_rpl.errors import Diagnostic, Location, SourceError
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.builder import BuildError
 from orc_rpl.syntax.grammar_files import grammar_path
 from orc_rpl.syntax.offline_builder import OfflineTreeBuilder, check_names
 from orc_rpl.syntax.offline_lexer import OfflinePostLexer, code_part, plan_indentation
-from orc_rpl.syntax.parser import MAX_ERRORS, _diagnostic
+from orc_rpl.syntax.parser import _diagnostic, parse_recovering, source_lines
 
 _HEADER_WORD = re.compile(r"([ \t]*)(elif|else|except)(?![A-Za-z0-9_])")
 _CONTINUATION = re.compile(r"[ \t]*(with|via|until)(?![A-Za-z0-9_])")
@@ -86,38 +85,18 @@ def _neutralize(lines: list[str], number: int) -> None:
 
 def parse_offline(text: str, path: str = "<input>") -> n.Program:
     """Parse off-line (`.orl`) text; raise SourceError with every syntax error found (up to MAX_ERRORS)."""
-    if "\t" in text:
-        text = text.expandtabs(4)
-    if text.startswith("\ufeff"):
-        text = text[1:]
-    if text and not text.endswith("\n"):
-        text += "\n"
-    lines = text.split("\n")[:-1] if text else []
+    lines = source_lines(text)
     plan = plan_indentation(lines)
     diagnostics = [Diagnostic(Location(path, p.line, p.column, p.line, p.column + 1), p.message, p.hint) for p in plan.problems]
     if diagnostics:
         raise SourceError(diagnostics, "\n".join(lines))
     lark, postlexer = _lark()
-    work = list(lines)
-    seen: set[int] = set()
-    while True:
-        source = "\n".join(work) + "\n" if work else ""
-        postlexer.plan = plan_indentation(work)
-        try:
-            tree = lark.parse(source)
-            check_names(tree)
-        except (UnexpectedInput, BuildError) as error:
-            diagnostic, line = _offline_diagnostic(path, error, lines)
-            if line in seen or len(diagnostics) >= MAX_ERRORS or not 1 <= line <= len(work):
-                if line not in seen:
-                    diagnostics.append(diagnostic)
-                break
-            seen.add(line)
-            diagnostics.append(diagnostic)
-            _neutralize(work, line)
-            continue
-        if diagnostics:
-            break
+
+    def parse_once(source: str) -> n.Program:
+        postlexer.plan = plan_indentation(source.split("\n")[:-1] if source else [])
+        tree = lark.parse(source)
+        check_names(tree)
         return tree
-    diagnostics.sort(key=lambda d: (d.location.line, d.location.column))
-    raise SourceError(diagnostics, "\n".join(lines))
+
+    return parse_recovering(path, lines, list(lines), diagnostics, parse_once, _offline_diagnostic, _neutralize)
+

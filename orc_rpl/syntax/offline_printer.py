@@ -4,74 +4,23 @@ from __future__ import annotations
 
 from orc_rpl.errors import OrcError
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.printer import quote
+from orc_rpl.syntax.printer import Spelling
+from orc_rpl.syntax.printer import expression as online_expression
 
 #: Blocks and continuation lines are indented by four spaces.
 INDENT = "    "
 
-_PRECEDENCE = {"OR": 1, "AND": 2, "NOT": 3, "=": 4, "<>": 4, "<": 4, "<=": 4, ">": 4, ">=": 4, "+": 5, "-": 5, "*": 6, "/": 6}
-_SPELLING = {"=": "==", "<>": "!=", "AND": "and", "OR": "or", "NOT": "not"}
-_UNARY_MINUS, _POSTFIX, _ATOM = 7, 8, 9
+#: The off-line spelling of the operators and booleans (LANGUAGE.md section 5).
+OFFLINE = Spelling({"=": "==", "<>": "!=", "AND": "and", "OR": "or", "NOT": "not"}, "true", "false", "=")
 
 
 class OfflineSpellingError(OrcError):
     """A tree that has no off-line spelling (an attribute name such as `speed` written in lower case on-line)."""
 
 
-def _precedence(expr: n.Expression) -> int:
-    if isinstance(expr, n.Binary):
-        return _PRECEDENCE[expr.op]
-    if isinstance(expr, n.Unary):
-        return _PRECEDENCE["NOT"] if expr.op == "NOT" else _UNARY_MINUS
-    if isinstance(expr, (n.Field, n.Index, n.Call)):
-        return _POSTFIX
-    return _ATOM
-
-
-def _wrap(text: str, needed: bool) -> str:
-    return f"({text})" if needed else text
-
-
 def expression(expr: n.Expression) -> str:
-    """Canonical off-line text of an expression."""
-    if isinstance(expr, n.Number):
-        return expr.text
-    if isinstance(expr, n.Name):
-        return expr.id
-    if isinstance(expr, n.String):
-        return quote(expr.value)
-    if isinstance(expr, n.Boolean):
-        return "true" if expr.value else "false"
-    if isinstance(expr, n.ListExpr):
-        return "[" + ", ".join(expression(item) for item in expr.items) + "]"
-    if isinstance(expr, n.Binary):
-        mine = _PRECEDENCE[expr.op]
-        comparison = mine == _PRECEDENCE["="]
-        left = _wrap(expression(expr.left), _precedence(expr.left) < mine or (comparison and _precedence(expr.left) == mine))
-        right = _wrap(expression(expr.right), _precedence(expr.right) <= mine)
-        return f"{left} {_SPELLING.get(expr.op, expr.op)} {right}"
-    if isinstance(expr, n.Unary):
-        operand = expression(expr.operand)
-        if expr.op == "NOT":
-            return "not " + _wrap(operand, _precedence(expr.operand) < _PRECEDENCE["NOT"])
-        needed = _precedence(expr.operand) < _UNARY_MINUS or operand.startswith(("-", "+"))
-        return expr.op + _wrap(operand, needed)
-    if isinstance(expr, n.Field):
-        needed = _precedence(expr.value) < _POSTFIX or isinstance(expr.value, n.Number)
-        return _wrap(expression(expr.value), needed) + "." + expr.name.id
-    if isinstance(expr, n.Index):
-        return _wrap(expression(expr.value), _precedence(expr.value) < _POSTFIX) + "[" + expression(expr.index) + "]"
-    if isinstance(expr, n.Call):
-        function = _wrap(expression(expr.function), _precedence(expr.function) < _POSTFIX)
-        return function + "(" + ", ".join(_argument(a) for a in expr.arguments) + ")"
-    raise TypeError(f"not an expression node: {expr!r}")
-
-
-def _argument(arg: n.Argument) -> str:
-    value = expression(arg.value)
-    if arg.name is not None:
-        return f"{arg.name.id}={value}"
-    return value
+    """Canonical off-line text of an expression: the on-line printer with the off-line spelling."""
+    return online_expression(expr, OFFLINE)
 
 
 def attribute_name(name: n.Name) -> str:

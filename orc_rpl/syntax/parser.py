@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from functools import lru_cache
+from typing import TypeVar
 
 from lark import Lark, Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
@@ -13,6 +15,8 @@ from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.blocks import NEUTRAL_HEADERS, block_keyword, check_blocks
 from orc_rpl.syntax.builder import BuildError, TreeBuilder
 from orc_rpl.syntax.grammar_files import grammar_path
+
+T = TypeVar("T")
 
 #: At most this many syntax errors are reported per file (later ones are usually consequences).
 MAX_ERRORS = 50
@@ -130,17 +134,58 @@ def _neutralize(lines: list[str], number: int) -> None:
         following += 1
 
 
-def parse(text: str, path: str = "<input>") -> n.Program:
-    """Parse on-line RPL text; raise SourceError with every syntax error found (up to MAX_ERRORS)."""
+def source_lines(text: str) -> list[str]:
+    """The lines of a program text as both parsers read it: CRLF as LF (fmt writes LF), tabs as four spaces, no BOM."""
     if "\r" in text:
-        text = text.replace("\r\n", "\n")  # CRLF files parse like LF files; fmt writes LF
+        text = text.replace("\r\n", "\n")
     if "\t" in text:
         text = text.expandtabs(4)
-    if text and not text.endswith("\n"):
-        text += "\n"
     if text.startswith("\ufeff"):
         text = text[1:]
-    lines = text.split("\n")[:-1] if text else []
+    if text and not text.endswith("\n"):
+        text += "\n"
+    return text.split("\n")[:-1] if text else []
+
+
+def parse_recovering(
+    path: str,
+    lines: list[str],
+    work: list[str],
+    diagnostics: list[Diagnostic],
+    parse_once: Callable[[str], T],
+    diagnose: Callable[[str, Exception, list[str]], tuple[Diagnostic, int]],
+    neutralize: Callable[[list[str], int], None],
+) -> T:
+    """Parse `work`; after each error, make its line harmless and parse again, so one run reports every bad line.
+
+    `lines` is the text as written (for messages), `work` the copy being repaired, `diagnostics` what is
+    already known to be wrong. Raises SourceError with all diagnostics in file order.
+    """
+    seen_lines: set[int] = set()
+    while True:
+        source = "\n".join(work) + "\n" if work else ""
+        try:
+            tree = parse_once(source)
+        except (UnexpectedInput, BuildError) as error:
+            diagnostic, line = diagnose(path, error, lines)
+            if line in seen_lines or len(diagnostics) >= MAX_ERRORS or not 1 <= line <= len(work):
+                if line not in seen_lines:
+                    diagnostics.append(diagnostic)
+                break
+            seen_lines.add(line)
+            diagnostics.append(diagnostic)
+            neutralize(work, line)
+            continue
+        if diagnostics:
+            break
+        return tree
+    diagnostics.sort(key=lambda d: (d.location.line, d.location.column))
+    raise SourceError(diagnostics, "\n".join(lines))
+
+
+def parse(text: str, path: str = "<input>") -> n.Program:
+    """Parse on-line RPL text; raise SourceError with every syntax error found (up to MAX_ERRORS)."""
+    lines = source_lines(text)
     problems, to_blank = check_blocks(lines)
     diagnostics = [
         Diagnostic(Location(path, p.line, p.column, p.line, p.column + p.length), p.message, p.hint) for p in problems
@@ -148,26 +193,7 @@ def parse(text: str, path: str = "<input>") -> n.Program:
     work = list(lines)
     for number in to_blank:
         work[number - 1] = ""
-    seen_lines: set[int] = set()
-    while True:
-        source = "\n".join(work) + "\n" if work else ""
-        try:
-            tree = _lark().parse(source)
-        except (UnexpectedInput, BuildError) as error:
-            diagnostic, line = _diagnostic(path, error, lines)
-            if line in seen_lines or len(diagnostics) >= MAX_ERRORS or not 1 <= line <= len(work):
-                if line not in seen_lines:
-                    diagnostics.append(diagnostic)
-                break
-            seen_lines.add(line)
-            diagnostics.append(diagnostic)
-            _neutralize(work, line)
-            continue
-        if diagnostics:
-            break
-        return tree
-    diagnostics.sort(key=lambda d: (d.location.line, d.location.column))
-    raise SourceError(diagnostics, "\n".join(lines))
+    return parse_recovering(path, lines, work, diagnostics, _lark().parse, _diagnostic, _neutralize)
 
 
 def parse_statement(text: str, path: str = "<input>") -> n.Statement:

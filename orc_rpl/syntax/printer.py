@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from dataclasses import dataclass
+
 from orc_rpl.syntax import nodes as n
 
 #: Block bodies are indented by four spaces (the thesis' FRAME listing); continuation lines by two.
@@ -36,8 +39,24 @@ def quote(value: str) -> str:
     return f'"{escaped}"'
 
 
-def expression(expr: n.Expression) -> str:
-    """Canonical text of an expression."""
+@dataclass(frozen=True, slots=True)
+class Spelling:
+    """How one concrete syntax spells the tree's operators, booleans and keyword arguments."""
+
+    operators: Mapping[str, str]            #: tree operator -> text, when it differs
+    true: str
+    false: str
+    keyword_separator: str                  #: between an argument's name and its value
+
+    def operator(self, op: str) -> str:
+        return self.operators.get(op, op)
+
+
+ONLINE = Spelling({}, "TRUE", "FALSE", " = ")
+
+
+def expression(expr: n.Expression, spelling: Spelling = ONLINE) -> str:
+    """Canonical text of an expression (on-line spelling unless told otherwise)."""
     if isinstance(expr, n.Number):
         return expr.text
     if isinstance(expr, n.Name):
@@ -45,40 +64,42 @@ def expression(expr: n.Expression) -> str:
     if isinstance(expr, n.String):
         return quote(expr.value)
     if isinstance(expr, n.Boolean):
-        return "TRUE" if expr.value else "FALSE"
+        return spelling.true if expr.value else spelling.false
     if isinstance(expr, n.ListExpr):
-        return "[" + ", ".join(expression(item) for item in expr.items) + "]"
+        return "[" + ", ".join(expression(item, spelling) for item in expr.items) + "]"
     if isinstance(expr, n.Binary):
         mine = _PRECEDENCE[expr.op]
         comparison = mine == _PRECEDENCE["="]
-        left = _wrap(expression(expr.left), precedence(expr.left) < mine or (comparison and precedence(expr.left) == mine))
-        right = _wrap(expression(expr.right), precedence(expr.right) <= mine)
-        return f"{left} {expr.op} {right}"
+        left_needed = precedence(expr.left) < mine or (comparison and precedence(expr.left) == mine)
+        left = _wrap(expression(expr.left, spelling), left_needed)
+        right = _wrap(expression(expr.right, spelling), precedence(expr.right) <= mine)
+        return f"{left} {spelling.operator(expr.op)} {right}"
     if isinstance(expr, n.Unary):
-        operand = expression(expr.operand)
+        operand = expression(expr.operand, spelling)
         if expr.op == "NOT":
-            return "NOT " + _wrap(operand, precedence(expr.operand) < _PRECEDENCE["NOT"])
+            return spelling.operator("NOT") + " " + _wrap(operand, precedence(expr.operand) < _PRECEDENCE["NOT"])
         # `- -x` must not print as `--x`, which is a comment.
         needed = precedence(expr.operand) < _UNARY_MINUS or operand.startswith(("-", "+"))
         return expr.op + _wrap(operand, needed)
     if isinstance(expr, n.Field):
         # `(0).a`: a number right before `.` would swallow the dot.
         needed = precedence(expr.value) < _POSTFIX or isinstance(expr.value, n.Number)
-        return _wrap(expression(expr.value), needed) + "." + expr.name.id
+        return _wrap(expression(expr.value, spelling), needed) + "." + expr.name.id
     if isinstance(expr, n.Index):
-        return _wrap(expression(expr.value), precedence(expr.value) < _POSTFIX) + "[" + expression(expr.index) + "]"
+        value = _wrap(expression(expr.value, spelling), precedence(expr.value) < _POSTFIX)
+        return value + "[" + expression(expr.index, spelling) + "]"
     if isinstance(expr, n.Call):
-        function = _wrap(expression(expr.function), precedence(expr.function) < _POSTFIX)
-        return function + "(" + ", ".join(argument(a) for a in expr.arguments) + ")"
+        function = _wrap(expression(expr.function, spelling), precedence(expr.function) < _POSTFIX)
+        return function + "(" + ", ".join(argument(a, spelling) for a in expr.arguments) + ")"
     raise TypeError(f"not an expression node: {expr!r}")
 
 
-def argument(arg: n.Argument) -> str:
-    """`value` or `name = value`; a positional equality is parenthesized so it does not read as a keyword."""
-    value = expression(arg.value)
+def argument(arg: n.Argument, spelling: Spelling = ONLINE) -> str:
+    """`value` or `name = value`; a positional equality is parenthesized where it would read as a keyword."""
+    value = expression(arg.value, spelling)
     if arg.name is not None:
-        return f"{arg.name.id} = {value}"
-    if isinstance(arg.value, n.Binary) and arg.value.op == "=":
+        return f"{arg.name.id}{spelling.keyword_separator}{value}"
+    if isinstance(arg.value, n.Binary) and spelling.operator(arg.value.op) == "=":
         return f"({value})"
     return value
 
