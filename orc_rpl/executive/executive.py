@@ -196,9 +196,11 @@ class Executive:
             return error.report("<pendant>", text if isinstance(text, str) else None)
         return "ok"
 
-    def statement_steps(self, stmt: n.Statement, routine: str | None = None, frame: str = "world") -> Iterator[object]:
+    def statement_steps(self, stmt: n.Statement, routine: str | None = None, frame: str = "world",
+                        settle: bool = True) -> Iterator[object]:
         """One statement in a lexical context (a routine's scope and its active locals, a FRAME block), as a
-        generator yielding TICK per motion cycle, ending when the robot has arrived; errors raise RunError."""
+        generator yielding TICK per motion cycle, ending when the robot has arrived (unless `settle` is False:
+        a declaration run while a jog moves leaves the jog alone); errors raise RunError."""
         scope = self.scopes.scope_of(routine).with_frame(frame)
         m = self.machine
         activation = next((a for a in reversed(m.stack) if a.routine == (routine or "main")), None)
@@ -209,7 +211,8 @@ class Executive:
             for event in block.gen(local_values):
                 if event is TICK:
                     yield event
-            yield from m.sync()
+            if settle:
+                yield from m.sync()
         except (StopSignal, ReturnSignal):
             return
         finally:

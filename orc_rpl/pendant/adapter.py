@@ -5,11 +5,9 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterator
 
-from orc_rpl.executive.blocks import make_block
 from orc_rpl.executive.executive import Executive
-from orc_rpl.executive.machine import TICK
 from orc_rpl.executive.scope import Scope
-from orc_rpl.executive.signals import ReturnSignal, RunError, StopSignal
+from orc_rpl.executive.signals import RunError
 from orc_rpl.pendant.tree import EditError, Stop, child_bodies
 from orc_rpl.syntax import nodes as n
 
@@ -19,24 +17,8 @@ DECLARATIONS = (n.Declaration, n.EnumDecl, n.Install)
 
 def statement_steps(ex: Executive, stmt: n.Statement, routine: str | None, frame: str,
                     settle: bool = True) -> Iterator[object]:
-    """Run one statement in a lexical context (its routine's scope and locals, its FRAME block), yielding once per
-    motion cycle. Executive.execute does the same in one go; the pendant needs the cycles to show and stop the motion."""
-    scope = ex.scopes.scope_of(routine).with_frame(frame)
-    m = ex.machine
-    activation = next((a for a in reversed(m.stack) if a.routine == (routine or "main")), None)
-    local_values = activation.locals if activation is not None else ({} if routine else m.globals)
-    block = make_block(m, [ex.compiler.statement(stmt, scope)])
-    saved_trace, m.trace = m.trace, False
-    try:
-        for event in block.gen(local_values):
-            if event is TICK:
-                yield event
-        if settle:
-            yield from m.sync()  # the statement is done when the robot has arrived
-    except (StopSignal, ReturnSignal):
-        return
-    finally:
-        m.trace = saved_trace
+    """Run one statement in a lexical context, yielding once per motion cycle so the screen can show and stop it."""
+    return ex.statement_steps(stmt, routine, frame, settle)
 
 
 def declarations(program: n.Program) -> Iterator[tuple[n.Statement, str]]:
