@@ -61,7 +61,7 @@ def make_program(statements: int, positions: list[str], rng: random.Random) -> s
             lines.append(f"move {rng.choice(['gripper', 'grinder'])} to {rng.choice(positions)} speed=0.5 * Vmax")
             made += 1
         elif kind < 0.8:
-            lines.append(f"for i in 1..3:")
+            lines.append("for i in 1..3:")
             for _ in range(3):
                 lines.append(f"    moveto {rng.choice(positions)}")
             made += 4

@@ -6,11 +6,11 @@ from orc_rpl.application.declarations import describe_types
 from orc_rpl.application.registry import Registry, default_registry, suggest
 from orc_rpl.checking.expressions import ExpressionTyper, accepts
 from orc_rpl.checking.symbols import (
-    ANY, WORLD, Scope, StaticType, Symbol, assigned_names, builtin_scope, declarations, nested_bodies,
+    ANY, WORLD, Scope, StaticType, Symbol, assigned_names, builtin_scope, declarations,
 )
 from orc_rpl.errors import Diagnostic, Location
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.units import DIMENSIONLESS, TIME
+from orc_rpl.syntax.units import TIME
 
 _DECLARED_KIND = {"TOOL": "tool", "FRAME": "frame", "POS": "pos", "PATH": "path", "CONST": "const", "VAR": "var"}
 _OUTPUTS = {"DigOut", "AnalogOut"}
