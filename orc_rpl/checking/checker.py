@@ -105,12 +105,7 @@ class Checker:
     def _Declaration(self, stmt: n.Declaration, scope: Scope, frame: str) -> None:
         value = self.infer(stmt.value, scope, frame)
         if stmt.frame is not None:
-            symbol = scope.lookup(stmt.frame.id)
-            if stmt.frame.id != WORLD and (symbol is None or symbol.kind != "frame"):
-                frames = [s for s in scope.visible_names() if (scope.lookup(s) or Symbol(s, "")).kind == "frame"]
-                guess = suggest(stmt.frame.id, frames)
-                self.report(stmt.frame, f"unknown frame '{stmt.frame.id}'" + (f"; did you mean '{guess}'?" if guess else ""),
-                            "declare it with FRAME name = POSE(...)")
+            self.check_frame_name(stmt.frame, scope)
         if stmt.kind in ("TOOL", "FRAME", "POS") and value.kind not in ("pose", "joints", "any"):
             self.report(stmt.value, f"{stmt.kind} {stmt.name.id} needs a pose, got {value}")
         if stmt.kind == "TOOL" and value.kind == "joints":
@@ -191,8 +186,7 @@ class Checker:
     def check_tool(self, stmt: n.Motion, scope: Scope, frame: str) -> None:
         symbol = scope.lookup(stmt.tool.id)
         if symbol is None:
-            tools = [name for name in scope.visible_names() if (scope.lookup(name) or Symbol(name, "")).kind == "tool"]
-            guess = suggest(stmt.tool.id, [*tools, "ARM"])
+            guess = suggest(stmt.tool.id, [*self.names_of_kind(scope, "tool"), "ARM"])
             self.report(stmt.tool, f"unknown tool '{stmt.tool.id}'" + (f"; did you mean '{guess}'?" if guess else ""),
                         "declare it with TOOL name = POSE(...), or move the bare flange with ARM")
         elif symbol.kind not in ("tool", "install", "param", "var", "assigned") and stmt.tool.id != "ARM":
@@ -319,13 +313,21 @@ class Checker:
             self.check_body(tuple(s for s in (arm.inline,) if s is not None) + arm.body, scope, frame)
 
     def _FrameBlock(self, stmt: n.FrameBlock, scope: Scope, frame: str) -> None:
-        symbol = scope.lookup(stmt.frame.id)
-        if stmt.frame.id != WORLD and (symbol is None or symbol.kind != "frame"):
-            frames = [s for s in scope.visible_names() if (scope.lookup(s) or Symbol(s, "")).kind == "frame"]
-            guess = suggest(stmt.frame.id, frames)
-            self.report(stmt.frame, f"unknown frame '{stmt.frame.id}'" + (f"; did you mean '{guess}'?" if guess else ""),
-                        "declare it with FRAME name = POSE(...)")
+        self.check_frame_name(stmt.frame, scope)
         self.check_body(stmt.body, scope, stmt.frame.id)
+
+    def check_frame_name(self, name: n.Name, scope: Scope) -> None:
+        """A name used as an on-line frame (`IN f`, `FRAME f` block) must be a declared FRAME or world."""
+        symbol = scope.lookup(name.id)
+        if name.id != WORLD and (symbol is None or symbol.kind != "frame"):
+            guess = suggest(name.id, self.names_of_kind(scope, "frame"))
+            self.report(name, f"unknown frame '{name.id}'" + (f"; did you mean '{guess}'?" if guess else ""),
+                        "declare it with FRAME name = POSE(...)")
+
+    @staticmethod
+    def names_of_kind(scope: Scope, kind: str) -> list[str]:
+        """Visible names declared as `kind` (frame, tool, ...), for did-you-mean."""
+        return [name for name in scope.visible_names() if (scope.lookup(name) or Symbol(name, "")).kind == kind]
 
     def _Try(self, stmt: n.Try, scope: Scope, frame: str) -> None:
         self.check_body(stmt.body, scope, frame)
