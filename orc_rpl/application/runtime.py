@@ -114,6 +114,10 @@ class RobotInterface(Protocol):
         """Distance between the commanded and the measured TCP position (m)."""
         ...
 
+    def thermal_loads(self) -> tuple[float, ...]:
+        """Thermal load of each motor estimated from its torque, 1.0 = its continuous limit (ROBOT.Thermal)."""
+        ...
+
 
 @dataclass(slots=True)
 class MotionCall:

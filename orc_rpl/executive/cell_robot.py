@@ -86,6 +86,9 @@ class CellRobot:
         layer = self.layer
         return float(np.linalg.norm(layer.fk(layer.reference_q())[:3, 3] - layer.fk(layer.current_q())[:3, 3]))
 
+    def thermal_loads(self) -> tuple[float, ...]:
+        return tuple(float(x) for x in self.layer.thermal_load())
+
     def submit(self, request: MotionRequest) -> HandleTicket:
         """Plan and start the request's move(s); planning errors (Unreachable, JointLimit...) are raised here."""
         tool = _tool_matrix(request.tool)

@@ -258,7 +258,7 @@ def invoke_method(m: Machine, obj: Installed, method: str, args: list[Any]) -> A
 
 
 def robot_signal(m: Machine, name: str) -> Any:
-    """`ROBOT.Joints`, `ROBOT.Torque`, `ROBOT.PosError`: the software sensors."""
+    """`ROBOT.Joints`, `ROBOT.Torque`, `ROBOT.PosError`, `ROBOT.Thermal`: the software sensors."""
     robot = m.robot
     if name == "Joints":
         return tuple(Quantity(float(q), ANGLE) for q in robot.joints())
@@ -269,6 +269,9 @@ def robot_signal(m: Machine, name: str) -> Any:
     if name == "PosError":
         return Quantity(float(robot.position_error_m()), LENGTH)
     if name == "Thermal":
-        raise RunError("ROBOT.Thermal is not implemented yet (feature 'assembly')")
+        thermal = getattr(robot, "thermal_loads", None)
+        if thermal is None:
+            raise RunError("ROBOT.Thermal: this robot has no thermal load estimate")
+        return tuple(float(x) for x in thermal())
     raise RunError(f"ROBOT has no signal '{name}'; it has Joints, Torque, PosError, Thermal")
 

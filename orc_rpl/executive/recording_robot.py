@@ -117,6 +117,9 @@ class RecordingRobot:
     def position_error_m(self) -> float:
         return 0.0
 
+    def thermal_loads(self) -> tuple[float, ...]:
+        return tuple(0.0 for _ in self._joints)  # no torques, no heat
+
     # -- motion model ------------------------------------------------------------------
 
     def _target_flange(self, request: MotionRequest, s: float = 1.0) -> np.ndarray:

@@ -19,6 +19,7 @@ from orc_rpl.motion.paths import DensePath
 from orc_rpl.motion.pipeline import MotionPipeline
 from orc_rpl.motion.planner import Planner
 from orc_rpl.motion.short_move import stop_trajectory
+from orc_rpl.motion.thermal import ThermalModel
 from orc_rpl.motion.trajectory import Trajectory
 from orc_rpl.motion.specs import DEFAULT_PARAMS, CartesianMotion, Computation, JointMotion, Mode, Motion, MoveStatus, Params
 
@@ -51,6 +52,9 @@ class MotionLayer(MotionPipeline):
         self._control_load_kg = 0.0
         self._wall_start: float | None = None
         self.cycles = 0
+        # thesis 4.5, alternative 3: the thermal load estimate is part of the standard motion cycle
+        tau_max = getattr(kin.arm, "tau_max", None)
+        self.thermal = None if tau_max is None else ThermalModel.for_arm(tau_max, motion_period_s)
 
     # -- reading the robot --------------------------------------------------------------
 
@@ -65,6 +69,12 @@ class MotionLayer(MotionPipeline):
     def tcp_pose(self, tool: np.ndarray | None = None) -> np.ndarray:
         """Measured TCP pose (4x4, world)."""
         return self.kin.fk(self.backend.q(), tool)
+
+    def thermal_load(self) -> np.ndarray:
+        """Thermal load of each motor (1.0 = its continuous limit), estimated from the torque since the start."""
+        if self.thermal is None:
+            return np.zeros(len(self._q_ref))
+        return self.thermal.load.copy()
 
     def progress_s(self) -> float:
         """The running move's path coordinate (1.0 when none runs)."""

@@ -53,6 +53,7 @@ class MotionPipeline:
     _stop_by: str
     _control_load_kg: float
     _wall_start: float | None
+    thermal: Any
 
     def now_s(self) -> float:
         """The controller clock (simulated time on the virtual robot)."""
@@ -170,6 +171,8 @@ class MotionPipeline:
             q_r, qd_r = self._hold_cache
             qdd_r = qd_r
         self.backend.advance(q_r, qd_r, qdd_r)
+        if self.thermal is not None:
+            self.thermal.update(self.backend.torque())
         self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
         self.cycles += 1
         stop = False

@@ -80,6 +80,9 @@ class PendantRobot:
     def position_error_m(self) -> float:
         return self.cell.position_error_m()
 
+    def thermal_loads(self) -> tuple[float, ...]:
+        return self.cell.thermal_loads()
+
     def submit(self, request: MotionRequest) -> Any:
         q_start = tuple(float(v) for v in self.layer.planned_end_q())
         self.last_submit_s = time.perf_counter()
