@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -49,6 +49,9 @@ class MotionRequest:
     load_kg: float = 0.0                          #: payload
     tuning: Any = None                            #: servo tuning (passed down)
     until: Callable[[MotionView], bool] | None = None  #: stop on the path when it becomes true
+    short: bool = False                           #: a short move (ShortMove: jerk-limited, FINE) when the robot has one
+    signal_before_end_s: float | None = None      #: tau: the ticket's `signalled_s` is set when t >= T_d - tau
+    record_s: float = 0.0                         #: record (t, q, qd, torque) for this long after the start
 
 
 class MoveTicket(Protocol):
@@ -64,6 +67,21 @@ class MoveTicket(Protocol):
 
     @property
     def error(self) -> Exception | None: ...
+
+    #: controller time when t >= T_d - signal_before_end_s first held (None: not yet, or not asked for)
+    signalled_s: float | None
+    #: samples recorded during the first `record_s` of the motion
+    recording: list[Sample]
+
+
+@dataclass(frozen=True, slots=True)
+class Sample:
+    """One motion cycle recorded for the application layer (MotionRequest.record_s)."""
+
+    time_s: float
+    q: tuple[float, ...]           #: measured joint angles, rad
+    qd: tuple[float, ...]          #: measured joint velocities, rad/s
+    torque: tuple[float, ...]      #: joint torques, N m
 
 
 class IOBanks(Protocol):
@@ -118,6 +136,17 @@ class RobotInterface(Protocol):
         """Thermal load of each motor estimated from its torque, 1.0 = its continuous limit (ROBOT.Thermal)."""
         ...
 
+    def inverse_dynamics(self, q: tuple[float, ...], qd: tuple[float, ...], qdd: tuple[float, ...],
+                         load_kg: float) -> tuple[float, ...]:
+        """The controller's robot model: joint torques (N m) for a motion state with `load_kg` at the flange."""
+        ...
+
+
+#: A keyword's `execute(call)` returns a MotionRequest, a list of them, or a procedure: a generator that yields
+#: a MotionRequest (the executive submits it and sends back its ticket) or None (one motion cycle passes), and
+#: returns when the statement is done (WELDMOVE: move, close the gun tau early, wait for the weld, open).
+Procedure = Generator[Any, Any, None]
+
 
 @dataclass(slots=True)
 class MotionCall:
@@ -132,6 +161,12 @@ class MotionCall:
     until: Callable[[MotionView], bool] | None
     speed_override: float = 1.0                   #: `--speed-override`, 0 < f <= 1
     warn: Callable[[str], None] = lambda message: None  #: a warning about this statement (shown once)
+    equipment: Any = None                         #: behaviour object of the installed equipment used as the tool
+    robot: RobotInterface | None = None           #: the robot (time, TCP, IO) for behaviours that run as procedures
+    #: motions with output bindings (IDENTMOVE): the target evaluated once the bindings are known; `target` is None
+    resolve_target: Callable[[dict[str, Any]], Pose | Joints] | None = None
+    #: call a FUNC of the program given as a value (IDENT's proc) with arguments, in the motion's context
+    call_function: Callable[[Any, list[Any]], Any] | None = None
 
 
 class BehaviourError(OrcError):

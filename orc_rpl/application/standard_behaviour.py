@@ -176,7 +176,23 @@ def install_standard_behaviour(registry: Registry) -> Registry:
     return registry
 
 
+#: The built-in application features with behaviour: `module:function` filling their slots in a registry.
+APPLICATION_BEHAVIOUR = (
+    "orc_rpl.application.features.spot_welding_behaviour:register_behaviour",
+)
+
+
+def install_application_behaviour(registry: Registry) -> Registry:
+    """Fill the behaviour slots of the built-in application features (spot welding, materials handling)."""
+    import importlib
+
+    for reference in APPLICATION_BEHAVIOUR:
+        module_name, _, function = reference.partition(":")
+        getattr(importlib.import_module(module_name), function)(registry)
+    return registry
+
+
 def runtime_registry() -> Registry:
     """The default registry with the standard behaviour filled in: what the executive runs with."""
-    return install_standard_behaviour(default_registry())
+    return install_application_behaviour(install_standard_behaviour(default_registry()))
 

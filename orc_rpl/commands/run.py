@@ -122,7 +122,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
     io_script = script_path(args.file, args.world)
     if io_script is not None:
-        load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool))
+        load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload)
     wall_start = time.perf_counter()
     with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress:
         machine.robot = progress.monitor(robot)

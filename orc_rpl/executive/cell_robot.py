@@ -6,9 +6,9 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.application.runtime import FunctionParam, MotionRequest, MotionView
+from orc_rpl.application.runtime import FunctionParam, MotionRequest, MotionView, Sample
 from orc_rpl.errors import OrcError, PlanningError
-from orc_rpl.motion import Actions, CartesianMotion, FuncParams, FunctionMotion, JointMotion, MotionData, MotionLayer, MoveStatus, Params
+from orc_rpl.motion import ActionSlot, Actions, CartesianMotion, FuncParams, FunctionMotion, JointMotion, MotionData, MotionLayer, MoveStatus, Params
 from orc_rpl.plant.io import CellIO
 from orc_rpl.world.pose import Joints, Pose
 
@@ -21,6 +21,8 @@ class HandleTicket:
 
     def __init__(self, handles: list[Any]) -> None:
         self.handles = handles
+        self.signalled_s: float | None = None     #: when t >= T_d - tau first held (request.signal_before_end_s)
+        self.recording: list[Sample] = []         #: the first record_s of the motion (request.record_s)
 
     @property
     def done(self) -> bool:
@@ -89,6 +91,17 @@ class CellRobot:
     def thermal_loads(self) -> tuple[float, ...]:
         return tuple(float(x) for x in self.layer.thermal_load())
 
+    def set_plant_payload(self, mass_kg: float) -> None:
+        """Simulation only: a part of `mass_kg` in the gripper, felt by the plant (not told to the controller)."""
+        loop = getattr(self.layer.backend, "loop", None)
+        cell = getattr(loop, "cell", None)
+        if cell is not None:
+            cell.set_payload(mass_kg)
+
+    def inverse_dynamics(self, q: tuple[float, ...], qd: tuple[float, ...], qdd: tuple[float, ...],
+                         load_kg: float) -> tuple[float, ...]:
+        return tuple(float(t) for t in self.layer.dynamics(np.array(q), np.array(qd), np.array(qdd), load_kg).torque_nm)
+
     def submit(self, request: MotionRequest) -> HandleTicket:
         """Plan and start the request's move(s); planning errors (Unreachable, JointLimit...) are raised here."""
         tool = _tool_matrix(request.tool)
@@ -96,7 +109,15 @@ class CellRobot:
         actions = _until_actions(request)
         layer = self.layer
         handles = []
-        if request.kind == "linear" and request.via:
+        ticket = HandleTicket(handles)
+        if request.signal_before_end_s is not None or request.record_s > 0:
+            actions = _application_actions(request, ticket, actions)
+        if request.short and request.kind in ("joint", "linear") and not request.via and request.until is None \
+                and type(request.target) is Pose:
+            # ShortMove: jerk- and acceleration-limited, dynamics taken as constant, always FINE
+            motion = CartesianMotion(target=request.target, kind=request.kind, tool=tool)  # type: ignore[arg-type]
+            handles.append(layer.short_move(motion, _params(request, zone_m=0.0), actions))
+        elif request.kind == "linear" and request.via:
             corner = _params(request, zone_m=max(request.zone_m, VIA_ZONE_M))
             for point in request.via:
                 handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, _until_actions(request)))
@@ -112,7 +133,7 @@ class CellRobot:
                 raise h.error
             if h.status is MoveStatus.ILLEGAL:
                 raise PlanningError(f"the motion layer refused the move (mode {layer.get_mode().value})")
-        return HandleTicket(handles)
+        return ticket
 
 
 def _tool_matrix(tool: Pose | None) -> np.ndarray | None:
@@ -143,6 +164,33 @@ def _until_actions(request: MotionRequest) -> Actions | None:
     def condition(data: MotionData) -> bool:
         return bool(until(MotionView(data.time_s, data.s)))
     return until_action(condition, name="until")
+
+
+def _application_actions(request: MotionRequest, ticket: HandleTicket, actions: Actions | None) -> Actions:
+    """The application layer's actions on a move: signal at t >= T_d - tau (spot welding), record the first
+    record_s of torques, q and q-dot (identification); results go to the ticket."""
+    acts = actions if actions is not None else Actions()
+    tau = request.signal_before_end_s
+    if tau is not None:
+        def before_end(data: MotionData, slot: ActionSlot) -> None:
+            if slot.signalled_at_s is None and data.time_s >= data.t_end_s - tau - 1e-9:
+                slot.signal(data.time_s)
+                ticket.signalled_s = data.time_s
+        acts.add("during", before_end, "before_end")
+        # a move shorter than tau (or one that ends early) still signals, at its end at the latest
+        def at_end(data: MotionData, slot: ActionSlot) -> None:
+            if ticket.signalled_s is None:
+                ticket.signalled_s = data.time_s
+        acts.add("post", at_end, "before_end_post")
+    if request.record_s > 0:
+        duration = request.record_s
+
+        def record(data: MotionData, slot: ActionSlot) -> None:
+            if data.t_motion_s <= duration + 1e-9:
+                ticket.recording.append(Sample(data.time_s, tuple(data.q.tolist()), tuple(data.qd.tolist()),
+                                               tuple(data.torque.tolist())))
+        acts.add("during", record, "record")
+    return acts
 
 
 def _motion(layer: MotionLayer, point: Pose | Joints, kind: str, via: Pose | Joints | None, tool: np.ndarray | None) -> Any:

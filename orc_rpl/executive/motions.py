@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from types import GeneratorType
 from typing import Any
 
 from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, MotionView
@@ -52,8 +53,17 @@ class MotionCompiler:
                 raise RunError(f"unknown motion keyword '{keyword}'")
             if spec.execute is None:
                 raise RunError(f"{keyword} is not implemented yet (feature '{spec.origin}'); nothing moved")
-            tool_pose = resolve_tool(tool(L))
-            goal = position(target(L), "target") if target is not None else None
+            tool_value = tool(L)
+            tool_pose = resolve_tool(tool_value)
+            resolve_target = None
+            if spec.output_functions and target is not None:
+                goal = None  # the target may use the output bindings (DropPositions[Id]): evaluated later
+
+                def resolve_target(bindings: dict[str, Any]) -> Pose | Joints:
+                    m.globals.update(bindings)
+                    return position(target(L), "target")
+            else:
+                goal = position(target(L), "target") if target is not None else None
             along = None
             if path is not None:
                 points = path(L)
@@ -69,11 +79,18 @@ class MotionCompiler:
                 def until(view: MotionView) -> bool:
                     return any(c(L) for c in conditions)
             call = MotionCall(keyword, goal, along, via, tool_pose, attributes, until, m.options.speed_override,
-                              lambda message: m.warn(message, span))
+                              lambda message: m.warn(message, span),
+                              equipment=tool_value.behaviour if type(tool_value) is Installed else None,
+                              robot=m.robot, resolve_target=resolve_target,
+                              call_function=lambda routine, args: m.call_now(m.routines[routine.name], args, span))
             try:
                 requests = spec.execute(call)
             except BehaviourError as error:
                 raise RunError(f"{keyword}: {error}") from None
+            if isinstance(requests, GeneratorType):
+                m.last_tool = tool_pose
+                yield from self.procedure(keyword, requests)
+                return
             if not isinstance(requests, (list, tuple)):
                 requests = [requests]
             robot = m.robot
@@ -98,6 +115,30 @@ class MotionCompiler:
                                name="NotFound")
         return motion
 
+    def procedure(self, keyword: str, steps: GeneratorType) -> Iterator[object]:
+        """Drive a behaviour that runs as a procedure: submit what it yields, tick when it yields None."""
+        m = self.m
+        robot = m.robot
+        sent: Any = None
+        while True:
+            try:
+                step = steps.send(sent)
+            except StopIteration:
+                return
+            except BehaviourError as error:
+                raise RunError(f"{keyword}: {error}") from None
+            if step is None:
+                robot.tick()
+                sent = None
+                yield TICK
+                continue
+            while robot.pending() > 1:  # look ahead by one motion, as for plain motions
+                robot.tick()
+                yield TICK
+            m.check_outstanding()
+            sent = robot.submit(step)
+            m.motions += 1
+
     def path_function(self, routine: Routine, position: Callable[[Any, str], Any], span: n.Span) -> FunctionParam:
         """`MOVE ARM TO f` with `FUNC f(s)` giving poses: a motion in function space, f(0) checked before it starts."""
         m = self.m
@@ -120,7 +161,8 @@ class MotionCompiler:
             attribute = spec.attribute(name)
             if attribute is None:
                 if spec.output_functions:
-                    values[name] = fn  # an output binding, evaluated by the feature during the motion
+                    # an output binding, evaluated by the feature during the motion: a thunk in the statement's context
+                    values[name] = (lambda f: lambda: f(L))(fn)
                     continue
                 raise RunError(f"{spec.keyword} does not accept attribute '{name}'")
             value = fn(L)

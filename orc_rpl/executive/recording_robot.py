@@ -7,13 +7,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from orc_rpl.application.runtime import FunctionParam, MotionRequest, MotionView
+from orc_rpl.application.runtime import FunctionParam, MotionRequest, MotionView, Sample
 from orc_rpl.errors import Unreachable
 from orc_rpl.plant.io import CellIO
 from orc_rpl.world.pose import Joints, Pose
 
 #: Where the flange starts: in front of the robot, pointing down.
 HOME_FLANGE = Pose(1.0, 0.0, 0.9, 0.0, math.pi, 0.0)
+
+
+#: The recording robot's torque model: the arm's own weight (kg m) and the payload's lever (m) on each joint.
+ARM_GRAVITY_KG_M = (0.0, 60.0, 20.0, 0.0, 1.0, 0.0)
+LOAD_LEVER_M = (0.0, 1.0, 0.8, 0.0, 0.1, 0.0)
 
 
 @dataclass(slots=True)
@@ -39,6 +44,8 @@ class Ticket:
     error: Exception | None = None
     s: float = 0.0
     joints_end: tuple[float, ...] | None = field(default=None)
+    signalled_s: float | None = None         #: when t >= T_d - tau first held (request.signal_before_end_s)
+    recording: list[Sample] = field(default_factory=list)  #: the first record_s of the motion
 
 
 class RecordingRobot:
@@ -62,6 +69,7 @@ class RecordingRobot:
         self._flange = HOME_FLANGE.matrix()
         self._joints = tuple(0.0 for _ in range(n_joints))
         self._queue: list[Ticket] = []
+        self.payload_kg = 0.0          #: the plant's payload (a part in the gripper), seen in the torques
 
     # -- RobotInterface ----------------------------------------------------------------
 
@@ -80,6 +88,12 @@ class RecordingRobot:
         ticket.elapsed_s += self.dt_s
         ticket.s = min(1.0, ticket.elapsed_s / ticket.duration_s)
         self._flange = self._interpolate(ticket)
+        request = ticket.request
+        tau = request.signal_before_end_s
+        if tau is not None and ticket.signalled_s is None and ticket.elapsed_s >= ticket.duration_s - tau - 1e-9:
+            ticket.signalled_s = now
+        if request.record_s > 0 and ticket.elapsed_s <= request.record_s + 1e-9:
+            ticket.recording.append(Sample(now, self._joints, tuple(0.0 for _ in self._joints), self.torques()))
         until = ticket.request.until
         if until is not None and until(MotionView(now, ticket.s)):
             self._finish(ticket, "stopped")
@@ -112,7 +126,18 @@ class RecordingRobot:
         return self._joints
 
     def torques(self) -> tuple[float, ...]:
-        return tuple(0.0 for _ in self._joints)
+        """A toy model without motion: the arm's and the payload's weight on fixed lever arms."""
+        return self.inverse_dynamics(self._joints, (), (), self.payload_kg)
+
+    def set_plant_payload(self, mass_kg: float) -> None:
+        """Simulation only: a part of `mass_kg` in the gripper, seen in the torques."""
+        self.payload_kg = mass_kg
+
+    def inverse_dynamics(self, q: tuple[float, ...], qd: tuple[float, ...], qdd: tuple[float, ...],
+                         load_kg: float) -> tuple[float, ...]:
+        n = len(q)
+        arms, levers = (ARM_GRAVITY_KG_M + (0.0,) * n)[:n], (LOAD_LEVER_M + (0.0,) * n)[:n]
+        return tuple(9.81 * (arm + load_kg * lever) for arm, lever in zip(arms, levers))
 
     def position_error_m(self) -> float:
         return 0.0

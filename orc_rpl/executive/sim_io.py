@@ -13,7 +13,7 @@ from orc_rpl.executive.machine import CELL_BANKS
 from orc_rpl.executive.signals import RunError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.parser import parse_statement
-from orc_rpl.syntax.units import LENGTH, TIME, Quantity, parse_literal
+from orc_rpl.syntax.units import LENGTH, MASS, TIME, Quantity, parse_literal
 from orc_rpl.world.pose import Pose
 
 _KEYS = {"at", "when", "after", "set", "value", "repeat"}
@@ -35,10 +35,13 @@ class IOEvent:
 
 
 class IOScript:
-    """The events of one script, run as a process model of the cell (`CellIO.add_process`)."""
+    """The events of one script, run as a process model of the cell (`CellIO.add_process`), and the
+    equipment models the script installs beside it (weld guns, parts to pick)."""
 
     def __init__(self, events: list[IOEvent]) -> None:
         self.events = events
+        self.weld_guns: list[Any] = []       #: plant.processes.WeldGunProcess
+        self.parts: list[Any] = []           #: plant.processes.PartSupply
 
     def __call__(self, io: Any, time_s: float) -> None:
         for event in self.events:
@@ -69,8 +72,13 @@ def script_path(program: str | Path, world_dir: str | Path | None = None) -> Pat
     return None
 
 
-def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose]) -> IOScript:
-    """Read a script and install it on the cell's IO; a mistake is a UsageError naming the file and the event."""
+def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
+                set_payload: Callable[[float], None] | None = None) -> IOScript:
+    """Read a script and install it on the cell's IO; a mistake is a UsageError naming the file and the event.
+
+    Besides `events:`, a script may list `weld_guns:` (`close`, `weld_ok`, `reaction`, `weld_time`, `fail`)
+    and `parts:` (`close`: the gripper's output, `masses`: the part grasped at each closing, 0kg for none;
+    `set_payload` puts it on the plant's flange)."""
     from ruamel.yaml import YAML
     from ruamel.yaml.error import YAMLError
 
@@ -78,9 +86,14 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose]) -> IOScript:
         data = YAML(typ="safe", pure=True).load(Path(path).read_text(encoding="utf-8")) or {}
     except (OSError, YAMLError) as error:
         raise UsageError(f"cannot read the IO script '{path}': {error}") from None
-    entries = data.get("events") if isinstance(data, dict) else None
+    entries = data.get("events", [] if isinstance(data, dict) and ("weld_guns" in data or "parts" in data) else None) \
+        if isinstance(data, dict) else None
     if not isinstance(entries, list):
         raise UsageError(f"IO script '{path}': expected a list under 'events:'")
+    unknown = set(data) - {"events", "weld_guns", "parts"}
+    if unknown:
+        raise UsageError(f"IO script '{path}': unknown section {', '.join(sorted(unknown))}; "
+                         "expected events, weld_guns, parts")
     events = []
     for i, entry in enumerate(entries, 1):
         try:
@@ -89,7 +102,65 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose]) -> IOScript:
             raise UsageError(f"IO script '{path}', event {i}: {error}") from None
     script = IOScript(events)
     io.add_process(script)
+    where = "weld_guns"
+    try:
+        for i, entry in enumerate(_entries(data, "weld_guns"), 1):
+            where = f"weld gun {i}"
+            script.weld_guns.append(_weld_gun(entry, io, tcp))
+        where = "parts"
+        for i, entry in enumerate(_entries(data, "parts"), 1):
+            where = f"parts {i}"
+            script.parts.append(_parts(entry, io, set_payload))
+    except (UsageError, RunError, SourceError, ValueError, KeyError, TypeError) as error:
+        raise UsageError(f"IO script '{path}', {where}: {error}") from None
+    for process in (*script.weld_guns, *script.parts):
+        io.add_process(process)
     return script
+
+
+def _entries(data: dict, key: str) -> list:
+    entries = data.get(key) or []
+    if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
+        raise UsageError(f"'{key}:' must be a list of mappings")
+    return entries
+
+
+def _channel(text: Any, io: Any, bank: str) -> int:
+    target = _expression(str(text))
+    if not (isinstance(target, n.Index) and isinstance(target.value, n.Name) and target.value.id in CELL_BANKS
+            and CELL_BANKS[target.value.id] == bank):
+        raise UsageError(f"expected a channel such as {bank}[2], not {text!r}")
+    number = int(parse_literal(_number_text(target.index)))
+    io.bank(bank)[number]  # the channel must exist
+    return number
+
+
+def _weld_gun(entry: dict, io: Any, tcp: Callable[[], Pose]) -> Any:
+    from orc_rpl.plant.processes import WeldGunProcess
+
+    if not set(entry) <= {"close", "weld_ok", "reaction", "weld_time", "fail"} or not {"close", "weld_ok"} <= set(entry):
+        raise UsageError(f"a weld gun has close, weld_ok and optionally reaction, weld_time, fail; got {entry!r}")
+
+    def position() -> tuple[float, float, float]:
+        pose = tcp()
+        return (pose.x, pose.y, pose.z)
+    return WeldGunProcess(_channel(entry["close"], io, "DigOut"), _channel(entry["weld_ok"], io, "DigIn"),
+                          _seconds(entry.get("reaction", "80ms")), _seconds(entry.get("weld_time", "200ms")),
+                          tcp=position, fail=bool(entry.get("fail", False)))
+
+
+def _parts(entry: dict, io: Any, set_payload: Callable[[float], None] | None) -> Any:
+    from orc_rpl.plant.processes import PartSupply
+
+    if not set(entry) <= {"close", "masses"} or not {"close", "masses"} <= set(entry) or not isinstance(entry["masses"], list):
+        raise UsageError(f"parts have close (the gripper's DigOut) and masses (a list such as [2kg, 0kg]); got {entry!r}")
+    masses = []
+    for text in entry["masses"]:
+        value = parse_literal(str(text).replace(" ", ""))
+        if not (type(value) is Quantity and value.dim == MASS and value.value >= 0) and value != 0:
+            raise UsageError(f"a part's mass is a mass such as 0.5kg, got {text!r}")
+        masses.append(float(value.value) if type(value) is Quantity else 0.0)
+    return PartSupply(_channel(entry["close"], io, "DigOut"), masses, set_payload)
 
 
 def _event(entry: Any, io: Any, tcp: Callable[[], Pose]) -> IOEvent:

@@ -1,0 +1,122 @@
+"""Behaviour of spot welding (thesis 2.2, 4.5): the SpotGun on its IO channels and WELDMOVE as a procedure.
+
+    WeldMove(Pos, ...)
+        if (ShortMotion) ShortMove(Pos, Par, Act); else Move(Pos, Par, Act);
+        Wait(Act->MoveSignal);      -- signalled by an action at t >= T_d - tau
+        Gun->Close(); Gun->Weld(); Gun->WaitWelding(); Gun->Open();
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from typing import Any
+
+from orc_rpl.application.runtime import BehaviourError, InstallContext, MotionCall, MotionRequest
+from orc_rpl.application.standard_behaviour import standard_motion
+from orc_rpl.errors import Timeout
+from orc_rpl.syntax.units import TIME, Quantity
+from orc_rpl.world.pose import Pose
+
+#: A motion up to this long (TCP distance, m) is a ShortMove (jerk-limited, dynamics constant).
+SHORT_MOTION_M = 0.15
+#: WELD_OK must come within this much after the weld should be done (WELD_TIME), or Timeout is raised.
+WELD_OK_MARGIN_S = 1.0
+
+
+def _seconds(value: Any, what: str, default: float) -> float:
+    if value is None:
+        return default
+    if type(value) is Quantity and value.dim == TIME and value.value >= 0:
+        return value.value
+    if value == 0:
+        return 0.0
+    raise BehaviourError(f"{what} must be a time >= 0 (e.g. 80ms), got {value}")
+
+
+class SpotGun:
+    """A spot-welding gun: CLOSE (digital output) closes it and starts the weld, WELD_OK (digital input)
+    reports a good weld; REACTION is the time from the close signal until the gun is closed."""
+
+    def __init__(self, context: InstallContext) -> None:
+        attrs = context.attributes
+        self._context = context
+        self.name = context.name
+        self.close_channel, self.weld_ok_channel = attrs.get("CLOSE"), attrs.get("WELD_OK")
+        if self.close_channel is None or self.weld_ok_channel is None:
+            raise BehaviourError(f"INSTALL {context.name} AS SpotGun needs WITH CLOSE = DigOut[n] WITH WELD_OK = DigIn[m]")
+        self.reaction_s = _seconds(attrs.get("REACTION"), "REACTION", 0.08)
+        self.weld_time_s = _seconds(attrs.get("WELD_TIME"), "WELD_TIME", 0.2)
+        self.welds = 0
+
+    def Close(self) -> None:  # noqa: N802 - the language's method names
+        self._context.write(self.close_channel, 1)
+
+    def Open(self) -> None:  # noqa: N802
+        self._context.write(self.close_channel, 0)
+
+    def weld_ok(self) -> bool:
+        return bool(self._context.read(self.weld_ok_channel))
+
+
+def weldmove(call: MotionCall) -> Iterator[Any]:
+    """WELDMOVE gun TO spot: a short fast FINE move, the gun closed REACTION before it ends, wait for WELD_OK, open."""
+    gun = call.equipment
+    if not isinstance(gun, SpotGun):
+        raise BehaviourError("the tool must be an installed SpotGun mounted as a TOOL")
+    robot = call.robot
+    if robot is None:
+        raise BehaviourError("needs a robot")
+    base = standard_motion(_as_move(call))
+    target = base.target
+    short = False
+    if type(target) is Pose:
+        here = robot.tcp_pose(call.tool)
+        short = math.dist((here.x, here.y, here.z), (target.x, target.y, target.z)) <= SHORT_MOTION_M
+    request = MotionRequest(
+        keyword=call.keyword, kind=base.kind, target=target, via=base.via, tool=base.tool,
+        speed_m_s=base.speed_m_s, speed_fraction=base.speed_fraction, accel_fraction=base.accel_fraction,
+        zone_m=0.0, time_s=base.time_s, load_kg=base.load_kg, tuning=base.tuning, short=short,
+        signal_before_end_s=gun.reaction_s,
+    )
+    ticket = yield request
+    while ticket.signalled_s is None and not ticket.done:  # Wait(Act->MoveSignal)
+        yield None
+    if ticket.done and ticket.outcome == "fault":
+        raise ticket.error if ticket.error is not None else BehaviourError("the move failed")
+    gun.Close()  # the gun closes REACTION from now: when the motion ends
+    while not ticket.done:
+        yield None
+    if ticket.outcome == "fault":
+        gun.Open()
+        raise ticket.error if ticket.error is not None else BehaviourError("the move failed")
+    deadline = robot.time_s() + gun.reaction_s + gun.weld_time_s + WELD_OK_MARGIN_S
+    while not gun.weld_ok():  # Gun->WaitWelding()
+        if robot.time_s() > deadline:
+            gun.Open()
+            raise Timeout(f"WELDMOVE: {gun.name} gave no WELD_OK within "
+                          f"{1000 * (gun.reaction_s + gun.weld_time_s + WELD_OK_MARGIN_S):.0f} ms of the motion's end "
+                          f"(REACTION {1000 * gun.reaction_s:.0f} ms + WELD_TIME {1000 * gun.weld_time_s:.0f} ms "
+                          f"+ {1000 * WELD_OK_MARGIN_S:.0f} ms); check the welder and its WELD_OK input")
+        yield None
+    gun.Open()
+    gun.welds += 1
+
+
+def _as_move(call: MotionCall) -> MotionCall:
+    """The statement as a standard joint move (SPEED, ACCEL, TIME, LOAD... read the same way)."""
+    from dataclasses import replace
+
+    return replace(call, keyword="MOVE")
+
+
+def register_behaviour(registry: Any) -> None:
+    """Fill the behaviour slots of SpotGun and WELDMOVE."""
+    import dataclasses
+
+    kind = registry.install_kinds.get("SpotGun")
+    if kind is not None and kind.factory is None:
+        registry.install_kinds["SpotGun"] = dataclasses.replace(kind, factory=SpotGun)
+    spec = registry.motions.get("WELDMOVE")
+    if spec is not None and spec.execute is None:
+        registry.motions["WELDMOVE"] = dataclasses.replace(spec, execute=weldmove)

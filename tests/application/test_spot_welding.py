@@ -1,0 +1,141 @@
+"""Spot welding end to end (thesis 2.2, 4.5): WELDMOVE closes the gun REACTION before the motion ends."""
+
+from __future__ import annotations
+
+import math
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from orc_rpl.checking.checker import check_program
+from orc_rpl.executive.executive import Executive
+from orc_rpl.executive.recording_robot import RecordingRobot
+from orc_rpl.plant.processes import WeldGunProcess
+from orc_rpl.syntax.parser import parse
+
+PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "online"
+
+GUN = """TOOL gun = POSE(0, 0, 250mm, 0, 0, 0)
+INSTALL gun AS SpotGun WITH CLOSE = DigOut[3] WITH WELD_OK = DigIn[2] WITH REACTION = 80ms WITH WELD_TIME = 150ms
+"""
+
+
+def run(body: str, robot, gun: WeldGunProcess | None = None):  # type: ignore[no-untyped-def]
+    source = GUN + textwrap.dedent(body).lstrip("\n")
+    executive = Executive(parse(source, "weld.rpl"), robot, path="weld.rpl", source=source, output=lambda line: None)
+    if gun is not None:
+        robot.io.add_process(gun)
+    tickets = []
+    submit = robot.submit
+
+    def recording_submit(request):  # type: ignore[no-untyped-def]
+        ticket = submit(request)
+        tickets.append((request, ticket))
+        return ticket
+    robot.submit = recording_submit
+    executive.run()
+    return executive, tickets
+
+
+def tcp_of(robot, executive):  # type: ignore[no-untyped-def]
+    def position() -> tuple[float, float, float]:
+        pose = robot.tcp_pose(executive.machine.last_tool)
+        return (pose.x, pose.y, pose.z)
+    return position
+
+
+def test_close_signal_rises_reaction_before_the_motion_ends_on_the_recording_robot() -> None:
+    robot = RecordingRobot()
+    closes: list[float] = []
+    robot.io.add_process(lambda io, t: closes.append(t) if io.dig_out[3] and not closes else None)
+    gun = WeldGunProcess(3, 2, 0.08, 0.15)
+    executive, tickets = run("WELDMOVE gun TO POSE(1000mm, 0, 600mm, 0, 180deg, 0) WITH TIME = 0.3s\n", robot, gun)
+    assert executive.status == "finished", executive.report()
+    (request, ticket), = tickets
+    assert request.signal_before_end_s == pytest.approx(0.08) and request.zone_m == 0.0
+    motion_end = ticket.signalled_s + 0.08  # T_d
+    assert abs(ticket.signalled_s - (0.3 - 0.08)) <= robot.dt_s + 1e-9
+    assert abs(closes[0] - ticket.signalled_s) <= robot.dt_s + 1e-9  # the gun's output follows within a cycle
+    assert len(gun.welds) == 1 and abs(gun.welds[0].closed_s - motion_end) <= robot.dt_s + 1e-9
+    assert not robot.io.dig_out[3]  # opened after the weld
+
+
+def test_missing_weld_ok_is_a_timeout_at_the_weldmove_line() -> None:
+    robot = RecordingRobot()
+    executive, _ = run("""
+        PRINT "start"
+        WELDMOVE gun TO POSE(1000mm, 0, 600mm, 0, 180deg, 0)
+        """, robot, WeldGunProcess(3, 2, 0.08, 0.15, fail=True))
+    assert executive.status == "failed"
+    error = executive.error
+    assert error is not None and error.name == "Timeout"
+    assert error.span.line == 4 and error.span.column == 1  # the WELDMOVE statement (after the two-line prelude)
+    assert "gave no WELD_OK" in error.message and "gun" in error.message
+    assert not robot.io.dig_out[3]  # the gun is opened again
+
+
+def test_timeout_can_be_caught() -> None:
+    robot = RecordingRobot()
+    executive, _ = run("""
+        TRY
+            WELDMOVE gun TO POSE(1000mm, 0, 600mm, 0, 180deg, 0)
+        ON Timeout : PRINT "no weld"
+        ENDTRY
+        """, robot, WeldGunProcess(3, 2, fail=True))
+    assert executive.status == "finished", executive.report()
+    assert executive.prints == ["no weld"]
+
+
+def test_weldmove_without_a_spot_gun_is_a_check_error() -> None:
+    program = parse("TOOL tip = POSE(0, 0, 100mm, 0, 0, 0)\nWELDMOVE tip TO POSE(1m, 0, 0.6m, 0, 180deg, 0)\n", "w.rpl")
+    assert [d.message for d in check_program(program, "w.rpl")] == ["WELDMOVE needs a SpotGun installed on tool 'tip'"]
+
+
+def test_demo_passes_the_checker() -> None:
+    path = PROGRAMS / "demo_spot_welding.rpl"
+    assert check_program(parse(path.read_text(), str(path)), str(path)) == []
+
+
+def _run_on_cell(body: str, gun: WeldGunProcess):  # type: ignore[no-untyped-def]
+    from orc_rpl.executive.cell_robot import CellRobot
+
+    robot = CellRobot.virtual()
+    source = GUN + body
+    executive = Executive(parse(source, "weld.rpl"), robot, path="weld.rpl", source=source, output=lambda line: None)
+    gun.tcp = tcp_of(robot, executive)
+    robot.io.add_process(gun)
+    tickets = []
+    submit = robot.submit
+
+    def recording_submit(request):  # type: ignore[no-untyped-def]
+        ticket = submit(request)
+        tickets.append((request, ticket))
+        return ticket
+    robot.submit = recording_submit
+    executive.run()
+    assert executive.status == "finished", executive.report()
+    return robot, tickets
+
+
+@pytest.mark.sim
+def test_spots_welded_at_their_positions_gun_closed_as_the_motion_ends_faster_than_naive() -> None:
+    spots = [f"OFFS(first, 0, {i * 50}mm, 0)" for i in range(4)]
+    start = "POS first = POSE(900mm, -100mm, 600mm, 0, 180deg, 0)\nMOVE gun TO OFFS(first, 0, 0, 60mm)\n"
+    gun = WeldGunProcess(3, 2, 0.08, 0.15)
+    robot, tickets = _run_on_cell(start + "".join(f"WELDMOVE gun TO {s}\n" for s in spots), gun)
+    welds = [(r, t) for r, t in tickets if r.keyword == "WELDMOVE"]
+    assert len(gun.welds) == len(welds) == 4
+    for (request, ticket), weld in zip(welds, gun.welds):
+        handle = ticket.handles[0]
+        assert abs(weld.closed_s - handle.t_end_s) <= robot.dt_s  # closed within one motion cycle of T_d
+        assert math.dist(weld.position_m, (request.target.x, request.target.y, request.target.z)) < 0.5e-3
+        assert not weld.moving
+    assert all(t.handles[0].short for _, t in welds[1:])  # 50 mm apart: ShortMoves
+    weldmove_s = robot.time_s()
+
+    naive_gun = WeldGunProcess(3, 2, 0.08, 0.15)
+    naive = start + "".join(f"MOVE gun TO {s}\ngun.Close\nWAIT UNTIL DigIn[2]\ngun.Open\n" for s in spots)
+    robot, _ = _run_on_cell(naive, naive_gun)
+    assert len(naive_gun.welds) == 4
+    assert weldmove_s < robot.time_s() - 4 * 0.08  # at least REACTION saved per spot
