@@ -179,6 +179,7 @@ def install_standard_behaviour(registry: Registry) -> Registry:
 #: The built-in application features with behaviour: `module:function` filling their slots in a registry.
 APPLICATION_BEHAVIOUR = (
     "orc_rpl.application.features.spot_welding_behaviour:register_behaviour",
+    "orc_rpl.application.features.materials_handling_behaviour:register_behaviour",
 )
 
 
