@@ -223,6 +223,13 @@ class ExpressionCompiler:
             def missing(L: dict[str, Any]) -> Any:
                 raise RunError(f"{name} is not implemented yet (feature '{spec.origin}')")
             return missing
+        if spec.moves:  # it moves the robot (CALIBRATE): from rest, with the robot and the tool last moved
+            def moving(L: dict[str, Any]) -> Any:
+                args, kwargs = [f(L) for f in positional], {k: f(L) for k, f in named.items()}
+                m.sync_now()
+                tool = ARM_TOOL if m.last_tool is None else m.last_tool
+                return implementation(*args, robot=m.robot, tool=tool, to_world=m.to_world, **kwargs)
+            return moving
         if not named:
             if len(positional) == 1:
                 a0 = positional[0]

@@ -50,6 +50,7 @@ class MotionLayer(MotionPipeline):
         self._next_id = 1
         self._stop_by = "stop_move"
         self._control_load_kg = 0.0
+        self._tuning: Any = None  # the servo tuning in use (None: the default gains)
         self._wall_start: float | None = None
         self.cycles = 0
         # thesis 4.5, alternative 3: the thermal load estimate is part of the standard motion cycle

@@ -54,6 +54,7 @@ class MotionPipeline:
     _control_load_kg: float
     _wall_start: float | None
     thermal: Any
+    _tuning: Any
 
     def now_s(self) -> float:
         """The controller clock (simulated time on the virtual robot)."""
@@ -264,6 +265,9 @@ class MotionPipeline:
         if set_payload is not None and h.params.load_kg != self._control_load_kg:
             set_payload(h.params.load_kg)  # thesis 4.5: the load in Par reaches the control, not only the planner
             self._control_load_kg = h.params.load_kg
+        tuning = h.params.tuning
+        if tuning is not self._tuning:
+            self._set_tuning(tuning)  # thesis 2.4: this motion's own servo tuning
         if h.actions.stage("pre"):
             h.actions.run("pre", self._data(h, "pre"))
         if h.actions.stage("continuous"):
@@ -273,6 +277,8 @@ class MotionPipeline:
         if h.done:
             return
         h.status, h.done, h.end_time_s = status, True, self.now_s()
+        if self._tuning is not None and h.started and h.params.tuning is self._tuning:
+            self._set_tuning(None)  # a tuning holds for its motion only (settling included)
         if status is MoveStatus.READY:
             h.s = 1.0
         if h.started and h.actions.stage("post"):
@@ -280,6 +286,12 @@ class MotionPipeline:
         h.signal.signal("done", self.now_s())
         if self._active is h:
             self._active = None
+
+    def _set_tuning(self, tuning: Any) -> None:
+        set_tuning = getattr(self.backend, "set_tuning", None)
+        if set_tuning is not None:  # a kinematic follower has no servo to tune
+            set_tuning(tuning)
+        self._tuning = tuning
 
     def _data(self, h: MoveHandle, stage: str) -> MotionData:
         q = np.array(self.backend.q())

@@ -6,6 +6,7 @@ import enum
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, fields
+from typing import Any
 
 import numpy as np
 
@@ -136,7 +137,7 @@ class Params:
     zone_m: float = FINE                 #: blend radius at the TCP (0: FINE, stop exactly)
     time_s: float | None = None          #: requested duration: the motion takes at least this long
     load_kg: float = 0.0                 #: payload carried, included in the torque limits
-    tuning: str | None = None            #: servo tuning set (passed down, recorded)
+    tuning: Any = None                   #: servo tuning for this motion only (a `ServoTuning`; None: default gains)
     computation: Computation = Computation.DURING
     descriptor: int | None = None        #: plan store slot for SAVE / DONE
     known: Known = Known.COMPLETELY

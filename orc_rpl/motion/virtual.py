@@ -42,6 +42,10 @@ class ServoBackend:
     def reset(self, q: np.ndarray) -> None:
         self._state = self.loop.reset(q)
 
+    def set_tuning(self, tuning: Any) -> None:
+        """The servo tuning of the motion now starting (a `ServoTuning`, or None for the default gains)."""
+        self.loop.set_tuning(tuning)
+
     def set_control_payload(self, mass_kg: float) -> None:
         """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
         self.loop.arm.set_payload(mass_kg)

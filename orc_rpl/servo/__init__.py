@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from orc_rpl.servo.control import JointServo, ServoGains
+from orc_rpl.servo.control import JointServo, ServoGains, ServoTuning
 
-__all__ = ["JointServo", "ServoGains", "ServoLoop", "ServoState"]
+__all__ = ["JointServo", "ServoGains", "ServoLoop", "ServoState", "ServoTuning"]
 
 
 def __getattr__(name: str) -> Any:

@@ -39,6 +39,38 @@ class ServoGains:
             raise UsageError(f"inertia_every_steps must be >= 1, got {self.inertia_every_steps}")
 
 
+@dataclass(frozen=True, slots=True)
+class ServoTuning:
+    """A task-specific tuning (thesis 2.4, made by CALIBRATE): per-joint gains and feed-forward corrections.
+
+    Used for one motion at a time (`JointServo.set_tuning`): the bandwidths replace `ServoGains`' (each
+    still scaled by the model's M_ii(q)), and the feed-forward gets tau += d_inertia qdd_ref +
+    d_viscous qd_ref + d_offset for what the model does not know (an unmodelled payload's inertia,
+    friction, weight). `label` is how programs print it.
+    """
+
+    position_gain_1_s: tuple[float, ...]      #: P position loop, per joint
+    velocity_bw_rad_s: tuple[float, ...]      #: P velocity loop bandwidth (relative to the model's M_ii)
+    integral_bw_rad_s: tuple[float, ...]      #: PI zero of the velocity loop
+    d_inertia_kg_m2: tuple[float, ...]        #: feed-forward: inertia the model lacks
+    d_viscous_nm_s: tuple[float, ...]         #: feed-forward: viscous friction the model lacks
+    d_offset_nm: tuple[float, ...]            #: feed-forward: constant torque the model lacks (weight)
+    label: str = "tuning()"
+
+    def __post_init__(self) -> None:
+        n = len(self.position_gain_1_s)
+        for name in ("position_gain_1_s", "velocity_bw_rad_s", "integral_bw_rad_s", "d_inertia_kg_m2",
+                     "d_viscous_nm_s", "d_offset_nm"):
+            values = np.array(getattr(self, name), dtype=float)
+            if values.shape != (n,) or not np.all(np.isfinite(values)):
+                raise UsageError(f"tuning {name} must be {n} finite numbers, got {getattr(self, name)!r}")
+            if name.endswith(("_1_s", "_rad_s")) and np.any(values < 0):
+                raise UsageError(f"tuning {name} must be >= 0, got {getattr(self, name)!r}")
+
+    def __str__(self) -> str:
+        return self.label
+
+
 class JointServo:
     """Local control of all joints at the servo period; its attributes are the internal signals of the last cycle.
 
@@ -84,6 +116,9 @@ class JointServo:
         # Set from above (thesis 5.3: "feed forward signals to torque references can be set"), e.g. by
         # a force controller; added to every cycle's demand until changed.
         self.torque_offset = np.zeros(n)      #: extra torque reference (N m)
+        self.tuning: ServoTuning | None = None  #: the task-specific tuning in use (None: `gains`)
+        self._d_inertia, self._d_viscous, self._d_offset = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._extra, self._extra_work = np.zeros(n), np.zeros(n)
 
     def reset(self) -> None:
         """Forget the integral and the signals (after a plant reset)."""
@@ -95,6 +130,51 @@ class JointServo:
         self.saturated[:] = False
         self.torque_offset = np.zeros(n)
         self._steps = 0
+
+    def set_tuning(self, tuning: ServoTuning | None) -> None:
+        """Use a task-specific tuning from the next cycle on (None: back to `gains`), without a bump.
+
+        Bumpless: the integral gives up (or takes back) the constant torque the tuning's feed-forward
+        adds, so the total torque does not jump at the switch; the per-joint gains are rescheduled
+        at the next cycle's pose. Without a tuning, `update` is the plain law, unchanged.
+        """
+        n, g = self.arm.n_joints, self.gains
+        if tuning is None:
+            kp, bw, ibw = np.full(n, g.position_gain_1_s), np.full(n, g.velocity_bw_rad_s), np.full(n, g.integral_bw_rad_s)
+            d_inertia, d_viscous, d_offset = np.zeros(n), np.zeros(n), np.zeros(n)
+        else:
+            if len(tuning.position_gain_1_s) != n:
+                raise UsageError(f"the tuning is for {len(tuning.position_gain_1_s)} joints, the arm has {n}")
+            kp, bw, ibw = (np.array(v, dtype=float) for v in (tuning.position_gain_1_s, tuning.velocity_bw_rad_s,
+                                                               tuning.integral_bw_rad_s))
+            d_inertia, d_viscous, d_offset = (np.array(v, dtype=float) for v in (tuning.d_inertia_kg_m2,
+                                                                              tuning.d_viscous_nm_s, tuning.d_offset_nm))
+        integral = self.integral + self._d_offset - d_offset
+        np.clip(integral, self._integral_min, self._integral_max, out=integral)
+        self.integral = integral
+        self._kp, self._velocity_bw, self._integral_bw_dt = kp, bw, ibw * self.period_s
+        self._d_inertia, self._d_viscous, self._d_offset = d_inertia, d_viscous, d_offset
+        self._steps = 0  # the next cycle schedules the gains at the measured pose
+        self.tuning = tuning
+        if tuning is None:
+            self.__dict__.pop("update", None)  # the plain law again
+        else:
+            self.update = self._update_tuned  # type: ignore[method-assign]
+
+    def _update_tuned(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
+                      q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """`update` with the tuning's feed-forward corrections added to the torque offset for this cycle."""
+        extra, work, offset = self._extra, self._extra_work, self.torque_offset
+        multiply(self._d_inertia, qdd_ref, extra)
+        multiply(self._d_viscous, qd_ref, work)
+        add(extra, work, extra)
+        add(extra, self._d_offset, extra)
+        add(extra, offset, extra)
+        self.torque_offset = extra
+        try:
+            return JointServo.update(self, q_ref, qd_ref, qdd_ref, q, qd)
+        finally:
+            self.torque_offset = offset
 
     def update(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
                q: np.ndarray, qd: np.ndarray) -> np.ndarray:

@@ -12,7 +12,7 @@ from orc_rpl.arm.model import ArmModel
 from orc_rpl.arm.robots import load_robot
 from orc_rpl.errors import UsageError
 from orc_rpl.plant.sim import SimCell
-from orc_rpl.servo.control import JointServo, ServoGains
+from orc_rpl.servo.control import JointServo, ServoGains, ServoTuning
 from orc_rpl.signals.logger import Logger
 
 
@@ -126,6 +126,10 @@ class ServoLoop:
         if tau.shape != (self.arm.n_joints,) or not np.all(np.isfinite(tau)):
             raise UsageError(f"torque offset must be {self.arm.n_joints} finite numbers (N m), got {tau_nm!r}")
         self.servo.torque_offset = tau
+
+    def set_tuning(self, tuning: ServoTuning | None) -> None:
+        """A task-specific tuning from the next step on (a motion WITH TUNING); None: the default gains again."""
+        self.servo.set_tuning(tuning)
 
     def attach_logger(self, logger: Logger, every_steps: int = 1, tool: Any = None) -> None:
         """Record q, qd, tau, position_error, tau_ff and the TCP position ("tcp", m) every so many servo steps."""
