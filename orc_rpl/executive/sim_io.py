@@ -86,14 +86,14 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
         data = YAML(typ="safe", pure=True).load(Path(path).read_text(encoding="utf-8")) or {}
     except (OSError, YAMLError) as error:
         raise UsageError(f"cannot read the IO script '{path}': {error}") from None
+    unknown = set(data) - {"events", "weld_guns", "parts"} if isinstance(data, dict) else set()
+    if unknown:
+        raise UsageError(f"IO script '{path}': unknown section {', '.join(sorted(unknown))}; "
+                         "expected events, weld_guns, parts")
     entries = data.get("events", [] if isinstance(data, dict) and ("weld_guns" in data or "parts" in data) else None) \
         if isinstance(data, dict) else None
     if not isinstance(entries, list):
         raise UsageError(f"IO script '{path}': expected a list under 'events:'")
-    unknown = set(data) - {"events", "weld_guns", "parts"}
-    if unknown:
-        raise UsageError(f"IO script '{path}': unknown section {', '.join(sorted(unknown))}; "
-                         "expected events, weld_guns, parts")
     events = []
     for i, entry in enumerate(entries, 1):
         try:

@@ -29,8 +29,8 @@ def _seconds(value: Any, what: str, default: float) -> float:
         return default
     if type(value) is Quantity and value.dim == TIME and value.value >= 0:
         return value.value
-    if value == 0:
-        return 0.0
+    if type(value) in (int, float) and value >= 0:
+        return float(value)  # a declared default, in seconds
     raise BehaviourError(f"{what} must be a time >= 0 (e.g. 80ms), got {value}")
 
 
