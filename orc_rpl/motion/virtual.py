@@ -48,7 +48,7 @@ class ServoBackend:
 
     def set_control_payload(self, mass_kg: float) -> None:
         """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
-        self.loop.arm.set_payload(mass_kg)
+        self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)
 
 
 def make_virtual_motion_layer(

@@ -45,3 +45,13 @@ def test_the_kinematic_robot_records_a_tuning_and_moves_as_without(kinematic: Mo
     h = kinematic.move(JointMotion(tuple(home + 0.1)), Params(tuning=FAST))
     kinematic.wait(h)
     assert h.params.tuning is FAST and np.allclose(kinematic.current_q(), home + 0.1)
+
+
+@pytest.mark.sim
+def test_a_moves_load_reaches_the_servos_feed_forward(servo: MotionLayer) -> None:
+    loop = servo.backend.loop  # type: ignore[attr-defined]
+    home = np.array(servo.kin.arm.home_q)
+    servo.wait(servo.move(JointMotion(tuple(home + 0.05)), Params(load_kg=10.0)))
+    assert loop.servo.arm.payload[0] == 10.0, "thesis 4.5: the load in Par reaches the control"
+    servo.wait(servo.move(JointMotion(tuple(home)), Params()))
+    assert loop.servo.arm.payload[0] == 0.0
