@@ -117,3 +117,12 @@ def test_three_masses_identified_from_simulated_torques_without_stopping_at_the_
         handle = to_via.handles[0]
         assert sent_s < handle.t_end_s  # the target was known before the via point was reached
         assert handle.blended  # and the motion went on through it
+
+
+def test_a_late_identification_waits_at_the_via_point() -> None:
+    robot = RecordingRobot()  # the move toward a via point 10 mm away takes 0.1 s: less than the 0.2 s recording
+    source = PROGRAM.replace("POS TopPos = POSE(900mm, 0, 900mm, 0, 180deg, 0)", "POS TopPos = POSE(800mm, -300mm, 460mm, 0, 180deg, 0)")
+    executive, _ = run(source, robot, [0.2, 0.0, 1.5])
+    assert executive.prints == ["nut 100", "nothing", "bolt 300"]
+    idents = [r for r in robot.recorded if r.request.keyword == "IDENTMOVE"]
+    assert all(final.pending_before == 0 for final in idents[1::2])  # the robot had stopped at the via point
