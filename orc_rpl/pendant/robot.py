@@ -83,6 +83,10 @@ class PendantRobot:
     def thermal_loads(self) -> tuple[float, ...]:
         return self.cell.thermal_loads()
 
+    def inverse_dynamics(self, q: tuple[float, ...], qd: tuple[float, ...], qdd: tuple[float, ...],
+                         load_kg: float) -> tuple[float, ...]:
+        return self.cell.inverse_dynamics(q, qd, qdd, load_kg)
+
     def submit(self, request: MotionRequest) -> Any:
         q_start = tuple(float(v) for v in self.layer.planned_end_q())
         self.last_submit_s = time.perf_counter()

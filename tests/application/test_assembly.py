@@ -145,3 +145,13 @@ def test_calibrate_on_the_recording_robot_runs_its_motions_and_gives_a_tuning() 
 def test_calibrate_refuses_what_is_not_a_position() -> None:
     ex = run('t = CALIBRATE("here")\n', RecordingRobot())
     assert ex.status != "finished" and "CALIBRATE needs a PATH or a position" in ex.report()
+
+
+@pytest.mark.sim
+def test_calibrate_from_the_pendant_identifies_with_the_robot_model() -> None:
+    from orc_rpl.pendant.robot import PendantRobot
+
+    robot = PendantRobot.virtual()
+    ex = run(CALIBRATION, robot)
+    assert ex.status == "finished", ex.report()
+    assert ex.prints[0].startswith("tuning(bandwidth = [240") and "no data" not in ex.prints[0]
