@@ -34,8 +34,6 @@ FRAME table
 ENDFRAME""", 4, 5, "relative to world, but this motion is inside FRAME table"),
     "frame_block_of_undeclared_frame": ("FRAME nowhere\n    PRINT 1\nENDFRAME", 1, 1, "not a declared FRAME"),
     "unreachable_uncaught": ("MOVE ARM TO POSE(3m, 0, 0, 0, 0, 0)", 1, 1, "Unreachable"),
-    "application_keyword_not_implemented": ("POS p = POSE(1m, 0, 0.8m, 0, 180deg, 0)\nGRINDMOVE ARM TO p", 2, 1,
-                                            "GRINDMOVE is not implemented yet"),
     "lmove_needs_pose": ("LMOVE ARM TO JOINTS(0, 0, 0, 0, 0, 0)", 1, 1, "needs a pose as its target"),
     "function_arity": ("PRINT 1\nPRINT POSE(1m, 2m)", 2, 1, "POSE takes 6 arguments, got 2"),
     "proc_has_no_value": ("PROC p\n    PRINT 1\nENDPROC\nx = p()", 4, 1, "PROC p gives no value"),
@@ -55,6 +53,19 @@ def test_error_is_located_at_the_failing_statement(text: str, line: int, column:
     report = executive.report()
     assert report.startswith(f"test.rpl:{line}:{column}: ")
     assert "Traceback" not in report
+
+
+def test_application_keyword_without_behaviour_is_not_implemented_yet() -> None:
+    import dataclasses
+
+    from orc_rpl.application.standard_behaviour import runtime_registry
+
+    registry = runtime_registry()
+    registry.motions["GRINDMOVE"] = dataclasses.replace(registry.motions["GRINDMOVE"], execute=None)
+    executive = execute("POS p = POSE(1m, 0, 0.8m, 0, 180deg, 0)\nGRINDMOVE ARM TO p", registry=registry)
+    assert executive.status == "failed" and executive.error is not None and executive.error.span is not None
+    assert (executive.error.span.line, executive.error.span.column) == (2, 1)
+    assert "GRINDMOVE is not implemented yet" in executive.error.message
 
 
 def test_report_has_the_call_stack_innermost_last() -> None:
