@@ -30,6 +30,7 @@ class MotionView:
 
     time_s: float          #: controller time
     s: float               #: path coordinate of the move, 0..1
+    sensors: Any = None    #: the installed sensors' values this cycle (name -> value), when the robot has sensors
 
 
 @dataclass(frozen=True, slots=True)
@@ -52,6 +53,9 @@ class MotionRequest:
     short: bool = False                           #: a short move (ShortMove: jerk-limited, FINE) when the robot has one
     signal_before_end_s: float | None = None      #: tau: the ticket's `signalled_s` is set when t >= T_d - tau
     record_s: float = 0.0                         #: record (t, q, qd, torque) for this long after the start
+    #: path correction (TRACKMOVE), called every motion cycle: the TCP offset (world, m) from the planned path
+    #: to apply from the next cycle on, or None to stop the motion on its path (the sensor lost the seam)
+    correction: Callable[[MotionView], tuple[float, float, float] | None] | None = None
 
 
 class MoveTicket(Protocol):

@@ -50,6 +50,9 @@ class CellRobot:
         loop = getattr(layer.backend, "loop", None)
         self._own_io = io is None and loop is None
         self.io = io if io is not None else loop.cell.io if loop is not None else CellIO()
+        self.last_tool: Pose | None = None     #: the tool of the last motion submitted (where a sensor looks)
+        self.sensors = _sensor_manager(self)
+        layer.sensors = self.sensors
 
     @classmethod
     def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False) -> CellRobot:
@@ -105,6 +108,7 @@ class CellRobot:
     def submit(self, request: MotionRequest) -> HandleTicket:
         """Plan and start the request's move(s); planning errors (Unreachable, JointLimit...) are raised here."""
         tool = _tool_matrix(request.tool)
+        self.last_tool = request.tool
         params = _params(request)
         actions = _until_actions(request)
         layer = self.layer
@@ -112,6 +116,8 @@ class CellRobot:
         ticket = HandleTicket(handles)
         if request.signal_before_end_s is not None or request.record_s > 0:
             actions = _application_actions(request, ticket, actions)
+        if request.correction is not None:
+            actions = _correction_action(request, layer, tool, actions)
         if request.short and request.kind in ("joint", "linear") and not request.via and request.until is None \
                 and type(request.target) is Pose:
             # ShortMove: jerk- and acceleration-limited, dynamics taken as constant, always FINE
@@ -134,6 +140,37 @@ class CellRobot:
             if h.status is MoveStatus.ILLEGAL:
                 raise PlanningError(f"the motion layer refused the move (mode {layer.get_mode().value})")
         return ticket
+
+
+def _sensor_manager(robot: Any) -> Any:
+    """The robot's sensors, simulated from the cell's process models (the seam) at the last tool's TCP."""
+    from orc_rpl.executive.sim_io import simulated_sensors
+    from orc_rpl.motion.sensors import SensorManager
+
+    def tcp() -> tuple[float, float, float]:
+        pose = robot.tcp_pose(robot.last_tool)
+        return (pose.x, pose.y, pose.z)
+    return SensorManager(simulated_sensors(robot.io, tcp))
+
+
+def _correction_action(request: MotionRequest, layer: MotionLayer, tool: np.ndarray | None,
+                       actions: Actions | None) -> Actions:
+    """Path correction at the motion rate (TRACKMOVE): the request's correction gives the TCP offset from the
+    planned path each cycle (applied from the next one), or None to stop on the path."""
+    acts = actions if actions is not None else Actions()
+    correction = request.correction
+
+    def correct(data: MotionData, slot: ActionSlot) -> None:
+        if slot.stop_requested:
+            return
+        offset = correction(MotionView(data.time_s, data.s, data.sensors))  # type: ignore[misc]
+        if offset is None:
+            slot.signal(data.s)
+            slot.request_stop()
+        else:
+            layer.set_path_offset(np.asarray(offset, dtype=float), tool)
+    acts.add("during", correct, "correction")
+    return acts
 
 
 def _tool_matrix(tool: Pose | None) -> np.ndarray | None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -70,6 +71,9 @@ class RecordingRobot:
         self._joints = tuple(0.0 for _ in range(n_joints))
         self._queue: list[Ticket] = []
         self.payload_kg = 0.0          #: the plant's payload (a part in the gripper), seen in the torques
+        self.last_tool: Pose | None = None  #: the tool of the last motion submitted (where a sensor looks)
+        self.sensors = _sensor_manager(self)
+        self._offset = np.zeros(3)     #: a tracked motion's path correction (world, m)
 
     # -- RobotInterface ----------------------------------------------------------------
 
@@ -89,6 +93,13 @@ class RecordingRobot:
         ticket.s = min(1.0, ticket.elapsed_s / ticket.duration_s)
         self._flange = self._interpolate(ticket)
         request = ticket.request
+        if request.correction is not None:
+            offset = request.correction(MotionView(now, ticket.s, self.sensors.readings.new_cycle(self._steps)))
+            if offset is None:
+                self._finish(ticket, "stopped")
+                return
+            self._offset = np.asarray(offset, dtype=float)
+            self._flange[:3, 3] += self._offset
         tau = request.signal_before_end_s
         if tau is not None and ticket.signalled_s is None and ticket.elapsed_s >= ticket.duration_s - tau - 1e-9:
             ticket.signalled_s = now
@@ -101,6 +112,7 @@ class RecordingRobot:
             self._finish(ticket, "reached")
 
     def submit(self, request: MotionRequest) -> Ticket:
+        self.last_tool = request.tool
         for point in (request.target if type(request.target) is not FunctionParam else None, *request.via):
             if type(point) is Pose and math.dist((point.x, point.y, point.z), (0.0, 0.0, 0.0)) > self.reach_m:
                 raise Unreachable(f"target ({point.x:.4f}, {point.y:.4f}, {point.z:.4f}) m is out of reach "
@@ -164,6 +176,7 @@ class RecordingRobot:
         return max(self.min_duration_s, distance / (speed * fraction))
 
     def _begin(self, ticket: Ticket) -> None:
+        self._offset = np.zeros(3)
         ticket.start = self._flange.copy()
         ticket.end = self._target_flange(ticket.request)
         if type(ticket.request.target) is Joints:
@@ -182,3 +195,14 @@ class RecordingRobot:
         if ticket.joints_end is not None and outcome == "reached":
             self._joints = ticket.joints_end
         self._queue.remove(ticket)
+
+
+def _sensor_manager(robot: Any) -> Any:
+    """The robot's sensors, simulated from the cell's process models (the seam) at the last tool's TCP."""
+    from orc_rpl.executive.sim_io import simulated_sensors
+    from orc_rpl.motion.sensors import SensorManager
+
+    def tcp() -> tuple[float, float, float]:
+        pose = robot.tcp_pose(robot.last_tool)
+        return (pose.x, pose.y, pose.z)
+    return SensorManager(simulated_sensors(robot.io, tcp))

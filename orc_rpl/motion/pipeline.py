@@ -21,6 +21,7 @@ from orc_rpl.motion.specs import MoveStatus
 from orc_rpl.motion.timing import parameterize
 from orc_rpl.motion.trajectory import SplinePath, Trajectory
 
+_NO_SENSORS: dict[str, Any] = {}  #: MotionData.sensors when no sensor is installed (shared, never written)
 SETTLE_RAD = 2e-5          #: FINE: joint error at which a move counts as arrived
 SETTLE_RAD_S = 2e-3        #: FINE: joint speed below which it counts as at rest
 SETTLE_TIMEOUT_S = 1.5     #: give up waiting (handle.settled = False) after this long
@@ -55,6 +56,10 @@ class MotionPipeline:
     _wall_start: float | None
     thermal: Any
     _tuning: Any
+    #: the installed sensors (motion.sensors.SensorManager), read by actions through MotionData.sensors
+    sensors: Any = None
+    #: the path correction of a tracked move: a joint offset added to the planned references (set_path_offset)
+    _track_dq: np.ndarray | None = None
 
     def now_s(self) -> float:
         """The controller clock (simulated time on the virtual robot)."""
@@ -110,6 +115,8 @@ class MotionPipeline:
             self._start(h)
 
     def _set_traj(self, traj: Trajectory, handles: list[MoveHandle]) -> None:
+        if traj.kind != "brake":
+            self._track_dq = None  # a new move starts from the (corrected) reference; a stop keeps the correction
         self._traj, self._k, self._traj_t0 = traj, 0, self.now_s()
         self._in_traj = handles
         owners = traj.owner
@@ -165,6 +172,8 @@ class MotionPipeline:
             self._k += 1
             rows = traj.rows(self._k)
             q_r, qd_r, qdd_r = traj.q_f[rows], traj.qd_f[rows], traj.qdd_f[rows]
+            if self._track_dq is not None:
+                q_r = q_r + self._track_dq
             self._hold_cache = None
         else:
             if self._hold_cache is None:
@@ -293,6 +302,19 @@ class MotionPipeline:
             set_tuning(tuning)
         self._tuning = tuning
 
+    def set_path_offset(self, offset_m: Any, tool: np.ndarray | None = None) -> None:
+        """Track mode (thesis 5.2): move the running move's TCP by `offset_m` (world, m) from its planned path,
+        from the next motion cycle on (orientation kept: one Jacobian solve); a new move starts without it."""
+        if offset_m is None:
+            self._track_dq = None
+            return
+        # the offset is relative to the planned path: the correction the reference carries already is taken off
+        planned_q = self._q_ref - self._track_dq if self._track_dq is not None else self._q_ref
+        jac = self.kin.arm.jacobian(planned_q, tool)
+        twist = np.zeros(jac.shape[0])
+        twist[:3] = offset_m
+        self._track_dq = np.linalg.lstsq(jac, twist, rcond=None)[0]
+
     def _data(self, h: MoveHandle, stage: str) -> MotionData:
         q = np.array(self.backend.q())
         q_ref = self._q_ref.copy()
@@ -302,7 +324,9 @@ class MotionPipeline:
         now = self.now_s()
         start = h.start_time_s if h.start_time_s is not None else now
         t_end = h.t_end_s if h.t_end_s is not None else now
-        return MotionData(now, now - start, h.s, arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], arrays[5], t_end, stage)
+        sensors = self.sensors.readings.new_cycle(self.cycles) if self.sensors is not None else _NO_SENSORS
+        return MotionData(now, now - start, h.s, arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], arrays[5], t_end, stage,
+                          sensors)
 
     def _pace(self) -> None:
         if self._wall_start is None:

@@ -1,0 +1,72 @@
+"""Behaviour of the installed sensors: `INSTALL LaserSensor AS LaserDistance WITH PORT = "sim"`.
+
+INSTALL asks the robot's sensor manager (motion.sensors.SensorManager) for a SensorPair: a simulated sensor
+(PORT "sim": the cell's process model, the ragged seam) or a real one on a serial port, and its dummy twin.
+`LaserSensor.On/.Off` switch the laser; `.Distance` is the seam's lateral offset from the beam (a length,
+SensorFault when no seam is in view or the laser is off); `.EdgeDetected` is TRUE while the start edge of a
+seam is under the beam (FALSE while the laser is off).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+from orc_rpl.application.runtime import InstallContext
+from orc_rpl.errors import SensorFault
+from orc_rpl.motion.sensors import LaserValue, SensorManager
+from orc_rpl.syntax.units import LENGTH, Quantity
+
+
+def sensor_manager(robot: Any) -> SensorManager:
+    """The robot's sensors (a robot without any gets an empty manager of its own)."""
+    manager = getattr(robot, "sensors", None)
+    if manager is None:
+        manager = SensorManager()
+        try:
+            robot.sensors = manager
+        except AttributeError:
+            pass
+    return manager
+
+
+class LaserDistance:
+    """An installed laser seam sensor."""
+
+    def __init__(self, context: InstallContext) -> None:
+        self.name = context.name
+        port = context.attributes.get("PORT") or "sim"
+        self.manager = sensor_manager(context.robot)
+        self.pair = self.manager.install(context.name, "LaserDistance", str(port))
+
+    @property
+    def sensor(self) -> Any:
+        return self.pair.sensor
+
+    def value(self) -> LaserValue:
+        """One sample (LaserValue)."""
+        return self.sensor.read()
+
+    def On(self) -> None:  # noqa: N802 - the language's method names
+        self.sensor.command("ON")
+
+    def Off(self) -> None:  # noqa: N802
+        self.sensor.command("OFF")
+
+    def Distance(self) -> Quantity:  # noqa: N802
+        if not self.sensor.on:
+            raise SensorFault(f"{self.name}.Distance: the laser is off ({self.name}.On switches it on)")
+        value = self.value()
+        if not value.found:
+            raise SensorFault(f"{self.name}.Distance: no seam in view")
+        return Quantity(value.offset_m, LENGTH)
+
+    def EdgeDetected(self) -> bool:  # noqa: N802
+        return bool(self.sensor.on and self.value().edge)
+
+
+def register_behaviour(registry: Any) -> None:
+    """Fill the behaviour slot of LaserDistance."""
+    kind = registry.install_kinds.get("LaserDistance")
+    if kind is not None and kind.factory is None:
+        registry.install_kinds["LaserDistance"] = dataclasses.replace(kind, factory=LaserDistance)

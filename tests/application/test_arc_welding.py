@@ -1,0 +1,198 @@
+"""Arc welding end to end (thesis 2.3, 4.5): RecordSeam, OptimalSpeed, Tracking, TRACKMOVE on the ragged seam."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from orc_rpl.executive.cell_robot import CellRobot
+from orc_rpl.executive.executive import Executive
+from orc_rpl.executive.recording_robot import RecordingRobot
+from orc_rpl.executive.sim_io import find_seam, load_script
+from orc_rpl.plant.processes.seam import SeamProcess
+from orc_rpl.syntax.parser import parse
+from orc_rpl.syntax.units import Quantity
+
+PROGRAMS = Path(__file__).resolve().parents[2] / "programs"
+
+HEAD = """TOOL effector = POSE(0, 0, 200mm, 0, 0, 0)
+INSTALL LaserSensor AS LaserDistance WITH PORT = "sim"
+INSTALL Weld AS ArcWelder WITH ARC = DigOut[4]
+POS StartPos = POSE(1000mm, -100mm, 500mm, 0, 180deg, 0)
+POS EndPos = POSE(1000mm, 100mm, 500mm, 0, 180deg, 0)
+"""
+START, END = (1.0, -0.1, 0.5), (1.0, 0.1, 0.5)
+
+
+def run(body: str, robot, seam: SeamProcess | None = None):  # type: ignore[no-untyped-def]
+    source = HEAD + textwrap.dedent(body).lstrip("\n")
+    if seam is not None:
+        robot.io.add_process(seam)
+    out: list[str] = []
+    executive = Executive(parse(source, "arc.rpl"), robot, path="arc.rpl", source=source, output=out.append)
+    executive.run()
+    return executive, out
+
+
+def test_tracking_follows_the_ragged_seam_much_better_than_a_straight_line() -> None:
+    figures = {}
+    for name, motion in (("untracked", "LMOVE effector TO EndPos WITH V = 50mm/s"),
+                         ("tracked", "TRACKMOVE effector TO EndPos WITH V = 50mm/s WITH SENSOR = LaserSensor "
+                                     "WITH TRACKING = Tracking(seam, 50mm/s)")):
+        robot = CellRobot.virtual()
+        seam = SeamProcess(START, END, edge=0.0)
+        errors: list[float] = []
+        tick = robot.tick
+
+        def recording_tick(robot=robot, seam=seam, errors=errors, tick=tick) -> None:  # type: ignore[no-untyped-def]
+            tick()
+            ticket_kind = getattr(robot, "_measuring", False)
+            if ticket_kind:
+                pose = robot.tcp_pose(robot.last_tool)
+                u, lateral = seam.along((pose.x, pose.y, pose.z))
+                if 0.01 < u < 0.19:
+                    errors.append(seam.offset_m(u) - lateral)
+        robot.tick = recording_tick
+        submit = robot.submit
+
+        def marking_submit(request, robot=robot, submit=submit):  # type: ignore[no-untyped-def]
+            robot._measuring = request.keyword in ("LMOVE", "TRACKMOVE")
+            return submit(request)
+        robot.submit = marking_submit
+        executive, _ = run(f"""
+            PATH Piece = [StartPos, EndPos]
+            seam = RecordSeam(Piece)
+            MOVE effector TO StartPos
+            LaserSensor.On
+            {motion}
+            """, robot, seam)
+        assert executive.status == "finished", executive.report()
+        e = np.array(errors)
+        figures[name] = (float(np.sqrt(np.mean(e ** 2))), float(np.max(np.abs(e))), len(e))
+    print(f"\nlateral error vs the true seam over 180 mm at 50 mm/s: "
+          f"untracked RMS {1000 * figures['untracked'][0]:.2f} mm (max {1000 * figures['untracked'][1]:.2f} mm), "
+          f"tracked RMS {1000 * figures['tracked'][0]:.2f} mm (max {1000 * figures['tracked'][1]:.2f} mm)")
+    assert figures["untracked"][2] > 500 and figures["tracked"][2] > 500
+    assert figures["untracked"][0] > 0.002
+    assert figures["tracked"][0] < 0.25 * figures["untracked"][0]
+    assert figures["tracked"][0] < 0.0006
+
+
+def test_seam_lost_is_caught_at_the_trackmove_line_and_the_robot_stops_on_its_path() -> None:
+    robot = CellRobot.virtual()
+    seam = SeamProcess(START, END, edge=0.0, missing=(0.1, 0.12))
+    executive, out = run("""
+        MOVE effector TO StartPos
+        LaserSensor.On
+        Weld.On
+        TRY
+          TRACKMOVE effector TO EndPos WITH V = 50mm/s WITH SENSOR = LaserSensor
+        ON SeamLost :
+          Weld.Off
+          PRINT "seam lost"
+        ENDTRY
+        PRINT "after"
+        """, robot, seam)
+    assert executive.status == "finished", executive.report()
+    assert out == ["seam lost", "after"]
+    assert robot.io.bank("DigOut")[4] == 0
+    pose = robot.tcp_pose(robot.last_tool)
+    u, _ = seam.along((pose.x, pose.y, pose.z))
+    assert 0.1 < u < 0.13  # stopped a few mm into the gap, not at the end of the path
+
+
+def test_an_uncaught_seam_lost_names_the_trackmove_line() -> None:
+    robot = RecordingRobot()
+    seam = SeamProcess(START, END, edge=0.0, missing=(0.05, 0.2))
+    executive, _ = run("""
+        MOVE effector TO StartPos
+        LaserSensor.On
+        TRACKMOVE effector TO EndPos WITH V = 50mm/s WITH SENSOR = LaserSensor
+        """, robot, seam)
+    assert executive.status == "failed"
+    report = executive.report()
+    assert "SeamLost" in report and "arc.rpl:8" in report and "lost the seam" in report
+
+
+def test_laser_methods_and_the_arc_output_from_rpl() -> None:
+    robot = RecordingRobot()
+    seam = SeamProcess(START, END, edge=0.03)
+    executive, out = run("""
+        MOVE effector TO StartPos
+        PRINT LaserSensor.EdgeDetected
+        LaserSensor.On
+        LMOVE effector TO EndPos WITH V = 50mm/s UNTIL LaserSensor.EdgeDetected
+        PRINT LaserSensor.EdgeDetected
+        LMOVE effector TO POSE(1000mm, -60mm, 500mm, 0, 180deg, 0)
+        PRINT LaserSensor.Distance
+        Weld.On
+        PRINT DigOut[4]
+        Weld.Off
+        LaserSensor.Off
+        """, robot, seam)
+    assert executive.status == "finished", executive.report()
+    assert out[0] == "FALSE" and out[1] == "TRUE" and out[3] == "1"
+    stops = [r.request for r in robot.recorded]
+    assert stops[1].until is not None
+    assert float(out[2].removesuffix(" m")) == pytest.approx(seam.offset_m(0.04), abs=1e-5)
+
+
+def test_distance_with_the_laser_off_is_a_sensor_fault() -> None:
+    executive, _ = run("PRINT LaserSensor.Distance\n", RecordingRobot())
+    assert executive.status == "failed" and "SensorFault" in executive.report() and "laser is off" in executive.report()
+
+
+def test_the_design_stages_speed_and_gain() -> None:
+    from orc_rpl.application.features.arc_welding_behaviour import optimal_speed, tracking
+    from orc_rpl.executive.values import Record
+    from orc_rpl.syntax.units import LENGTH, VELOCITY
+
+    u = np.arange(0.0, 0.4, 0.0005)
+
+    def seam(amplitude: float, ragged: float) -> Record:
+        o = amplitude * np.sin(2 * np.pi * u / 0.2) + ragged * np.random.default_rng(1).standard_normal(len(u))
+        return Record("Seam", (("Position", tuple(Quantity(x, LENGTH) for x in u)),
+                               ("Offset", tuple(Quantity(x, LENGTH) for x in o))))
+    calm, curved, ragged = seam(0.001, 0.0), seam(0.008, 0.0), seam(0.001, 0.001)
+    v_calm, v_curved, v_ragged = (optimal_speed(s).value for s in (calm, curved, ragged))
+    assert v_curved < v_calm and v_ragged < v_calm
+    g_smooth = tracking(curved, Quantity(0.05, VELOCITY)).get("Gain")
+    g_ragged = tracking(ragged, Quantity(0.05, VELOCITY)).get("Gain")
+    assert g_ragged < g_smooth  # raggedness is filtered harder
+
+
+def test_the_thesis_programs_run_and_are_deterministic() -> None:
+    results = []
+    for _ in range(2):
+        robot = CellRobot.virtual()
+        source = (PROGRAMS / "online" / "thesis_2_3_seam_tracking.rpl").read_text()
+        executive = Executive(parse(source, "t.rpl"), robot, path="t.rpl", source=source, output=lambda line: None)
+        executive.run()
+        assert executive.status == "finished", executive.report()
+        g = executive.machine.globals
+        pose = robot.tcp_pose(robot.last_tool)
+        results.append((g["OptSpeed"].value, g["OptTrack"].get("Gain"), round(pose.x, 9), round(pose.y, 9)))
+    print(f"\nthesis 2.3: OptSpeed {1000 * results[0][0]:.0f} mm/s, tracking gain {results[0][1]:.3f} per cycle")
+    assert results[0] == results[1]
+    assert 0.01 <= results[0][0] <= 0.1
+    source = (PROGRAMS / "online" / "thesis_2_3_auto_tuning.rpl").read_text()
+    executive = Executive(parse(source, "a.rpl"), RecordingRobot(), path="a.rpl", source=source, output=lambda line: None)
+    executive.run()
+    assert executive.status == "finished", executive.report()
+
+
+def test_the_seam_section_of_a_sim_script(tmp_path: Path) -> None:
+    script = tmp_path / "p.sim.yaml"
+    script.write_text("seam: {start: [1000mm, -100mm, 500mm], end: [1000mm, 100mm, 500mm], amplitude: 2mm, "
+                      "raggedness: 0.1mm, missing: [50mm, 60mm], seed: 7}\n")
+    robot = RecordingRobot()
+    load_script(script, robot.io, lambda: robot.tcp_pose(None))
+    seam = find_seam(robot.io)
+    assert seam is not None and seam.anchored and seam.amplitude == pytest.approx(0.002) and seam.missing == (0.05, 0.06)
+    assert not seam.present(0.055) and seam.present(0.07)
+    script.write_text("seam: {amplitude: 2}\n")
+    with pytest.raises(Exception, match="seam: expected a length"):
+        load_script(script, RecordingRobot().io, lambda: None)
