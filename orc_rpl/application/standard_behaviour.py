@@ -88,7 +88,7 @@ def standard_motion(call: MotionCall) -> MotionRequest:
     if kind == "circular" and (len(via) != 1 or type(via[0]) is not Pose):
         raise BehaviourError("CMOVE needs exactly one VIA pose: the circle passes through it")
     if attrs.get("FORCE") is not None:
-        call.warn("FORCE is not applied yet: the standard motions have no force control (it comes with deburring)")
+        call.warn("FORCE is not applied: the standard motions have no force control (GRINDMOVE has)")
     speed_m_s, speed_fraction = _speed(attrs.get("SPEED"), call.speed_override)
     accel = attrs.get("ACCEL")
     if accel is None:
@@ -182,6 +182,7 @@ APPLICATION_BEHAVIOUR = (
     "orc_rpl.application.features.materials_handling_behaviour:register_behaviour",
     "orc_rpl.application.features.sensor_behaviour:register_behaviour",
     "orc_rpl.application.features.arc_welding_behaviour:register_behaviour",
+    "orc_rpl.application.features.deburring_behaviour:register_behaviour",
 )
 
 

@@ -42,6 +42,7 @@ class IOScript:
         self.events = events
         self.weld_guns: list[Any] = []       #: plant.processes.WeldGunProcess
         self.parts: list[Any] = []           #: plant.processes.PartSupply
+        self.castings: list[Any] = []        #: plant.processes.CastingEdge
 
     def __call__(self, io: Any, time_s: float) -> None:
         for event in self.events:
@@ -86,11 +87,11 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
         data = YAML(typ="safe", pure=True).load(Path(path).read_text(encoding="utf-8")) or {}
     except (OSError, YAMLError) as error:
         raise UsageError(f"cannot read the IO script '{path}': {error}") from None
-    unknown = set(data) - {"events", "weld_guns", "parts", "seam"} if isinstance(data, dict) else set()
+    unknown = set(data) - {"events", "weld_guns", "parts", "castings", "seam"} if isinstance(data, dict) else set()
     if unknown:
         raise UsageError(f"IO script '{path}': unknown section {', '.join(sorted(unknown))}; "
-                         "expected events, weld_guns, parts, seam")
-    equipment_only = isinstance(data, dict) and ("weld_guns" in data or "parts" in data or "seam" in data)
+                         "expected events, weld_guns, parts, castings, seam")
+    equipment_only = isinstance(data, dict) and ("weld_guns" in data or "parts" in data or "castings" in data or "seam" in data)
     entries = data.get("events", [] if equipment_only else None) \
         if isinstance(data, dict) else None
     if not isinstance(entries, list):
@@ -112,9 +113,13 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
         for i, entry in enumerate(_entries(data, "parts"), 1):
             where = f"parts {i}"
             script.parts.append(_parts(entry, io, set_payload))
+        where = "castings"
+        for i, entry in enumerate(_entries(data, "castings"), 1):
+            where = f"casting {i}"
+            script.castings.append(_casting(entry, tcp))
     except (UsageError, RunError, SourceError, ValueError, KeyError, TypeError) as error:
         raise UsageError(f"IO script '{path}', {where}: {error}") from None
-    for process in (*script.weld_guns, *script.parts):
+    for process in (*script.weld_guns, *script.parts, *script.castings):
         io.add_process(process)
     if isinstance(data, dict) and "seam" in data:
         try:
@@ -228,6 +233,43 @@ def _parts(entry: dict, io: Any, set_payload: Callable[[float], None] | None) ->
             raise UsageError(f"a part's mass is a mass such as 0.5kg, got {text!r}")
         masses.append(float(value.value) if type(value) is Quantity else 0.0)
     return PartSupply(_channel(entry["close"], io, "DigOut"), masses, set_payload)
+
+
+def _casting(entry: dict, tcp: Callable[[], Pose]) -> Any:
+    """A casting's edge with bulges (deburring): `edge` world points [x, y, z], `normal` (outward, default
+    [0, 0, 1]), `bulges` [{from, to, height}] as lengths along the edge, `stiffness` (N/m), `removal` (m/N)."""
+    from orc_rpl.plant.processes.casting import Bulge, CastingEdge
+
+    keys = {"edge", "normal", "bulges", "stiffness", "removal"}
+    if not set(entry) <= keys or "edge" not in entry or not isinstance(entry["edge"], list):
+        raise UsageError(f"a casting has edge (a list of [x, y, z]) and optionally normal, bulges, stiffness, removal; got {entry!r}")
+    edge = []
+    for point in entry["edge"]:
+        if not isinstance(point, list) or len(point) != 3:
+            raise UsageError(f"an edge point is [x, y, z] with lengths, got {point!r}")
+        edge.append(tuple(_metres(v) for v in point))
+    bulges = []
+    for bulge in entry.get("bulges") or []:
+        if not isinstance(bulge, dict) or set(bulge) != {"from", "to", "height"}:
+            raise UsageError(f"a bulge is {{from: 180mm, to: 220mm, height: 1mm}} along the edge, got {bulge!r}")
+        bulges.append(Bulge(_metres(bulge["from"]), _metres(bulge["to"]), _metres(bulge["height"])))
+    normal = entry.get("normal", [0, 0, 1])
+    if not isinstance(normal, list) or len(normal) != 3:
+        raise UsageError(f"a casting's normal is [nx, ny, nz], got {normal!r}")
+    extra = {name: float(entry[key]) for key, name in (("stiffness", "stiffness_n_m"), ("removal", "removal_m_n"))
+             if key in entry}
+    return CastingEdge(edge, bulges, tuple(float(v) for v in normal), tcp=tcp, **extra)  # type: ignore[arg-type]
+
+
+def _metres(text: Any) -> float:
+    written = str(text).replace(" ", "")
+    sign = -1.0 if written.startswith("-") else 1.0
+    value = parse_literal(written.lstrip("+-"))
+    if type(value) is Quantity and value.dim == LENGTH:
+        return sign * value.value
+    if value == 0:
+        return 0.0
+    raise UsageError(f"expected a length such as 180mm, got {text!r}")
 
 
 def _event(entry: Any, io: Any, tcp: Callable[[], Pose]) -> IOEvent:
