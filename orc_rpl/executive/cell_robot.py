@@ -123,7 +123,7 @@ class CellRobot:
             # ShortMove: jerk- and acceleration-limited, dynamics taken as constant, always FINE
             motion = CartesianMotion(target=request.target, kind=request.kind, tool=tool)  # type: ignore[arg-type]
             handles.append(layer.short_move(motion, _params(request, zone_m=0.0), actions))
-        elif request.kind == "linear" and request.via:
+        elif request.kind == "linear":  # a straight line (through its VIA points, blended)
             corner = _params(request, zone_m=max(request.zone_m, VIA_ZONE_M))
             for point in request.via:
                 handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, _until_actions(request)))

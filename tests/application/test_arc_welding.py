@@ -196,3 +196,19 @@ def test_the_seam_section_of_a_sim_script(tmp_path: Path) -> None:
     script.write_text("seam: {amplitude: 2}\n")
     with pytest.raises(Exception, match="seam: expected a length"):
         load_script(script, RecordingRobot().io, lambda: None)
+
+
+def test_an_lmove_on_the_cell_is_a_straight_line() -> None:
+    robot = CellRobot.virtual(backend="kinematic")
+    xs: list[float] = []
+    tick = robot.tick
+
+    def recording_tick() -> None:
+        tick()
+        if robot.pending():
+            xs.append(robot.tcp_pose(robot.last_tool).x)
+    executive, _ = run("MOVE effector TO StartPos\n", robot)
+    robot.tick = recording_tick
+    executive, _ = run("LMOVE effector TO EndPos WITH V = 200mm/s\n", robot)
+    assert executive.status == "finished" and len(xs) > 100
+    assert max(abs(x - 1.0) for x in xs) < 1e-4  # a joint move would bulge by 5 mm
