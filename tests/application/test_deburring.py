@@ -102,6 +102,27 @@ def test_a_force_function_of_s_is_followed() -> None:
     assert log.bulges == [] and edge.max_height_m() == 0.0
 
 
+def test_grindmove_to_a_target_after_a_blended_move() -> None:
+    robot = RecordingRobot()
+    edge = CastingEdge(EDGE, [Bulge(0.18, 0.22, 0.001)], tcp=lambda: robot.tcp_pose(TOOL))
+    robot.io.add_process(edge)
+    executive = execute("""
+        TOOL grinder = POSE(0, 0, 150mm, 0, 0, 0)
+        LMOVE grinder TO POSE(900mm, -200mm, 650mm, 0, 180deg, 0) WITH ZONE = 20mm
+        LMOVE grinder TO POSE(900mm, -200mm, 600mm, 0, 180deg, 0) WITH ZONE = 5mm
+        GRINDMOVE grinder TO POSE(900mm, 200mm, 600mm, 0, 180deg, 0) WITH SPEED = 100mm/s
+        """, robot)
+    assert executive.status == "finished", executive.report()
+    assert edge.max_height_m() <= 0.0002
+    end = robot.tcp_pose(TOOL)
+    assert (end.x, end.y, end.z) == pytest.approx((0.9, 0.2, 0.6), abs=1e-6)
+
+
+def test_a_path_of_joint_positions_is_refused() -> None:
+    executive = execute("GRINDMOVE ARM ALONG [JOINTS(0, 0, 0, 0, 0, 0), JOINTS(0.1, 0, 0, 0, 0, 0)]")
+    assert executive.status == "failed" and "not joint positions" in executive.error.message  # type: ignore[union-attr]
+
+
 def test_too_few_passes_give_a_warning() -> None:
     executive, _, edge, (log,) = grind([Bulge(0.18, 0.22, 0.002)],
                                        attributes="WITH GRINDING = GrindingPars(tolerance = 0.2mm, max_passes = 1)")

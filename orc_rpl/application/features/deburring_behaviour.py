@@ -230,6 +230,8 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
     if robot is None:
         raise BehaviourError("needs a robot")
     log = log if log is not None else GrindLog()
+    while robot.pending() > 0:  # grinding starts from rest: a blended motion before it ends first
+        yield None
     here = robot.tcp_pose(call.tool)
     poses = list(call.path) if call.path is not None else [here, call.target]
     poses += list(call.via) if call.path is not None else []
