@@ -212,3 +212,30 @@ def test_an_lmove_on_the_cell_is_a_straight_line() -> None:
     executive, _ = run("LMOVE effector TO EndPos WITH V = 200mm/s\n", robot)
     assert executive.status == "finished" and len(xs) > 100
     assert max(abs(x - 1.0) for x in xs) < 1e-4  # a joint move would bulge by 5 mm
+
+
+def test_a_real_laser_from_rpl_and_its_lost_link_caught_as_sensor_fault() -> None:
+    from orc_rpl.motion.sensors import LaserEmulator
+
+    device = LaserEmulator(lambda: (1.5, False))
+    try:
+        source = textwrap.dedent(f"""
+            INSTALL Laser AS LaserDistance WITH PORT = "{device.port}"
+            Laser.On
+            PRINT Laser.Distance
+            WAIT 8ms
+            """).lstrip("\n")
+        out: list[str] = []
+        robot = RecordingRobot()
+        executive = Executive(parse(source + "TRY\n  PRINT Laser.Distance\nON SensorFault :\n  PRINT \"lost\"\nENDTRY\n",
+                                    "real.rpl"), robot, path="real.rpl", source=source, output=out.append)
+        original = robot.tick
+
+        def tick() -> None:  # the cable is cut during the WAIT
+            original()
+            device.lose_link()
+        robot.tick = tick
+        executive.run()
+    finally:
+        device.close()
+    assert out == ["0.0015 m", "lost"], executive.report()
