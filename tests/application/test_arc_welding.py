@@ -239,3 +239,39 @@ def test_a_real_laser_from_rpl_and_its_lost_link_caught_as_sensor_fault() -> Non
     finally:
         device.close()
     assert out == ["0.0015 m", "lost"], executive.report()
+
+
+def test_a_lost_link_during_trackmove_stops_on_the_path_and_raises_sensor_fault() -> None:
+    from orc_rpl.motion.sensors import LaserEmulator
+
+    seam = SeamProcess(START, END, edge=0.0)
+    robot = CellRobot.virtual(backend="kinematic")
+    position = {"p": (0.0, 0.0, 0.0)}
+
+    def measure() -> tuple[float | None, bool]:
+        found, offset, edge = seam.measure(position["p"])
+        if len(device.requests) > 60:
+            device.lose_link()
+        return (1000 * offset if found else None), edge
+    device = LaserEmulator(measure)
+    tick = robot.tick
+
+    def tracking_tick() -> None:
+        tick()
+        pose = robot.tcp_pose(robot.last_tool)
+        position["p"] = (pose.x, pose.y, pose.z)
+    robot.tick = tracking_tick
+    try:
+        source = HEAD.replace('WITH PORT = "sim"', f'WITH PORT = "{device.port}"') + textwrap.dedent("""
+            MOVE effector TO StartPos
+            LaserSensor.On
+            TRACKMOVE effector TO EndPos WITH V = 50mm/s WITH SENSOR = LaserSensor
+            """).lstrip("\n")
+        executive = Executive(parse(source, "real.rpl"), robot, path="real.rpl", source=source, output=lambda line: None)
+        executive.run()
+    finally:
+        device.close()
+    report = executive.report()
+    assert executive.status == "failed" and "real.rpl:8:1: SensorFault" in report and "link lost" in report, report
+    u, _ = seam.along(position["p"])
+    assert 0.0 < u < 0.1  # stopped on the path, well before its end

@@ -9,7 +9,8 @@ Tracking is a path correction at the motion rate: every motion cycle the laser's
 from the TCP, e, feeds a first-order low-pass (an integrator) c <- c + g e, and the TCP is moved by c along the
 lateral direction (horizontal, perpendicular to the straight path) from the next cycle on. The seam counts as
 lost (SeamLost, catchable with TRY ... ON SeamLost) when, once found, the laser sees no seam for LOST_CYCLES
-cycles, or when it is not found within ACQUIRE_M of the start; the robot stops on its path.
+cycles, or when it is not found within ACQUIRE_M of the start; the robot stops on its path. A SensorFault of
+the laser (a lost link) also stops the robot on its path and is raised at the statement.
 
 The design stages are open and replaceable (plain functions of the recording):
 * OptimalSpeed: v = LATERAL_SPEED / slope95 / (1 + raggedness / RAGGED_REF), clamped to [V_MIN, V_MAX] and
@@ -31,7 +32,7 @@ import numpy as np
 
 from orc_rpl.application.runtime import BehaviourError, InstallContext, MotionCall, MotionRequest, MotionView
 from orc_rpl.application.standard_behaviour import standard_motion
-from orc_rpl.errors import MotionFault
+from orc_rpl.errors import MotionFault, SensorFault
 from orc_rpl.syntax.units import LENGTH, TIME, VELOCITY, Quantity
 from orc_rpl.world.pose import Joints, Pose
 
@@ -91,11 +92,16 @@ class Tracker:
         self.found_once = False
         self.missing = 0
         self.lost = False
+        self.fault: Exception | None = None            #: a SensorFault met in the motion cycle (the robot stopped)
         self.samples: list[tuple[float, float]] = []   #: (s, the seam's lateral offset from the path)
 
     def __call__(self, view: MotionView) -> tuple[float, float, float] | None:
         sensors = view.sensors
-        value = sensors[self.sensor_name] if sensors is not None and self.sensor_name in sensors else self.read()
+        try:
+            value = sensors[self.sensor_name] if sensors is not None and self.sensor_name in sensors else self.read()
+        except SensorFault as fault:  # a lost link: stop on the path, the procedure raises it at the statement
+            self.fault = fault
+            return None
         if value.found:
             self.found_once, self.missing = True, 0
             self.samples.append((view.s, self.c + value.offset_m))
@@ -174,6 +180,8 @@ def record_seam(path: Any, *, robot: Any, tool: Pose, to_world: Callable[[Pose],
         tracker = Tracker(name, lateral_direction(_xyz(a), _xyz(b)), STANDARD_GAIN, sensor.read, length, strict=False)
         _run(robot, MotionRequest(keyword="RecordSeam", kind="linear", target=b, tool=tool,
                                   speed_m_s=RECORD_SPEED_M_S, correction=tracker))
+        if tracker.fault is not None:
+            raise tracker.fault
         along += [travelled + s * length for s, _ in tracker.samples]
         offsets += [offset for _, offset in tracker.samples]
         travelled += length
@@ -291,6 +299,8 @@ def trackmove(call: MotionCall) -> Iterator[Any]:
         yield None
     if ticket.outcome == "fault":
         raise ticket.error if ticket.error is not None else BehaviourError("the motion failed")
+    if tracker.fault is not None:
+        raise tracker.fault
     if tracker.lost:
         where = f"{100 * tracker.samples[-1][0]:.0f} %" if tracker.samples else "the start"
         raise SeamLost(f"{laser.name} lost the seam at {where} of the path; the robot stopped on its path")
