@@ -195,3 +195,22 @@ class FunctionParam:
 
     name: str
     fn: Callable[[float], Any]
+
+
+def run_to_end(robot: RobotInterface, request: MotionRequest, timeout_s: float, what: str) -> Any:
+    """Submit one motion and run the robot until it ends, for functions that move it (RecordSeam, CALIBRATE).
+
+    A motion still running after `timeout_s` of controller time is stopped on its path and reported;
+    a motion that faulted raises its error. Returns the ticket (its recording, its outcome).
+    """
+    ticket = robot.submit(request)
+    deadline = robot.time_s() + timeout_s
+    while not ticket.done:
+        robot.tick()
+        if robot.time_s() > deadline:
+            robot.stop()
+            raise BehaviourError(f"{what}: a motion did not end within {timeout_s:g} s")
+    if ticket.outcome == "fault":
+        raise ticket.error if ticket.error is not None else BehaviourError(f"{what}: a motion failed")
+    return ticket
+

@@ -30,7 +30,9 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.application.runtime import BehaviourError, InstallContext, MotionCall, MotionRequest, MotionView
+from orc_rpl.application.runtime import (
+    BehaviourError, InstallContext, MotionCall, MotionRequest, MotionView, run_to_end,
+)
 from orc_rpl.application.standard_behaviour import standard_motion
 from orc_rpl.errors import MotionFault, SensorFault
 from orc_rpl.syntax.units import LENGTH, TIME, VELOCITY, Quantity
@@ -144,18 +146,6 @@ def _anchor_seam(robot: Any, sensor: Any, start: Any, end: Any) -> None:
         seam.anchor(start, end)
 
 
-def _run(robot: Any, request: MotionRequest) -> Any:
-    ticket = robot.submit(request)
-    deadline = robot.time_s() + MOTION_TIMEOUT_S
-    while not ticket.done:
-        robot.tick()
-        if robot.time_s() > deadline:
-            robot.stop()
-    if ticket.outcome == "fault":
-        raise ticket.error if ticket.error is not None else BehaviourError("a motion failed")
-    return ticket
-
-
 # -- the design stages ----------------------------------------------------------------------------------
 
 
@@ -171,15 +161,16 @@ def record_seam(path: Any, *, robot: Any, tool: Pose, to_world: Callable[[Pose],
     _anchor_seam(robot, sensor, _xyz(points[0]), _xyz(points[-1]))
     was_on = sensor.on
     sensor.command("ON")
-    _run(robot, MotionRequest(keyword="RecordSeam", kind="joint", target=points[0], tool=tool))
+    run_to_end(robot, MotionRequest(keyword="RecordSeam", kind="joint", target=points[0], tool=tool),
+               MOTION_TIMEOUT_S, "RecordSeam")
     along: list[float] = []
     offsets: list[float] = []
     travelled = 0.0
     for a, b in zip(points, points[1:]):
         length = math.dist(_xyz(a), _xyz(b))
         tracker = Tracker(name, lateral_direction(_xyz(a), _xyz(b)), STANDARD_GAIN, sensor.read, length, strict=False)
-        _run(robot, MotionRequest(keyword="RecordSeam", kind="linear", target=b, tool=tool,
-                                  speed_m_s=RECORD_SPEED_M_S, correction=tracker))
+        run_to_end(robot, MotionRequest(keyword="RecordSeam", kind="linear", target=b, tool=tool,
+                                        speed_m_s=RECORD_SPEED_M_S, correction=tracker), MOTION_TIMEOUT_S, "RecordSeam")
         if tracker.fault is not None:
             raise tracker.fault
         along += [travelled + s * length for s, _ in tracker.samples]

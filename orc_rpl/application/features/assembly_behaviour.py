@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.application.runtime import BehaviourError, MotionRequest, RobotInterface, Sample
+from orc_rpl.application.runtime import BehaviourError, MotionRequest, RobotInterface, Sample, run_to_end
 from orc_rpl.servo.control import ServoGains, ServoTuning
 from orc_rpl.world.pose import Joints, Pose
 
@@ -61,16 +61,7 @@ def calibrate(path: Any, *, robot: RobotInterface, tool: Pose, to_world: Callabl
 
 def _move(robot: RobotInterface, request: MotionRequest) -> list[Sample]:
     """Run one excitation motion to its end; the motion layer's recording action gives q, qd, torque each cycle."""
-    ticket = robot.submit(request)
-    deadline = robot.time_s() + MOTION_TIMEOUT_S
-    while not ticket.done:
-        robot.tick()
-        if robot.time_s() > deadline:
-            robot.stop()
-            raise BehaviourError(f"CALIBRATE: an excitation motion did not end within {MOTION_TIMEOUT_S:g} s")
-    if ticket.outcome == "fault":
-        raise ticket.error if ticket.error is not None else BehaviourError("CALIBRATE: an excitation motion failed")
-    return list(ticket.recording)
+    return list(run_to_end(robot, request, MOTION_TIMEOUT_S, "CALIBRATE").recording)
 
 
 def identify(recordings: list[list[Sample]], model: Callable[..., Any], q0: tuple[float, ...], load_kg: float,

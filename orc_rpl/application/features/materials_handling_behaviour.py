@@ -18,7 +18,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, MotionRequest, Sample
+from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, Sample
 from orc_rpl.application.standard_behaviour import standard_motion
 from orc_rpl.syntax.units import MASS, TIME, TORQUE, Quantity
 
