@@ -247,29 +247,18 @@ def _casting(entry: dict, tcp: Callable[[], Pose]) -> Any:
     for point in entry["edge"]:
         if not isinstance(point, list) or len(point) != 3:
             raise UsageError(f"an edge point is [x, y, z] with lengths, got {point!r}")
-        edge.append(tuple(_metres(v) for v in point))
+        edge.append(tuple(_length(v) for v in point))
     bulges = []
     for bulge in entry.get("bulges") or []:
         if not isinstance(bulge, dict) or set(bulge) != {"from", "to", "height"}:
             raise UsageError(f"a bulge is {{from: 180mm, to: 220mm, height: 1mm}} along the edge, got {bulge!r}")
-        bulges.append(Bulge(_metres(bulge["from"]), _metres(bulge["to"]), _metres(bulge["height"])))
+        bulges.append(Bulge(_length(bulge["from"]), _length(bulge["to"]), _length(bulge["height"])))
     normal = entry.get("normal", [0, 0, 1])
     if not isinstance(normal, list) or len(normal) != 3:
         raise UsageError(f"a casting's normal is [nx, ny, nz], got {normal!r}")
     extra = {name: float(entry[key]) for key, name in (("stiffness", "stiffness_n_m"), ("removal", "removal_m_n"))
              if key in entry}
     return CastingEdge(edge, bulges, tuple(float(v) for v in normal), tcp=tcp, **extra)  # type: ignore[arg-type]
-
-
-def _metres(text: Any) -> float:
-    written = str(text).replace(" ", "")
-    sign = -1.0 if written.startswith("-") else 1.0
-    value = parse_literal(written.lstrip("+-"))
-    if type(value) is Quantity and value.dim == LENGTH:
-        return sign * value.value
-    if value == 0:
-        return 0.0
-    raise UsageError(f"expected a length such as 180mm, got {text!r}")
 
 
 def _event(entry: Any, io: Any, tcp: Callable[[], Pose]) -> IOEvent:

@@ -35,8 +35,8 @@ class IndentPlan:
     problems: list[IndentProblem] = field(default_factory=list)
 
 
-def code_part(text: str) -> str:
-    """A line without its comment (a `#` inside a string is not a comment)."""
+def _outside_strings(text: str, wanted: str) -> int:
+    """Index of the first `wanted` character outside string literals, or -1."""
     in_string, escaped = False, False
     for i, ch in enumerate(text):
         if in_string:
@@ -48,30 +48,20 @@ def code_part(text: str) -> str:
                 in_string = False
         elif ch == '"':
             in_string = True
-        elif ch == "#":
-            return text[:i]
-    return text
+        elif ch == wanted:
+            return i
+    return -1
+
+
+def code_part(text: str) -> str:
+    """A line without its comment (a `#` inside a string is not a comment)."""
+    hash_at = _outside_strings(text, "#")
+    return text if hash_at < 0 else text[:hash_at]
 
 
 def _opens_block(text: str) -> bool:
     """True when a line is a block header: it has a ':' outside strings and comments (only headers use ':')."""
-    code = code_part(text)
-    if ":" not in code:
-        return False
-    in_string, escaped = False, False
-    for ch in code:
-        if in_string:
-            if escaped:
-                escaped = False
-            elif ch == "\\":
-                escaped = True
-            elif ch == '"':
-                in_string = False
-        elif ch == '"':
-            in_string = True
-        elif ch == ":":
-            return True
-    return False
+    return _outside_strings(code_part(text), ":") >= 0
 
 
 def _width(text: str) -> int:
