@@ -50,7 +50,7 @@ def _ask_recovery(session: object, args: argparse.Namespace) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from orc_rpl.arm.robots import ROBOTS
+    from orc_rpl.robot.robots import ROBOTS
 
     try:
         if args.robot not in ROBOTS:

@@ -60,7 +60,7 @@ def _fail_usage(message: str) -> int:
 
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
-    from orc_rpl.arm.robots import ROBOTS
+    from orc_rpl.robot.robots import ROBOTS
     from orc_rpl.transform.loading import load_program
 
     try:

@@ -66,7 +66,7 @@ def make_virtual_motion_layer(
     perfectly (fast; no plant). `record=True` makes a signals Logger with q_ref, q, qd_ref, tau, tcp
     and s (available as `layer.logger`); pass your own `logger` to choose the signals yourself.
     """
-    from orc_rpl.arm import load_robot, solve_ik
+    from orc_rpl.robot import load_robot, solve_ik
 
     arm = load_robot(robot)
     kin = Kinematics(arm, solve_ik)

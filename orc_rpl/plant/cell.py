@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.arm.robots import ROBOTS, RobotSpec
+from orc_rpl.robot.robots import ROBOTS, RobotSpec
 from orc_rpl.world.pose import rotation_zyx
 
 #: Prefix of every robot element in the built scene ("robot/j1", "robot/flange").

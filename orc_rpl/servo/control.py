@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from orc_rpl.arm.model import ArmModel
+from orc_rpl.robot.model import ArmModel
 from orc_rpl.errors import UsageError
 
 # The ufuncs of the servo law as module names: update() runs a thousand times per simulated

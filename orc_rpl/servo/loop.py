@@ -8,8 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.arm.model import ArmModel
-from orc_rpl.arm.robots import load_robot
+from orc_rpl.robot.model import ArmModel, load_robot
 from orc_rpl.errors import UsageError
 from orc_rpl.plant.sim import SimCell
 from orc_rpl.servo.control import JointServo, ServoGains, ServoTuning

@@ -7,7 +7,7 @@ import os
 import numpy as np
 import pytest
 
-from orc_rpl.arm import load_robot
+from orc_rpl.robot import load_robot
 from orc_rpl.errors import UsageError
 from orc_rpl.plant import CellIO, default_cell
 from orc_rpl.plant.sim import SimCell

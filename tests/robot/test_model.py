@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from orc_rpl.arm import ROBOTS, RobotRegistry, load_robot
+from orc_rpl.robot import ROBOTS, RobotRegistry, load_robot
 from orc_rpl.errors import JointLimit, UsageError
 from orc_rpl.world.pose import matrix
 

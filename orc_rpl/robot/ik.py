@@ -1,4 +1,4 @@
-"""The arm room's inverse kinematics: damped least squares inside the joint ranges, nearest solution to the seed."""
+"""The robot room's inverse kinematics: damped least squares inside the joint ranges, nearest solution to the seed."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.arm.model import ArmModel
+from orc_rpl.robot.model import ArmModel
 from orc_rpl.errors import Unreachable
 
 _TWO_PI = 2.0 * math.pi

@@ -1,17 +1,12 @@
-"""The arm room's robot catalogue: the figures we keep per robot beside its MJCF (limits, flange, home)."""
+"""The robot room's catalogue: the figures we keep per robot beside its MJCF (limits, flange, home)."""
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
-
 
 from orc_rpl.errors import UsageError
-
-if TYPE_CHECKING:
-    from orc_rpl.arm.model import ArmModel
 
 
 def worlds_dir() -> Path:
@@ -118,9 +113,3 @@ ROBOTS.register(
     )
 )
 
-
-def load_robot(name: str = "irb2400") -> ArmModel:
-    """The controller's model of a registered robot (Pinocchio, built from its MJCF)."""
-    from orc_rpl.arm.model import ArmModel
-
-    return ArmModel(ROBOTS.get(name))

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from orc_rpl.arm import load_robot, solve_ik
+from orc_rpl.robot import load_robot, solve_ik
 from orc_rpl.errors import Unreachable, UsageError
 from orc_rpl.world.pose import matrix
 

@@ -1,4 +1,4 @@
-"""The arm room's model of the robot: Pinocchio kinematics and dynamics behind a small numpy API."""
+"""The robot room's model: Pinocchio kinematics and dynamics behind a small numpy API."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.arm.robots import RobotSpec
+from orc_rpl.robot.robots import ROBOTS, RobotSpec
 from orc_rpl.errors import JointLimit, UsageError
 
 GRAVITY_M_S2 = 9.81
@@ -228,3 +228,8 @@ class ArmModel:
         q = self.vector(q)
         self._apply_payload(payload_kg, payload_com)
         return self._pin.computeGeneralizedGravity(self._model, self._data, q).copy()
+
+
+def load_robot(name: str = "irb2400") -> ArmModel:
+    """The controller's model of a registered robot (Pinocchio, built from its MJCF)."""
+    return ArmModel(ROBOTS.get(name))
