@@ -145,3 +145,10 @@ def test_no_circle_of_imports_even_through_imports_inside_functions() -> None:
 def test_tiers_name_each_package_once(tier: tuple[str, ...]) -> None:
     others = [name for other in TIERS if other is not tier for name in other]
     assert not set(tier) & set(others), f"{tier} shares a package with another tier"
+
+
+def test_docs_architecture_draws_the_same_tiers() -> None:
+    text = (PACKAGE.parent / "docs" / "architecture.md").read_text(encoding="utf-8")
+    block = text.split("## Layers", 1)[1].split("```", 2)[1]
+    drawn = tuple(tuple(name.strip() for name in line.split("|")) for line in block.strip().splitlines())
+    assert drawn == TIERS, "docs/architecture.md's layer block differs from orc_rpl/layers.py TIERS"
