@@ -13,7 +13,7 @@
         } while (event == BULGE);
 
 The grinder sits on a compliant flange with a stroke u along the tool's z axis (normal to the path): the
-analog output AnaOut[8] commands the stroke (m, positive toward the part), the analog input AnaIn[8] is the
+analog output AnalogOut[8] commands the stroke (m, positive toward the part), the analog input AnalogIn[8] is the
 measured normal force (N). The force loop runs every motion cycle (dt = 4 ms) in this procedure, an
 integral admittance law
 
@@ -319,7 +319,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
             break
     loop.retract()
     if not any(sample[4] > 0.0 for sample in log.samples):
-        message = (f"no contact force on AnaIn[{FORCE_IN}] along the whole path: nothing was ground "
+        message = (f"no contact force on AnalogIn[{FORCE_IN}] along the whole path: nothing was ground "
                    "(no casting in the cell, or the path is not on its edge)")
         log.warnings.append(message)
         call.warn(message)

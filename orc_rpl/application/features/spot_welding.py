@@ -5,7 +5,7 @@ from __future__ import annotations
 from orc_rpl.application.declarations import AttributeSpec, InstallKindSpec, MethodSpec
 from orc_rpl.application.features.standard import motion
 from orc_rpl.application.registry import Registry
-from orc_rpl.syntax.units import TIME
+from orc_rpl.syntax.units import DIMENSIONLESS, TIME
 
 ORIGIN = "spot_welding"
 
@@ -21,7 +21,9 @@ def register(registry: Registry) -> None:
                 AttributeSpec("REACTION", (TIME,), 0.08, "time from the close signal until the gun is closed", function_ok=False),
                 AttributeSpec("WELD_TIME", (TIME,), 0.2, "welding time after the gun has closed", function_ok=False),
             ),
-            (MethodSpec("Open", "open the gun"), MethodSpec("Close", "close the gun")),
+            (MethodSpec("Open", "open the gun"), MethodSpec("Close", "close the gun"),
+             MethodSpec("Welds", "number of good welds (WELD_OK received) made by WELDMOVE since INSTALL",
+                        returns=DIMENSIONLESS)),
             origin=ORIGIN,
         )
     )

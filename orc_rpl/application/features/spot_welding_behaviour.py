@@ -55,6 +55,9 @@ class SpotGun:
     def Open(self) -> None:  # noqa: N802
         self._context.write(self.close_channel, 0)
 
+    def Welds(self) -> int:  # noqa: N802
+        return self.welds
+
     def weld_ok(self) -> bool:
         return bool(self._context.read(self.weld_ok_channel))
 
