@@ -199,15 +199,17 @@ def _channel(text: Any, io: Any, bank: str) -> int:
 def _weld_gun(entry: dict, io: Any, tcp: Callable[[], Pose]) -> Any:
     from orc_rpl.plant.processes import WeldGunProcess
 
-    if not set(entry) <= {"close", "weld_ok", "reaction", "weld_time", "fail"} or not {"close", "weld_ok"} <= set(entry):
-        raise UsageError(f"a weld gun has close, weld_ok and optionally reaction, weld_time, fail; got {entry!r}")
+    if not set(entry) <= {"close", "weld_ok", "reaction", "weld_time", "fail", "max_speed"} \
+            or not {"close", "weld_ok"} <= set(entry):
+        raise UsageError(f"a weld gun has close, weld_ok and optionally reaction, weld_time, fail, max_speed; got {entry!r}")
 
     def position() -> tuple[float, float, float]:
         pose = tcp()
         return (pose.x, pose.y, pose.z)
     return WeldGunProcess(_channel(entry["close"], io, "DigOut"), _channel(entry["weld_ok"], io, "DigIn"),
                           _seconds(entry.get("reaction", "80ms")), _seconds(entry.get("weld_time", "200ms")),
-                          tcp=position, fail=bool(entry.get("fail", False)))
+                          tcp=position, fail=bool(entry.get("fail", False)),
+                          **({"max_speed_m_s": _speed(entry["max_speed"])} if "max_speed" in entry else {}))
 
 
 def _parts(entry: dict, io: Any, set_payload: Callable[[float], None] | None) -> Any:
@@ -281,6 +283,13 @@ def _seconds(text: Any) -> float:
     if type(value) is Quantity and value.dim == TIME:
         return value.value
     raise UsageError(f"expected a time such as 1.5s, got {text!r}")
+
+
+def _speed(text: Any) -> float:
+    value = parse_literal(str(text).replace(" ", ""))
+    if type(value) is Quantity and value.dim == LENGTH / TIME and value.value > 0:
+        return value.value
+    raise UsageError(f"expected a speed such as 20mm/s, got {text!r}")
 
 
 def _expression(text: str) -> n.Expression:
