@@ -39,7 +39,7 @@ OFFSET_PRIOR_NM = 0.3
 #: Prior spread of each joint's viscous friction (N m s/rad).
 VISCOUS_PRIOR_NM_S = 0.5
 #: Each joint's torque noise is at least this (N m): a fit cannot be more certain than the motor's resolution.
-NOISE_FLOOR_NM = 0.05
+NOISE_FLOOR_NM = 0.2
 #: The answer must hold over the estimate +- this many standard deviations.
 SIGMAS = 3.0
 #: Grid of the confidence (in standard deviations from the estimate).
@@ -92,7 +92,8 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
 
 def _windows(samples: Sequence[Any]) -> list[tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...], np.ndarray]]:
     """(q, qd, qdd, mean torque) per clean window: q at its middle, qd its mean, qdd the velocity change across it
-    over its length; the torque of sample i drives the motion from sample i to i + 1. A window in which the
+    over its length, against the torque between the samples (the mean of each cycle's two ends: the motor
+    torque is sampled at the cycle's boundaries, the velocity changes in between). A window in which the
     acceleration switches (its per-cycle accelerations spread by more than SWITCH_RAD_S2 plus a tenth of
     their size) is left out: there the servo's torque and the measured motion do not average alike."""
     out = []
@@ -107,7 +108,8 @@ def _windows(samples: Sequence[Any]) -> list[tuple[tuple[float, ...], tuple[floa
         if np.any(spread > SWITCH_RAD_S2 + 0.1 * np.abs(per_cycle).max(axis=0)):
             continue
         qdd = tuple(((qd[-1] - qd[0]) / (t[-1] - t[0])).tolist())
-        torque = np.mean([s.torque for s in window[:-1]], axis=0)
+        torques = np.array([s.torque for s in window], dtype=float)
+        torque = (torques[1:] + torques[:-1]).mean(axis=0) / 2  # the trapezoid: the torque between the samples
         out.append((tuple(window[WINDOW // 2].q), tuple(qd.mean(axis=0).tolist()), qdd, torque))
     return out
 
