@@ -78,7 +78,8 @@ def process_lines(section: dict[str, Any] | None) -> list[str]:
         lines.append(f"part identified: {answer}, payload {i['payload_kg']:.3f} kg +- {i['sigma_kg']:.3f} kg, "
                      f"confidence {100 * i['confidence']:.1f} %")
     for t in section["tunings"]:
-        lines.append("tuning: " + ", ".join(f"{k} {_short(v)}" for k, v in t.items()))
+        lines.append(f"{t['label']} from {t['samples']} samples" if "label" in t
+                     else "tuning: " + ", ".join(f"{k} {_short(v)}" for k, v in t.items()))
     for f in section["faults"]:
         lines.append(f"{f['exception']} at t = {f['time_s']:.3f} s ({'caught' if f['caught'] else 'not caught'}): "
                      f"{f['message']}")
