@@ -58,7 +58,8 @@ class BulgeRecord:
 
 @dataclass(frozen=True, slots=True)
 class SeamRecord:
-    """One TRACKMOVE: the laser's lateral error after the correction, over the motion."""
+    """One TRACKMOVE: the laser's lateral error after the correction, over the motion (start included; a noisy
+    laser's noise is part of it)."""
 
     length_m: float
     rms_m: float

@@ -71,7 +71,7 @@ def process_lines(section: dict[str, Any] | None) -> list[str]:
                      f"ground to {1000 * b['left_m']:.2f} mm in {passes} pass{'es' if passes != 1 else ''}"
                      + ("" if b["within_tolerance"] else " (above the tolerance)"))
     for s in section["seams"]:
-        lines.append(f"seam tracked over {1000 * s['length_m']:.0f} mm: error {1000 * s['rms_m']:.2f} mm RMS, "
+        lines.append(f"seam tracked over {1000 * s['length_m']:.0f} mm: the laser's error {1000 * s['rms_m']:.2f} mm RMS, "
                      f"{1000 * s['max_m']:.2f} mm max (gain {s['gain']:.3f})")
     for i in section["identifications"]:
         answer = i["part"] or "uncertain"

@@ -130,7 +130,7 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
 
 
 #: `seam:` keys that are lengths, and the other ones
-_SEAM_LENGTHS = ("amplitude", "wavelength", "raggedness", "correlation", "edge", "edge_width", "range")
+_SEAM_LENGTHS = ("amplitude", "wavelength", "raggedness", "correlation", "edge", "edge_width", "range", "noise")
 
 
 def seam_process(entry: Any) -> Any:
