@@ -153,11 +153,14 @@ def seam_process(entry: Any) -> Any:
 
 
 def simulated_sensors(io: Any, tcp: Callable[[], Any]) -> dict[str, Any]:
-    """The cell's simulated sampling for the sensor kinds that have a process model: LaserDistance on the seam.
+    """The cell's simulated sampling for the sensor kinds that have a process model: LaserDistance on the seam,
+    ForceSensor on the castings' contact force (with a bias and noise).
 
     `tcp()` gives the TCP position (x, y, z) in m of the tool last moved; the seam is the cell's SeamProcess
     (from the script's `seam:`), or a default one added to the cell when a simulated laser is first read."""
+    from orc_rpl.motion.force_sensor import simulated_gauge
     from orc_rpl.motion.sensors import LaserValue
+    from orc_rpl.plant.processes.casting import CastingEdge
     from orc_rpl.plant.processes.seam import cell_seam
 
     def laser(name: str) -> Any:
@@ -165,7 +168,13 @@ def simulated_sensors(io: Any, tcp: Callable[[], Any]) -> dict[str, Any]:
             found, offset, edge = cell_seam(io).measure(tcp())
             return LaserValue(found, offset, edge)
         return sample
-    return {"LaserDistance": laser}
+
+    def contact_force_n() -> float:  # the cell's contact force: what its castings push back with
+        return float(sum(getattr(p, "force_n", 0.0) for p in getattr(io, "processes", ()) if isinstance(p, CastingEdge)))
+
+    def force(name: str) -> Any:
+        return simulated_gauge(name, contact_force_n)
+    return {"LaserDistance": laser, "ForceSensor": force}
 
 
 def _length(text: Any) -> float:
