@@ -12,6 +12,7 @@ import math
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
+from orc_rpl.application.runtime import attached
 from orc_rpl.errors import MotionFault
 
 #: The process signals recorded every motion cycle (`--log`), with their units; NaN while no process runs.
@@ -137,11 +138,4 @@ def _plain(value: Any) -> Any:
 
 def process_log(robot: Any) -> ProcessLog:
     """The robot's process record (made on first use)."""
-    log = getattr(robot, "process_log", None)
-    if log is None:
-        log = ProcessLog()
-        try:
-            robot.process_log = log
-        except AttributeError:
-            pass
-    return log
+    return attached(robot, "process_log", ProcessLog)

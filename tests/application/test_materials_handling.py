@@ -163,6 +163,19 @@ DEMO = (PROGRAMS / "demo_identify_parts.rpl").read_text()
 DEMO_PRINTS = ["part 1 is Light", "part 2 is Heavy", "part 3 is Medium", "heavy parts: 1"]
 
 
+def run_demo_on_cell(source: str, masses: list[float]):  # type: ignore[no-untyped-def]
+    """The demo program on the simulated cell with these parts; the robot and the prints (it must finish)."""
+    from orc_rpl.executive.cell_robot import CellRobot
+
+    robot = CellRobot.virtual()
+    prints: list[str] = []
+    executive = Executive(parse(source, "demo.rpl"), robot, path="demo.rpl", source=source, output=prints.append)
+    robot.io.add_process(PartSupply(1, masses, robot.set_plant_payload))
+    executive.run()
+    assert executive.status == "finished", executive.report()
+    return robot, prints
+
+
 @pytest.mark.sim
 @pytest.mark.parametrize("change", [
     ("WITH Id = IDENT(classify, kinds)", "WITH Id = IDENT(classify, kinds) WITH SPEED = 0.3mps"),   # a slow move
@@ -170,16 +183,9 @@ DEMO_PRINTS = ["part 1 is Light", "part 2 is Heavy", "part 3 is Medium", "heavy 
     ("POS TopPos = POSE(900mm, 0, 900mm, 0, 180deg, 0)", "POS TopPos = POSE(800mm, -300mm, 600mm, 0, 180deg, 0)"),
 ], ids=["slow", "via 100 mm above", "via 150 mm above"])
 def test_slow_moves_and_near_via_points_identify_every_part_on_the_cell(change: tuple[str, str]) -> None:
-    from orc_rpl.executive.cell_robot import CellRobot
-
     source = DEMO.replace(*change)
     assert source != DEMO
-    robot = CellRobot.virtual()
-    prints: list[str] = []
-    executive = Executive(parse(source, "demo.rpl"), robot, path="demo.rpl", source=source, output=prints.append)
-    robot.io.add_process(PartSupply(1, [0.3, 2.0, 0.9], robot.set_plant_payload))
-    executive.run()
-    assert executive.status == "finished", executive.report()
+    robot, prints = run_demo_on_cell(source, [0.3, 2.0, 0.9])
     assert prints == DEMO_PRINTS
     for record, mass in zip(robot.process_log.identifications, (0.3, 2.0, 0.9)):
         assert abs(record.payload_kg - mass) < 3 * record.sigma_kg + 0.02 and record.confidence > 0.99
@@ -187,13 +193,6 @@ def test_slow_moves_and_near_via_points_identify_every_part_on_the_cell(change: 
 
 @pytest.mark.sim
 def test_a_part_heavier_than_every_kind_is_still_the_heaviest_kind() -> None:
-    from orc_rpl.executive.cell_robot import CellRobot
-
-    robot = CellRobot.virtual()
-    prints: list[str] = []
-    executive = Executive(parse(DEMO, "demo.rpl"), robot, path="demo.rpl", source=DEMO, output=prints.append)
-    robot.io.add_process(PartSupply(1, [5.0, 0.0, 0.9], robot.set_plant_payload))
-    executive.run()
-    assert executive.status == "finished", executive.report()
+    robot, prints = run_demo_on_cell(DEMO, [5.0, 0.0, 0.9])
     assert prints[:3] == ["part 1 is Heavy", "part 2 is NoObject", "part 3 is Medium"]
     assert robot.process_log.identifications[0].payload_kg == pytest.approx(5.0, abs=0.15)

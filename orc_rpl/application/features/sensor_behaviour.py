@@ -15,7 +15,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
-from orc_rpl.application.runtime import InstallContext
+from orc_rpl.application.runtime import InstallContext, attached
 from orc_rpl.errors import SensorFault
 from orc_rpl.motion.force_sensor import ForceSensorDevice
 from orc_rpl.motion.sensors import LaserValue, SensorManager
@@ -24,14 +24,7 @@ from orc_rpl.syntax.units import FORCE, LENGTH, Quantity
 
 def sensor_manager(robot: Any) -> SensorManager:
     """The robot's sensors (a robot without any gets an empty manager of its own)."""
-    manager = getattr(robot, "sensors", None)
-    if manager is None:
-        manager = SensorManager()
-        try:
-            robot.sensors = manager
-        except AttributeError:
-            pass
-    return manager
+    return attached(robot, "sensors", SensorManager)
 
 
 class LaserDistance:
