@@ -26,9 +26,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--world", metavar="DIR|FILE", help="folder with the program's simulated-IO script (<name>.sim.yaml), "
                                                            "or the world model (YAML) of an off-line program (.orl)")
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
-    parser.add_argument("--log", metavar="OUT.npz", help="write the recorded signals (q, q_ref, tau, tcp, s) as NPZ")
+    parser.add_argument("--log", metavar="OUT.npz", help="write the recorded signals (q, q_ref, tau, tcp (flange), tool_tcp, s, process.*) as NPZ")
     parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
-    parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints and error as JSON")
+    parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints, error and the process outcomes as JSON")
     parser.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
