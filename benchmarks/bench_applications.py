@@ -17,7 +17,8 @@ offsets, always answering): ident_baseline_correct_pct; and the same trials with
 friction changes ten times larger (outside the envelope): ident_outside_*.
 
 Process figures on the ideal plant (the realistic plant is not in this build): the demos' outcomes as
-`orc run` reports them in its summary's process section; and CALIBRATE's settling (12 kg the program did
+`orc run` reports them in its summary's process section (deburr_plain_left_mm: the bulge a single
+force-controlled pass leaves, measured by CatchBulge with max_passes = 0); and CALIBRATE's settling (12 kg the program did
 not declare, a 50 mm approach at 1.5 m/s) with the default gains, the fixed 1.5x boost alone and the
 identified tuning: calibrate_vs_boost_settle_pct is what the identification adds to the boost.
 """
@@ -27,6 +28,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -140,11 +142,19 @@ def identification(trials: int, seed: int) -> dict[str, float]:
     return figures
 
 
-def demo_process(program: str) -> dict:
-    """The `process` section of `orc run PROGRAM --summary-json`."""
+def demo_process(program: str, change: tuple[str, str] | None = None) -> dict:
+    """The `process` section of `orc run PROGRAM --summary-json` (the program's text changed by `change`)."""
     with tempfile.TemporaryDirectory() as folder:
+        source = ROOT / program
+        if change is not None:
+            changed = Path(folder) / source.name
+            text = source.read_text(encoding="utf-8")
+            assert change[0] in text
+            changed.write_text(text.replace(*change), encoding="utf-8")
+            shutil.copy(source.with_suffix(".sim.yaml"), changed.with_suffix(".sim.yaml"))
+            source = changed
         summary = Path(folder) / "summary.json"
-        subprocess.run([sys.executable, "-m", "orc_rpl", "run", str(ROOT / program), "--summary-json", str(summary)],
+        subprocess.run([sys.executable, "-m", "orc_rpl", "run", str(source), "--summary-json", str(summary)],
                        check=False, capture_output=True)
         return json.loads(summary.read_text()).get("process", {})
 
@@ -154,6 +164,10 @@ def processes() -> dict[str, float]:
     grind = demo_process("programs/online/thesis_2_1_grindmove.rpl")
     figures["deburr_left_mm"] = round(1000 * max((b["left_m"] for b in grind.get("bulges", [])), default=math.nan), 3)
     figures["deburr_passes"] = sum(len(b["pass_heights_m"]) for b in grind.get("bulges", []))
+    # the same casting with no grinding-down passes: what one force-controlled pass along the edge leaves
+    plain = demo_process("programs/online/thesis_2_1_grindmove.rpl", ("max_passes = 4", "max_passes = 0"))
+    figures["deburr_plain_left_mm"] = round(1000 * max((b["left_m"] for b in plain.get("bulges", [])),
+                                                       default=math.nan), 3)
     welds = demo_process("programs/online/demo_spot_welding.rpl").get("welds", [])
     figures["spot_good_welds"] = sum(w["good"] for w in welds)
     figures["spot_max_speed_at_close_mm_s"] = round(1000 * max((w["speed_m_s"] for w in welds), default=math.nan), 2)
