@@ -20,7 +20,8 @@ Process figures on the ideal plant (the realistic plant is not in this build): t
 `orc run` reports them in its summary's process section (deburr_plain_left_mm: the bulge a single
 force-controlled pass leaves, measured by CatchBulge with max_passes = 0; spot_saving_per_spot_s: the
 demo against MOVE, Close, WAIT UNTIL WELD_OK, Open per spot; spot_signal_error_ms: the largest distance
-between the gun closing and the end of its motion's reference); and CALIBRATE's settling (12 kg the program did
+between the gun closing and the end of its motion's reference; seam_tuned_gain_pct: the RMS reduction of the
+thesis weld with Tracking's gain against TRACKMOVE's standard gain); and CALIBRATE's settling (12 kg the program did
 not declare, a 50 mm approach at 1.5 m/s) with the default gains, the fixed 1.5x boost alone and the
 identified tuning: calibrate_vs_boost_settle_pct is what the identification adds to the boost.
 """
@@ -215,6 +216,11 @@ def processes() -> dict[str, float]:
     seams = demo_process("programs/online/thesis_2_3_seam_tracking.rpl").get("seams", [])
     figures["seam_rms_mm"] = round(1000 * max((s["rms_m"] for s in seams), default=math.nan), 3)
     figures["seam_max_mm"] = round(1000 * max((s["max_m"] for s in seams), default=math.nan), 3)
+    # the same weld without Tracking's gain (TRACKMOVE's standard low gain)
+    untuned = demo_process("programs/online/thesis_2_3_seam_tracking.rpl",
+                           ("  WITH TRACKING = OptTrack\n", "")).get("seams", [])
+    figures["seam_untuned_rms_mm"] = round(1000 * max((s["rms_m"] for s in untuned), default=math.nan), 3)
+    figures["seam_tuned_gain_pct"] = round(100 * (1 - figures["seam_rms_mm"] / figures["seam_untuned_rms_mm"]), 1)
     return figures
 
 
