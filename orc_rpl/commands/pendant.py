@@ -33,20 +33,20 @@ def _fail(message: str) -> int:
 
 def _ask_recovery(session: object, args: argparse.Namespace) -> str:
     """Recover, discard or keep (answer asked on the terminal before the full screen starts)."""
-    pending = session.pending_recovery()  # type: ignore[attr-defined]
+    pending = session.editor.pending_recovery()  # type: ignore[attr-defined]
     if pending is None:
         return ""
     if args.recover:
-        return session.recover()  # type: ignore[attr-defined]
+        return session.editor.recover()  # type: ignore[attr-defined]
     if args.discard:
-        return session.discard_recovery()  # type: ignore[attr-defined]
+        return session.editor.discard_recovery()  # type: ignore[attr-defined]
     if not sys.stdin.isatty():
         return f"{pending} in the journal: start with --recover or --discard"
-    answer = input(f"orc pendant: {session.path} has {pending} from a session that did not save.\n"  # type: ignore[attr-defined]
+    answer = input(f"orc pendant: {session.editor.path} has {pending} from a session that did not save.\n"  # type: ignore[attr-defined]
                    "Recover them? [Y/n] ").strip().lower()
     if answer in ("", "y", "yes"):
-        return session.recover()  # type: ignore[attr-defined]
-    return session.discard_recovery()  # type: ignore[attr-defined]
+        return session.editor.recover()  # type: ignore[attr-defined]
+    return session.editor.discard_recovery()  # type: ignore[attr-defined]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -82,7 +82,7 @@ def _run(args: argparse.Namespace) -> int:
         if args.file is not None:
             io_script = script_path(args.file, args.world)
             if io_script is not None:
-                load_script(io_script, robot.io, lambda: robot.tcp_pose(session.tool_pose()))
+                load_script(io_script, robot.io, lambda: robot.tcp_pose(session.execution.tool_pose()))
         return PendantApp(session, message=message).run()
     finally:
         session.close()
