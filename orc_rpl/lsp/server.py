@@ -33,9 +33,18 @@ class OrcLanguageServer(LanguageServer):
 
     def __init__(self) -> None:
         super().__init__("orc-rpl", __version__)
-        self.registry: Registry = default_registry()
+        self.registry: Registry = _registry()
         self.analyses: dict[str, Analysis] = {}
         self.indexes: dict[str, ProgramIndex] = {}     #: the last index of a text that parsed (completion while typing)
+
+
+def _registry() -> Registry:
+    """The registry with every installed feature; a broken third-party feature is logged and left out."""
+    try:
+        return default_registry()
+    except OrcError as error:
+        log.warning("orc lsp: %s; only the built-in features are known", error)
+        return default_registry(extra_features=False)
 
 
 def guarded(default: Any) -> Callable[[Callable[..., R]], Callable[..., R]]:
