@@ -14,7 +14,7 @@ from orc_rpl.transform.checks import check_offline, load_world_file
 from orc_rpl.world import World
 
 
-@dataclass
+@dataclass(frozen=True)
 class Analysis:
     """What the server knows about one open document after its last change."""
 
@@ -36,7 +36,7 @@ def world_line(text: str) -> int:
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.startswith("#"):
             break
-        if declared_world("x.orl", line) is not None:
+        if declared_world("", line) is not None:  # the regular expression of the one `# world:` reader
             return number
     return 0
 
