@@ -215,3 +215,19 @@ def test_an_error_inside_a_request_is_logged_and_the_server_goes_on(tmp_path: Pa
     failed, diagnostics, hover, logs = in_editor(test)
     assert failed is None and diagnostics == [] and hover is not None and "**p1**" in hover
     assert any("orc lsp: hover failed: FileNotFoundError" in line for line in logs)
+
+
+def test_hover_on_a_world_position_of_an_offline_program_shows_it_as_the_world_file_declares_it(tmp_path: Path) -> None:
+    shutil.copy(ROOT / "worlds" / "cell_thesis.yaml", tmp_path / "cell.yaml")
+    path = tmp_path / "prog.orl"
+    path.write_text("# world: cell.yaml\nmoveto base_plate.pos1\nmoveto pos0\n")
+
+    async def test(editor: Editor) -> tuple[str | None, str | None]:
+        uri, _ = await editor.open(path)
+        return await editor.hover(uri, 1, 19), await editor.hover(uri, 2, 8)
+
+    frame, obj = in_editor(test)
+    assert frame is not None and obj is not None
+    assert frame.startswith("**base_plate.pos1**: frame of `base_plate`")
+    assert "= (50.0, -40.0, 60.0) mm, (-90.0, 180.0, 0.0) deg relative to `base_plate`" in frame
+    assert "= (800.0, -300.0, 900.0) mm, (0.0, 180.0, 0.0) deg relative to `world`" in obj
