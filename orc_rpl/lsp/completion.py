@@ -94,8 +94,9 @@ def _field_items(owner: str, index: ProgramIndex | None, line: int, registry: Re
 
 
 def complete(lines: list[str], line0: int, character: int, registry: Registry, index: ProgramIndex | None,
-             world: World | None, offline: bool) -> list[T.CompletionItem]:
-    """Completion items for the 0-based cursor position."""
+             world: World | None, offline: bool, after_space: bool = False) -> list[T.CompletionItem]:
+    """Completion items for the 0-based cursor position; `after_space` (the editor asked because a space was typed)
+    answers only where a space leads to a short list: after WITH, after INSTALL ... AS, after an off-line motion's target."""
     text = lines[line0] if line0 < len(lines) else ""
     before = text[:character]
     partial = _WORD_BEFORE.search(before)
@@ -116,6 +117,8 @@ def complete(lines: list[str], line0: int, character: int, registry: Registry, i
     install = _INSTALL_LINE.match(head_text)
     if install is not None and (after_with or offline):
         return _install_attribute_items(registry, install.group(1), offline)
+    if after_space:
+        return []
     items = _name_items(index, line0 + 1, registry, world)
     if not start.strip():  # the first word of a statement: keywords and motion keywords too
         motions = [m.lower() for m in registry.motions] + ["moveto"] if offline else list(registry.motions)

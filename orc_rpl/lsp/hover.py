@@ -7,7 +7,7 @@ import re
 from orc_rpl.application.registry import Registry
 from orc_rpl.lsp.analysis import Analysis
 from orc_rpl.lsp.index import Definition, ProgramIndex, Target, name_at
-from orc_rpl.lsp.words import attribute_detail, registry_keyword
+from orc_rpl.lsp.words import attribute_detail, registry_keyword, type_with_unit
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.units import Quantity, parse_literal
 from orc_rpl.transform.poses import literal_pose
@@ -137,6 +137,16 @@ def _attribute_hover(program: n.Program, clause: n.With, registry: Registry) -> 
     return None
 
 
+def _method_hover(registry: Registry, install: n.Install, name: str) -> str | None:
+    """`Gun.Close`, `Laser.Distance`: a method or sensor value of the installed kind."""
+    kind = registry.install_kinds.get(install.kind.id)
+    method = kind.method(name) if kind is not None else None
+    if method is None:
+        return None
+    what = "command" if method.returns is None else f"value: {type_with_unit(method.returns)}"
+    return f"**{install.name.id}.{name}** ({kind.name} {what}): {method.doc}"  # type: ignore[union-attr]
+
+
 def hover_text(analysis: Analysis, index: ProgramIndex | None, registry: Registry, line0: int, character: int) -> str | None:
     """Markdown for the 0-based position, or None when there is nothing to say."""
     lines = analysis.text.splitlines()
@@ -160,6 +170,9 @@ def hover_text(analysis: Analysis, index: ProgramIndex | None, registry: Registr
     definition = index.lookup(name, line0 + 1) if owner is None else None
     if definition is not None:
         return definition_hover(definition, lines, index)
+    installed = index.lookup(owner.id, line0 + 1) if owner is not None else None
+    if installed is not None and isinstance(installed.statement, n.Install):
+        return _method_hover(registry, installed.statement, name)
     if analysis.world is not None:
         found = world_hover(analysis.world, owner.id if owner is not None else None, name)
         if found is not None:

@@ -133,8 +133,11 @@ def did_close(ls: OrcLanguageServer, params: T.DidCloseTextDocumentParams) -> No
 def completion(ls: OrcLanguageServer, params: T.CompletionParams) -> T.CompletionList | None:
     uri = params.text_document.uri
     document, analysis, line0, character = _cursor(ls, uri, params.position)
+    context = params.context
+    after_space = (context is not None and context.trigger_kind == T.CompletionTriggerKind.TriggerCharacter
+                   and context.trigger_character == " ")
     items = complete([line.rstrip("\r\n") for line in document.lines], line0, character,
-                     ls.registry, ls.indexes.get(uri), analysis.world, analysis.offline)
+                     ls.registry, ls.indexes.get(uri), analysis.world, analysis.offline, after_space)
     return T.CompletionList(is_incomplete=False, items=items)
 
 

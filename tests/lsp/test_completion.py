@@ -46,3 +46,11 @@ def test_offline_motion_offers_lower_case_attributes_ready_to_take_a_value() -> 
     force = next(item for item in items if item.label == "force")
     assert force.insert_text == "force=" and force.detail.startswith("a force (N)")
     assert "moveto" in labels([""], offline=True) and "MOVE" not in labels([""], offline=True)
+
+
+def test_a_typed_space_opens_completion_only_where_a_short_list_follows() -> None:
+    def after_space(line: str) -> list[str]:
+        return [item.label for item in complete([line], 0, len(line), REGISTRY, INDEX, None, False, after_space=True)]
+
+    assert after_space("MOVE gun TO ") == [] and after_space("x = ") == []
+    assert "SPEED" in after_space("MOVE gun TO p1 WITH ") and "SpotGun" in after_space("INSTALL g AS ")
