@@ -110,7 +110,6 @@ def _cursor(server: OrcLanguageServer, uri: str, position: T.Position) -> tuple[
     return document, server.analyses[uri], where.line, where.character
 
 
-
 def did_open(ls: OrcLanguageServer, params: T.DidOpenTextDocumentParams) -> None:
     refresh(ls, params.text_document.uri)
 
