@@ -137,7 +137,7 @@ def _table() -> dict[str, Command]:
         Command("save", "save [FILE]", "write the program (atomically); the journal is then cleared", _save, 0, 1),
         Command("recover", "recover", "take the unsaved edits of a killed session from the journal",
                 lambda s, a, r: s.editor.recover()),
-        Command("quit", "quit", "leave the pendant (:quit! leaves with unsaved edits; the journal keeps them)",
+        Command("quit", "quit | quit!", "leave the pendant; :quit! leaves with unsaved edits (the journal keeps them)",
                 lambda s, a, r: "bye"),
     ]
     return {command.name: command for command in c}

@@ -13,7 +13,7 @@ from orc_rpl.checking.checker import check_program
 from orc_rpl.errors import Diagnostic, OrcError, SourceError
 from orc_rpl.pendant import tree
 from orc_rpl.pendant.events import EventLog
-from orc_rpl.pendant.journal import Journal, journal_path, recoverable
+from orc_rpl.pendant.journal import Journal, JournalError, journal_path, recoverable
 from orc_rpl.pendant.tree import BodyPath, EditError, Stop, reparse, stops
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.lexicon import PREDEFINED_NAMES, is_reserved
@@ -128,14 +128,20 @@ class Editor:
         self.text, self.program = text, parsed
         self.stops = stops(parsed)
         self.mark = None  # a selection is of statements that may have moved: it ends with the edit
+        unjournaled: JournalError | None = None
         if self.journal is not None:
-            self.journal.append(action, text)
+            try:
+                self.journal.append(action, text)
+            except JournalError as error:  # the edit stands; the user must hear that it is not safe yet
+                unjournaled = error
         for listener in self.on_change:
             listener()
         if cursor is not None:
             self.locate(*cursor)
         else:
             self.goto(cursor_line if cursor_line is not None else 1, quiet=True)
+        if unjournaled is not None:
+            raise unjournaled
 
     def locate(self, body: tuple, index: int, end: bool = False) -> None:
         """The cursor to the statement at `index` of a body (after an edit, whose lines have moved)."""
@@ -157,7 +163,11 @@ class Editor:
         candidates = [i for i, s in enumerate(self.stops) if s.line >= line]
         exact = [i for i in candidates if self.stops[i].line == line and self.stops[i].end == end]
         self.cursor = exact[0] if exact else candidates[0] if candidates else len(self.stops) - 1
-        return "" if quiet else f"cursor at line {self.cursor_line}"
+        if quiet:
+            return ""
+        if self.cursor_line != line:  # a blank or comment line, or past the end: say where the cursor went
+            return f"line {line} holds no statement; cursor at line {self.cursor_line}"
+        return f"cursor at line {self.cursor_line}"
 
     def select(self) -> str:
         """Start (or clear) a selection at the cursor; the arrows extend it inside one block."""

@@ -6,6 +6,7 @@ from collections.abc import Callable, Iterator
 
 import numpy as np
 
+from orc_rpl.checking.checker import check_in_context
 from orc_rpl.errors import OrcError, SourceError
 from orc_rpl.executive.executive import Executive
 from orc_rpl.executive.machine import Options
@@ -269,6 +270,11 @@ class Execution:
         except SourceError as error:
             raise EditError(error.format()) from None
         routine, frame = self.editor.context()
+        # checked where it will run, so an error points at the offending word before anything moves
+        problems = check_in_context(self.editor.program, stmt, routine, frame, "<typed>", self.registry,
+                                    self.executive().machine.globals)
+        if problems:
+            raise EditError("\n".join(problem.format(text) for problem in problems))
         return self.statement_job("typed", stmt, routine, frame, 0, text)
 
     def exec_cursor(self) -> str:

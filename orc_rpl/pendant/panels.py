@@ -141,7 +141,7 @@ class Panels:
             rows = [f"  {left:<44}{right}" for left, right in zip(usages[:half], usages[half:] + [""])]
             return ("type an RPL statement to execute it at once, or a command (:help WORD explains one, "
                     "and any statement keyword or registered primitive):\n" + "\n".join(rows))
-        word = word.lstrip(":")
+        word = word.lstrip(":").rstrip("!")  # :help quit! explains :quit
         if word in commands:
             c = commands[word]
             return f":{c.usage}\n  {c.doc}"

@@ -10,7 +10,7 @@ from orc_rpl.pendant.editing import Editor, PendantError
 from orc_rpl.pendant.events import EventLog
 from orc_rpl.pendant.execution import Execution
 from orc_rpl.pendant.jogging import Jogger
-from orc_rpl.pendant.journal import Journal, journal_path
+from orc_rpl.pendant.journal import Journal, journal_beside, journal_path
 from orc_rpl.pendant.panels import Panels
 from orc_rpl.pendant.pointer import ProgramPointer
 from orc_rpl.pendant.robot import PendantRobot
@@ -19,6 +19,9 @@ from orc_rpl.syntax.printer import simple_statement
 from orc_rpl.world.pose import Joints
 
 __all__ = ["PendantError", "PendantSession"]
+
+#: The largest program file the pendant opens (a robot program is a few thousand lines).
+MAX_PROGRAM_BYTES = 10_000_000
 
 
 class PendantSession:
@@ -48,6 +51,9 @@ class PendantSession:
         self.pointer = ProgramPointer(self.editor, self.execution, self.robot, self.events)
         self.panels = Panels(self.editor, self.execution, self.robot, self.registry, self.events)
         self.events.record(f"opened {file} ({len(text.splitlines())} lines)")
+        where = self.editor.journal.path if self.editor.journal is not None else None
+        if where is not None and where != journal_beside(file):
+            self.events.record(f"the folder of {file} cannot hold its journal: edits are journaled in {where}")
 
     @classmethod
     def open(cls, path: str | Path, recover: bool = False, **options: object) -> PendantSession:
@@ -99,6 +105,11 @@ class PendantSession:
 
 def _read_program(path: Path) -> str:
     """The program file's text; a PendantError naming the file when it cannot be read as text."""
+    if not path.is_file():  # a FIFO or a device would block or never end
+        raise PendantError(f"cannot open {path}: not a regular file")
+    if path.stat().st_size > MAX_PROGRAM_BYTES:
+        raise PendantError(f"cannot open {path}: {path.stat().st_size} bytes is more than a program "
+                           f"({MAX_PROGRAM_BYTES // 1_000_000} MB at most)")
     try:
         return path.read_text(encoding="utf-8")
     except UnicodeDecodeError:
