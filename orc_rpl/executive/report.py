@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any, TextIO
 
 from orc_rpl.executive.executive import Executive
+from orc_rpl.executive.process_report import process_lines, process_section, uncaught_warnings
 from orc_rpl.world.pose import Pose, shown_pose
 
 
@@ -31,6 +32,11 @@ def summary(executive: Executive, robot: Any) -> dict[str, Any]:
             "exception": error.name,
             "call_stack": [{"routine": e.routine, "line": e.line, "column": e.column} for e in error.stack],
         }
+    process = process_section(robot, error)
+    if process is not None:  # what the processes achieved (welds, bulges, seams, parts, tunings) and their faults
+        result["process"] = process
+        result["warnings"] += [{"line": result["error"]["line"], "column": result["error"]["column"], "message": message}
+                               for message in uncaught_warnings(process)]
     return result
 
 
@@ -44,6 +50,8 @@ def write_summary_text(result: dict[str, Any], wall_s: float, stream: TextIO) ->
                  f"cycle time: {cycle:.3f} s (simulated; {wall_s:.2f} s wall{ratio})\n"
                  f"motions: {result['motions']}\n"
                  f"final TCP: {pose}\n")
+    for line in process_lines(result.get("process")):
+        stream.write(f"process: {line}\n")
 
 
 class MonitoredRobot:
