@@ -1,0 +1,142 @@
+"""The view of a run: follows the robot, the planned paths, the positions and the statement, at a steady wall-clock rate."""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.executive.executive import Executive
+from orc_rpl.executive.report import MonitoredRobot
+from orc_rpl.plant.shapes import cell_poses, cell_shapes
+from orc_rpl.view.framing import frame_work
+from orc_rpl.view.positions import declared_names, world_transforms
+from orc_rpl.view.scene import CellScene, wxyz_of
+from orc_rpl.world.objects import FLANGE, PREDEFINED
+
+#: Updates per second of wall-clock time the view sends at most (the robot, the trace, the caption).
+RATE_HZ = 40.0
+#: The TCP trace takes a point every this many motion cycles (simulated time, so it is the same paced or fast).
+TRACE_EVERY_TICKS = 5
+
+
+def sim_cell(robot: Any) -> Any:
+    """The simulated MuJoCo cell under a robot, or None (a kinematic robot, real hardware)."""
+    loop = getattr(getattr(getattr(robot, "layer", None), "backend", None), "loop", None)
+    return getattr(loop, "cell", None)
+
+
+def statement_caption(executive: Executive, time_s: float) -> str:
+    """`t = 1.24 s · line 12: LMOVE gripper TO slot1`: where the program is (the statement it executes or waits at)."""
+    pointer = executive.pointer
+    if pointer is None or executive.source is None:
+        return f"t = {time_s:.2f} s"
+    lines = executive.source.splitlines()
+    text = lines[pointer.line - 1].strip() if 0 < pointer.line <= len(lines) else ""
+    return f"t = {time_s:.2f} s · line {pointer.line}: {text}"
+
+
+class LiveView:
+    """Attach to a run (`attach`), let the executive drive `monitor(robot)`, call `finish()` at the end.
+
+    It reads the plant, the motion layer's planned-path signal and the executive's variables; it commands nothing.
+    """
+
+    def __init__(self, scene: CellScene, executive: Executive, robot: Any, world: Any = None,
+                 rate_hz: float = RATE_HZ) -> None:
+        self.scene, self.executive, self.robot, self.world = scene, executive, robot, world
+        self.period_s = 1.0 / rate_hz
+        self.updates = 0                          #: updates sent so far (the benchmark's rate)
+        self._cell = sim_cell(robot)
+        self._names = ()
+        self._seen: dict[str, Any] = {}
+        self._next_wall_s = 0.0
+        self._ticks = 0
+        self._trace_new: list[np.ndarray] = []
+        self._tool: tuple[Any, np.ndarray | None] = (None, None)
+        self._flange_node: Any = None
+
+    # -- setting up ---------------------------------------------------------------------------
+
+    def attach(self, program: Any) -> None:
+        """Draw the cell, the world and what is declared so far; listen to the planned paths; aim the camera."""
+        self.executive.tracing = True  # the program pointer follows every statement (the caption)
+        self._names = declared_names(program)
+        if self._cell is not None:
+            self.scene.add_cell(cell_shapes(self._cell), cell_poses(self._cell))
+        if self.world is not None:
+            self._add_world()
+        layer = self.robot.layer
+        layer.plan_listeners.append(self.scene.add_path)
+        reach = [np.zeros(3), layer.fk(layer.current_q())[:3, 3], *(n.position for n in self.scene.objects.values())]
+        self.scene.frame_camera(frame_work(np.array(reach)))
+        self.update()
+
+    def _add_world(self) -> None:
+        world = self.world
+        for obj in world.objects:
+            if obj.name in PREDEFINED:
+                continue
+            if FLANGE in world.ancestors(obj.name):  # tools ride on the flange
+                if self._flange_node is None:
+                    self._flange_node = self.scene.add_mount("/flange")
+                self.scene.add_object(obj.name, world.relative_pose(obj.name, FLANGE).matrix(), obj.model, "/flange")
+                continue
+            self.scene.add_object(obj.name, world.world_pose(obj.name).matrix(), obj.model)
+            for frame in obj.frames:  # the world's named positions
+                dotted = f"{obj.name}.{frame.name}"
+                self.scene.set_position(dotted, world.world_pose(dotted).matrix())
+
+    def monitor(self, robot: Any) -> Any:
+        """The robot the executive should drive: the same robot, whose ticks also feed the view."""
+        return MonitoredRobot(robot, 1, self.on_tick)
+
+    # -- each motion cycle ---------------------------------------------------------------------
+
+    def on_tick(self) -> None:
+        self._ticks += 1
+        if self._ticks % TRACE_EVERY_TICKS == 0:
+            self._trace_new.append(self._tcp_m())
+        if time.perf_counter() >= self._next_wall_s:
+            self.update()
+
+    def _tcp_m(self) -> np.ndarray:
+        tool = self.executive.machine.last_tool
+        if tool is not self._tool[0]:
+            self._tool = (tool, None if tool is None else tool.matrix())
+        layer = self.robot.layer
+        return layer.fk(layer.current_q(), self._tool[1])[:3, 3].copy()
+
+    def update(self) -> None:
+        """Send the robot's pose, the trace, new positions and the caption now."""
+        self._next_wall_s = time.perf_counter() + self.period_s
+        if self._cell is not None:
+            self.scene.move_cell(cell_poses(self._cell))
+        if self._flange_node is not None:
+            flange = self.robot.layer.fk(self.robot.layer.current_q())
+            self._flange_node.position = flange[:3, 3]
+            self._flange_node.wxyz = wxyz_of(flange[:3, :3])
+        self._update_positions()
+        if self._trace_new:
+            self.scene.extend_trace(self._trace_new)
+            self._trace_new = []
+        self.scene.set_caption(statement_caption(self.executive, self.robot.time_s()))
+        self.updates += 1
+
+    def _update_positions(self) -> None:
+        values = self.executive.machine.globals
+        for name in self._names:
+            value = values.get(name)
+            if value is not None and value is not self._seen.get(name):
+                self._seen[name] = value
+                for label, t in world_transforms(name, value, self.executive):
+                    self.scene.set_position(label, t)
+
+    def finish(self) -> None:
+        """The last state of the run, whatever the rate; stop listening to the motion layer."""
+        self._trace_new.append(self._tcp_m())
+        self.update()
+        listeners = self.robot.layer.plan_listeners
+        if self.scene.add_path in listeners:
+            listeners.remove(self.scene.add_path)
