@@ -131,7 +131,14 @@ class LiveView:
             if value is not None and value is not self._seen.get(name):
                 self._seen[name] = value
                 for label, t in world_transforms(name, value, self.executive):
-                    self.scene.set_position(label, t)
+                    if not self._shown_by_world(label, t):
+                        self.scene.set_position(label, t)
+
+    def _shown_by_world(self, label: str, world_t: np.ndarray) -> bool:
+        """An off-line program's positions are the world's frames under their short names: draw them once."""
+        same = [node for key, node in (*self.scene.objects.items(), *self.scene.positions.items())
+                if key == label or key.endswith(f".{label}")]
+        return any(np.allclose(node.position, world_t[:3, 3], atol=1e-6) for node in same) and label not in self.scene.positions
 
     def finish(self) -> None:
         """The last state of the run, whatever the rate; stop listening to the motion layer."""

@@ -28,7 +28,7 @@ def open_server(host: str = DEFAULT_HOST, port: int = DEFAULT_PORT, label: str =
         server = viser.ViserServer(host=host, port=port, label=label, verbose=False)
     # The web client has a share button that asks the server for a public relay link: refuse it.
     server.request_share_url = _no_share_links  # type: ignore[method-assign]
-    server.gui.configure_theme(show_share_button=False, control_layout="collapsible", dark_mode=False)
+    server.gui.configure_theme(show_share_button=False, dark_mode=False)
     return server
 
 

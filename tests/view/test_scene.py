@@ -1,0 +1,52 @@
+"""What the view draws without a browser: the planned-path signal, a still view of a world and a program's positions."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.view.support import ROOT
+
+pytest.importorskip("viser", reason="the 3D view is the [view] extra")
+
+from orc_rpl.application.standard_behaviour import runtime_registry  # noqa: E402
+from orc_rpl.motion import JointMotion, make_virtual_motion_layer  # noqa: E402
+from orc_rpl.transform.loading import load_program  # noqa: E402
+from orc_rpl.view.server import close_server, open_server  # noqa: E402
+from orc_rpl.view.still import show_still  # noqa: E402
+from orc_rpl.world import load_world  # noqa: E402
+
+
+def test_motion_layer_signals_the_planned_path_before_the_move_starts() -> None:
+    layer = make_virtual_motion_layer(backend="kinematic")
+    heard: list[tuple[int, np.ndarray, int]] = []
+    target = tuple(np.asarray(layer.current_q()) + 0.2)
+    layer.plan_listeners.append(lambda move_id, tcp_m: heard.append((move_id, tcp_m, layer.cycles)))
+    handle = layer.move(JointMotion(target_rad=target))
+    assert len(heard) == 1 and heard[0][0] == handle.id
+    _, tcp_m, cycles = heard[0]
+    assert cycles == 0, "heard before the first motion cycle"
+    assert tcp_m.ndim == 2 and tcp_m.shape[1] == 3 and len(tcp_m) >= 2
+    np.testing.assert_allclose(tcp_m[0], layer.fk(layer.current_q())[:3, 3], atol=1e-9)
+    np.testing.assert_allclose(tcp_m[-1], layer.fk(np.array(target))[:3, 3], atol=1e-9)
+
+
+@pytest.mark.sim
+def test_still_view_shows_the_world_and_the_programs_positions_once() -> None:
+    world_path = ROOT / "worlds" / "cell_thesis.yaml"
+    world = load_world(world_path)
+    _, program = load_program(ROOT / "programs" / "offline" / "thesis_7_3.orl", world_path)
+    server = open_server(port=0)
+    try:
+        view = show_still(server, world, program, runtime_registry(), "irb2400", "cell_thesis")
+    finally:
+        close_server(server)
+    scene = view.scene
+    assert {"table", "fixture", "base_plate", "pos0", "pos3", "grinder"} <= set(scene.objects)
+    # the world's named frames; the program's own POS declarations of the same places are not drawn twice
+    assert set(scene.positions) == {"base_plate.pos1", "base_plate.pos2"}
+    pos1 = world.world_pose("base_plate.pos1")
+    np.testing.assert_allclose(scene.positions["base_plate.pos1"].position, (pos1.x, pos1.y, pos1.z), atol=1e-9)
+    # the robot's links are there, at home
+    assert len(scene.moving) >= 6
+    assert scene.paths == {}
