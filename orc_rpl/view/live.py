@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 import time
+from functools import partial
 from typing import Any
 
 import numpy as np
 
 from orc_rpl.executive.executive import Executive
 from orc_rpl.executive.report import MonitoredRobot
-from orc_rpl.plant.shapes import cell_poses, cell_shapes
+from orc_rpl.plant.shapes import Poses, cell_poses, cell_shapes
 from orc_rpl.view.framing import frame_work
 from orc_rpl.view.positions import declared_names, world_transforms
 from orc_rpl.view.scene import CellScene, wxyz_of
+from orc_rpl.view.sender import Sender
 from orc_rpl.world.objects import FLANGE, PREDEFINED
 
 #: Updates per second of wall-clock time the view sends at most (the robot, the trace, the caption).
@@ -56,6 +58,7 @@ class LiveView:
         self._trace_new: list[np.ndarray] = []
         self._tool: tuple[Any, np.ndarray | None] = (None, None)
         self._flange_node: Any = None
+        self.sender = Sender()
 
     # -- setting up ---------------------------------------------------------------------------
 
@@ -68,7 +71,7 @@ class LiveView:
         if self.world is not None:
             self._add_world()
         layer = self.robot.layer
-        layer.plan_listeners.append(self.scene.add_path)
+        layer.plan_listeners.append(self._planned)
         reach = [np.zeros(3), layer.fk(layer.current_q())[:3, 3], *(n.position for n in self.scene.objects.values())]
         self.scene.frame_camera(frame_work(np.array(reach)))
         self.update()
@@ -87,6 +90,10 @@ class LiveView:
             for frame in obj.frames:  # the world's named positions
                 dotted = f"{obj.name}.{frame.name}"
                 self.scene.set_position(dotted, world.world_pose(dotted).matrix())
+
+    def _planned(self, move_id: int, tcp_m: np.ndarray) -> None:
+        """The motion layer's planned-path signal: drawn before the move starts."""
+        self.sender.always(partial(self.scene.add_path, move_id, tcp_m))
 
     def monitor(self, robot: Any) -> Any:
         """The robot the executive should drive: the same robot, whose ticks also feed the view."""
@@ -109,41 +116,45 @@ class LiveView:
         return layer.fk(layer.current_q(), self._tool[1])[:3, 3].copy()
 
     def update(self) -> None:
-        """Send the robot's pose, the trace, new positions and the caption now."""
+        """Hand the robot's pose, the trace, new positions and the caption to the sending thread now."""
         self._next_wall_s = time.perf_counter() + self.period_s
-        if self._cell is not None:
-            self.scene.move_cell(cell_poses(self._cell))
-        if self._flange_node is not None:
-            flange = self.robot.layer.fk(self.robot.layer.current_q())
-            self._flange_node.position = flange[:3, 3]
-            self._flange_node.wxyz = wxyz_of(flange[:3, :3])
-        self._update_positions()
-        if self._trace_new:
-            self.scene.extend_trace(self._trace_new)
-            self._trace_new = []
-        self.scene.set_caption(statement_caption(self.executive, self.robot.time_s()))
-        self.updates += 1
-
-    def _update_positions(self) -> None:
+        poses = cell_poses(self._cell) if self._cell is not None else None
+        flange = self.robot.layer.fk(self.robot.layer.current_q()) if self._flange_node is not None else None
         values = self.executive.machine.globals
         for name in self._names:
             value = values.get(name)
             if value is not None and value is not self._seen.get(name):
                 self._seen[name] = value
                 for label, t in world_transforms(name, value, self.executive):
-                    if not self._shown_by_world(label, t):
-                        self.scene.set_position(label, t)
+                    self.sender.always(partial(self._show_position, label, t))
+        if self._trace_new:
+            self.sender.always(partial(self.scene.extend_trace, self._trace_new))
+            self._trace_new = []
+        self.sender.latest(partial(self._show_state, poses, flange, statement_caption(self.executive, self.robot.time_s())))
 
-    def _shown_by_world(self, label: str, world_t: np.ndarray) -> bool:
-        """An off-line program's positions are the world's frames under their short names: draw them once."""
-        same = [node for key, node in (*self.scene.objects.items(), *self.scene.positions.items())
-                if key == label or key.endswith(f".{label}")]
-        return any(np.allclose(node.position, world_t[:3, 3], atol=1e-6) for node in same) and label not in self.scene.positions
+    def _show_state(self, poses: Poses | None, flange: np.ndarray | None, caption: str) -> None:
+        if poses is not None:
+            self.scene.move_cell(poses)
+        if flange is not None:
+            self._flange_node.position = flange[:3, 3]
+            self._flange_node.wxyz = wxyz_of(flange[:3, :3])
+        self.scene.set_caption(caption)
+        self.updates += 1
+
+    def _show_position(self, label: str, world_t: np.ndarray) -> None:
+        """A declared position; an off-line program's positions are the world's frames under short names: drawn once."""
+        if label not in self.scene.positions:
+            same = [node for key, node in (*self.scene.objects.items(), *self.scene.positions.items())
+                    if key == label or key.endswith(f".{label}")]
+            if any(np.allclose(node.position, world_t[:3, 3], atol=1e-6) for node in same):
+                return
+        self.scene.set_position(label, world_t)
 
     def finish(self) -> None:
-        """The last state of the run, whatever the rate; stop listening to the motion layer."""
+        """Show the last state of the run, whatever the rate, and wait until it is sent; stop listening."""
         self._trace_new.append(self._tcp_m())
         self.update()
+        self.sender.close()
         listeners = self.robot.layer.plan_listeners
-        if self.scene.add_path in listeners:
-            listeners.remove(self.scene.add_path)
+        if self._planned in listeners:
+            listeners.remove(self._planned)

@@ -21,5 +21,6 @@ def show_still(server: Any, world: Any, program: n.Program | None, registry: Any
         raise OrcError(executive.report())
     view = LiveView(CellScene(server), executive, cell_robot, world)
     view.attach(shown)
+    view.sender.drain()  # everything is drawn when this returns
     view.scene.set_caption(caption)
     return view
