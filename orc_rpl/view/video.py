@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -42,11 +44,17 @@ class VideoRecorder:
         self.camera.aim(framing.lookat_m, framing.distance_m, framing.azimuth_deg, framing.elevation_deg)
         self.executive.tracing = True  # the caption follows every statement
         self._font = ImageFont.load_default(size=CAPTION_PX)
+        # written beside the target and renamed at the end: a run that dies leaves no half video over an old one
+        self.path = Path(path)
+        handle, temporary = tempfile.mkstemp(dir=self.path.resolve().parent, prefix=f".{self.path.name}.", suffix=".mp4")
+        os.close(handle)
+        self._temporary = Path(temporary)
         try:
-            self._writer = imageio.get_writer(str(path), format="FFMPEG", mode="I", fps=fps, codec="libx264",
+            self._writer = imageio.get_writer(temporary, format="FFMPEG", mode="I", fps=fps, codec="libx264",
                                               pixelformat="yuv420p", macro_block_size=16, quality=7)
         except Exception as error:  # no ffmpeg, a folder that cannot be written
             self.camera.close()
+            self._temporary.unlink(missing_ok=True)
             raise UsageError(f"--video {path}: cannot write a video there ({type(error).__name__}: {error})") from None
         self._write()  # the cell as it stands before anything moves
 
@@ -69,6 +77,10 @@ class VideoRecorder:
         self.frames += 1
 
     def close(self) -> None:
-        """Finish the file and free the renderer."""
-        self._writer.close()
-        self.camera.close()
+        """Finish the file, put it in its place and free the renderer."""
+        try:
+            self._writer.close()
+            os.replace(self._temporary, self.path)
+        finally:
+            self._temporary.unlink(missing_ok=True)
+            self.camera.close()

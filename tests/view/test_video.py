@@ -22,6 +22,7 @@ def test_video_has_a_frame_per_25th_of_a_simulated_second(tmp_path) -> None:
                "--summary-json", str(summary))
     out, err = proc.communicate(timeout=600)
     assert proc.returncode == 0, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.json", "run.mp4"], "no temporary file is left behind"
     cycle_s = json.loads(summary.read_text())["cycle_time_s"]
     reader = imageio.get_reader(str(video))
     try:
