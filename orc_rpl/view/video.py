@@ -80,7 +80,17 @@ class VideoRecorder:
         """Finish the file, put it in its place and free the renderer."""
         try:
             self._writer.close()
+            os.chmod(self._temporary, _mode_for(self.path))
             os.replace(self._temporary, self.path)
         finally:
             self._temporary.unlink(missing_ok=True)
             self.camera.close()
+
+
+def _mode_for(path: Path) -> int:
+    """A replaced file keeps its mode; a new one gets the user's umask (mkstemp's own file is private)."""
+    if path.exists():
+        return path.stat().st_mode & 0o777
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
