@@ -50,8 +50,6 @@ def watching(args: argparse.Namespace) -> Any:
                 raise UsageError(f"--{option} needs --view")
     if args.fast and args.realtime:
         raise UsageError("--fast and --realtime contradict each other")
-    if args.port is not None and not 0 <= args.port <= 65535:
-        raise UsageError(f"--port: expected a port number 0..65535, got {args.port}")
     if args.video is not None:
         if not args.video.lower().endswith(".mp4"):
             raise UsageError(f"--video: the file must end in .mp4, got {args.video!r}")
@@ -59,14 +57,16 @@ def watching(args: argparse.Namespace) -> Any:
             raise UsageError(f"--video: the folder of '{args.video}' does not exist")
     if not (args.view or args.video):
         return None
+    from orc_rpl.view.rendering import request_rendering
+
+    if args.video:
+        request_rendering()  # before MuJoCo is first imported: it picks its GL backend then
     try:
-        from orc_rpl.view.rendering import request_rendering
-        from orc_rpl.view.server import DEFAULT_HOST, DEFAULT_PORT
+        from orc_rpl.view.server import DEFAULT_HOST, DEFAULT_PORT, check_port
         from orc_rpl.view.watch import Watching
     except ImportError as error:
         raise UsageError(f"--view and --video need the view extra (pip install 'orc_rpl[view]'): {error}") from None
-    if args.video:
-        request_rendering()  # before the plant is built: MuJoCo picks its GL backend when it is first imported
+    check_port(args.port)
     return Watching(view=args.view, host=args.host or DEFAULT_HOST, port=DEFAULT_PORT if args.port is None else args.port,
                     video=args.video, interactive=sys.stdin.isatty() and sys.stderr.isatty())
 

@@ -37,8 +37,6 @@ def run(args: argparse.Namespace) -> int:
     from orc_rpl.world import load_world
 
     try:
-        if args.port is not None and not 0 <= args.port <= 65535:
-            raise UsageError(f"--port: expected a port number 0..65535, got {args.port}")
         if not Path(args.world).is_file():
             raise UsageError(f"world model '{args.world}' does not exist")
         world = load_world(args.world)
@@ -48,7 +46,9 @@ def run(args: argparse.Namespace) -> int:
         source = program = None
         if args.program is not None:
             source, program = load_program(args.program, args.world)
-        from orc_rpl.view.server import DEFAULT_HOST, DEFAULT_PORT
+        from orc_rpl.view.server import DEFAULT_HOST, DEFAULT_PORT, check_port
+
+        check_port(args.port)
     except SourceError as error:
         sys.stderr.write(error.format() + "\n")
         return 2

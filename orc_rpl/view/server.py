@@ -16,6 +16,12 @@ DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8080
 
 
+def check_port(port: int | None) -> None:
+    """`--port`: a port number (0: the system chooses one)."""
+    if port is not None and not 0 <= port <= 65535:
+        raise UsageError(f"--port: expected a port number 0..65535, got {port}")
+
+
 def _no_share_links(*_: Any, **__: Any) -> None:
     """Share links go through a relay on the internet: the view never opens one, whatever a browser asks."""
     return None
