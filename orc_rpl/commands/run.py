@@ -170,10 +170,10 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     io_script = script_path(args.file, args.world)
     if io_script is not None:
         load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload)
-    wall_start = time.perf_counter()
     with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress, _watched(args, executive, robot, program,
                                                                                        registry, watch_how) as watchers:
         machine.robot = watchers.monitor(progress.monitor(robot)) if watchers is not None else progress.monitor(robot)
+        wall_start = time.perf_counter()  # after the view's page connected
         executive.run()
     machine.robot = robot
     wall_s = time.perf_counter() - wall_start
@@ -189,4 +189,6 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
             recording.to_npz(args.log)
         if args.plot:
             recording.plot_png(args.plot)
+    if watchers is not None:
+        watchers.linger()  # at a terminal, the 3D view stays open until Enter
     return 1 if executive.status == "failed" else 0

@@ -47,6 +47,13 @@ class Watchers:
     live: LiveView | None = None
     video: Any = None
     url: str | None = None
+    _linger: Any = None
+
+    def linger(self) -> None:
+        """At a terminal: keep the page open until Enter (call after the run's summary is printed), then close it."""
+        if self._linger is not None:
+            self._linger()
+            self._linger = None
 
     def monitor(self, robot: Any) -> Any:
         """The robot for the executive to drive: its ticks feed the view and the video."""
@@ -99,7 +106,13 @@ def watch(executive: Executive, robot: Any, program: Any, world: Any, registry: 
     with ExitStack() as stack:
         if how.view:
             server = open_server(how.host, how.port)
-            stack.callback(close_server, server)
+            if how.interactive:  # closed by linger(), after the summary
+                def keep_open_then_close() -> None:
+                    _keep_open(stderr)
+                    close_server(server)
+                watchers._linger = keep_open_then_close
+            else:
+                stack.callback(close_server, server)
             watchers.url = url_of(server)
             stderr.write(f"orc: the 3D view is at {watchers.url}\n")
             stderr.flush()
@@ -108,7 +121,6 @@ def watch(executive: Executive, robot: Any, program: Any, world: Any, registry: 
             watchers.live = LiveView(CellScene(server), executive, robot, world)
             watchers.live.attach(program)
             if how.interactive:
-                stack.callback(_keep_open, stderr)
                 stderr.write(f"orc: open it in a browser; the run starts when it connects (at most {BROWSER_WAIT_S:.0f} s)\n")
                 connected.wait(BROWSER_WAIT_S)
             stack.callback(watchers.live.finish)
