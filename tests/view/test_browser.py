@@ -2,6 +2,12 @@
 
 from __future__ import annotations
 
+import os
+import pty
+import re
+import select
+import subprocess
+import sys
 import time
 import urllib.request
 from urllib.parse import urlsplit
@@ -107,3 +113,46 @@ def test_orc_run_view_serves_the_page_on_this_machine_only() -> None:
     assert proc.returncode == 0, err
     assert "moved 2 parts" in out
     assert "status: finished" in err
+
+
+def test_at_a_terminal_the_run_waits_for_the_browser_and_the_page_stays_open_until_enter() -> None:
+    executable = chromium_or_skip()
+    from playwright.sync_api import sync_playwright
+
+    master, slave = pty.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "orc_rpl", "run", str(ROOT / "programs" / "online" / "thesis_4_1_move_via.rpl"),
+                             "--view", "--port", "0"], cwd=ROOT, stdin=slave, stdout=slave, stderr=slave, close_fds=True)
+    os.close(slave)
+    seen = bytearray()
+
+    def read_until(pattern: bytes) -> re.Match[bytes]:
+        deadline = time.monotonic() + 300
+        while time.monotonic() < deadline:
+            match = re.search(pattern, seen)
+            if match:
+                return match
+            if select.select([master], [], [], 0.5)[0]:
+                try:
+                    seen.extend(os.read(master, 4096))
+                except OSError:
+                    break
+        raise AssertionError(f"never saw {pattern!r} in {bytes(seen[-400:])!r}")
+
+    try:
+        url = read_until(rb"(http://127\.0\.0\.1:\d+)").group(1).decode()
+        read_until(rb"the run starts when it connects")
+        assert b"status:" not in seen, "nothing moves before the page is open"
+        with sync_playwright() as p:
+            browser = p.chromium.launch(executable_path=executable, args=CHROMIUM_ARGS)
+            page = browser.new_page()
+            page.goto(url)
+            read_until(rb"stays open until you press Enter")
+            assert b"status: finished" in seen, "the summary comes before the question"
+            with urllib.request.urlopen(url, timeout=30) as response:  # still served after the run
+                assert response.status == 200
+            os.write(master, b"\n")
+            assert proc.wait(timeout=60) == 0
+            browser.close()
+    finally:
+        proc.kill()
+        os.close(master)
