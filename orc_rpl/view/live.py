@@ -150,6 +150,10 @@ class LiveView:
                 return
         self.scene.set_position(label, world_t)
 
+    def highlight(self, position: str | None = None, move_id: int | None = None) -> None:
+        """Show a selected position and a move's planned path (the pendant's selection and program pointer)."""
+        self.sender.always(partial(self.scene.highlight, position, move_id))
+
     def finish(self) -> None:
         """Show the last state of the run, whatever the rate, and wait until it is sent; stop listening."""
         self._trace_new.append(self._tcp_m())

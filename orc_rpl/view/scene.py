@@ -20,6 +20,9 @@ OBJECT_AXES_M = 0.1
 TRACE_CHUNK = 200
 #: Planned paths kept on screen (the oldest are removed first).
 PATHS_KEPT = 40
+#: What is selected (a position picked at the pendant, the motion at the program pointer) is drawn this much larger.
+HIGHLIGHT_SCALE = 2.5
+HIGHLIGHT_RGB = (30, 120, 255)
 
 
 def wxyz_of(rotation: np.ndarray) -> np.ndarray:
@@ -159,6 +162,16 @@ class CellScene:
             if first + TRACE_CHUNK + 1 >= len(self.trace_m):
                 return
             first += TRACE_CHUNK
+
+    def highlight(self, position: str | None = None, move_id: int | None = None) -> None:
+        """Show one position larger (None: none) and one move's planned path in blue and thicker (None: none)."""
+        for name, node in self.positions.items():
+            node.scale = HIGHLIGHT_SCALE if name == position else 1.0
+        for key, node in self.paths.items():
+            chosen = key == move_id
+            node.thickness = 6.0 if chosen else 3.0
+            node.colors = np.broadcast_to(np.array(HIGHLIGHT_RGB if chosen else PATH_RGB, dtype=np.uint8),
+                                          node.points.shape).copy()
 
     # -- words and the camera -------------------------------------------------------------
 

@@ -50,3 +50,22 @@ def test_still_view_shows_the_world_and_the_programs_positions_once() -> None:
     # the robot's links are there, at home
     assert len(scene.moving) >= 6
     assert scene.paths == {}
+
+
+def test_highlight_enlarges_one_position_and_colours_one_planned_path() -> None:
+    from orc_rpl.view.scene import HIGHLIGHT_RGB, HIGHLIGHT_SCALE, PATH_RGB, CellScene
+
+    server = open_server(port=0)
+    try:
+        scene = CellScene(server)
+        scene.set_position("p1", np.eye(4))
+        scene.set_position("p2", np.eye(4))
+        scene.add_path(1, np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.2, 0.0, 0.0]]))
+        scene.add_path(2, np.array([[0.2, 0.0, 0.0], [0.2, 0.1, 0.0]]))
+        scene.highlight(position="p2", move_id=1)
+        assert (scene.positions["p1"].scale, scene.positions["p2"].scale) == (1.0, HIGHLIGHT_SCALE)
+        assert (scene.paths[1].colors == HIGHLIGHT_RGB).all() and (scene.paths[2].colors == PATH_RGB).all()
+        scene.highlight()
+        assert scene.positions["p2"].scale == 1.0 and (scene.paths[1].colors == PATH_RGB).all()
+    finally:
+        close_server(server)
