@@ -79,7 +79,8 @@ def _serve(args: argparse.Namespace, world: object, program: object, registry: o
 
     server = open_server(host, port)
     try:
-        show_still(server, world, program, registry, robot_name, f"{args.world}" + (f" · {args.program}" if args.program else ""))
+        show_still(server, world, program, registry, robot_name, f"{args.world}" + (f" · {args.program}" if args.program else ""),
+                   args.program or "<program>")
         sys.stderr.write(f"orc: the 3D view is at {url_of(server)} (Ctrl-C to close it)\n")
         sys.stderr.flush()
         try:

@@ -51,7 +51,7 @@ class LiveView:
         self.period_s = 1.0 / rate_hz
         self.updates = 0                          #: updates sent so far (the benchmark's rate)
         self._cell = sim_cell(robot)
-        self._names = ()
+        self._names: tuple[str, ...] = ()
         self._seen: dict[str, Any] = {}
         self._next_wall_s = 0.0
         self._ticks = 0
@@ -87,8 +87,9 @@ class LiveView:
                 self.scene.add_object(obj.name, world.relative_pose(obj.name, FLANGE).matrix(), obj.model, "/flange")
                 continue
             self.scene.add_object(obj.name, world.world_pose(obj.name).matrix(), obj.model)
-            for frame in obj.frames:  # the world's named positions
-                dotted = f"{obj.name}.{frame.name}"
+            dotted_names = [f"{obj.name}.{frame.name}" for frame in obj.frames]  # the world's named positions
+            dotted_names += [f"{obj.name}.{path.name}[{i}]" for path in obj.paths for i in range(1, len(path.points) + 1)]
+            for dotted in dotted_names:
                 self.scene.set_position(dotted, world.world_pose(dotted).matrix())
 
     def _planned(self, move_id: int, tcp_m: np.ndarray) -> None:

@@ -39,12 +39,13 @@ def world_transforms(name: str, value: Any, executive: Executive) -> list[tuple[
     return []
 
 
-def evaluate_declarations(program: n.Program, robot: Any, registry: Any) -> Executive:
+def evaluate_declarations(program: n.Program, robot: Any, registry: Any, path: str = "<program>") -> Executive:
     """Run only the program's top-level declarations (nothing moves): their values are then the executive's globals.
 
-    A declaration that fails leaves the executive failed with its error (status "failed", `report()`).
+    ENUMs and routines come along (a declaration may use them). A declaration that fails leaves the executive
+    failed with its error (status "failed", `report()`).
     """
-    only = tuple(s for s in program.body if isinstance(s, n.Declaration))
-    executive = Executive(dataclasses.replace(program, body=only), robot, registry, output=lambda line: None)
+    only = tuple(s for s in program.body if isinstance(s, n.Declaration | n.EnumDecl | n.Routine))
+    executive = Executive(dataclasses.replace(program, body=only), robot, registry, path=path, output=lambda line: None)
     executive.run()
     return executive

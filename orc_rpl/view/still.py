@@ -12,11 +12,12 @@ from orc_rpl.view.positions import evaluate_declarations
 from orc_rpl.view.scene import CellScene
 
 
-def show_still(server: Any, world: Any, program: n.Program | None, registry: Any, robot: str, caption: str) -> LiveView:
-    """Draw the still view on `server`; an OrcError when a declaration of the program cannot be evaluated."""
+def show_still(server: Any, world: Any, program: n.Program | None, registry: Any, robot: str, caption: str,
+               path: str = "<program>") -> LiveView:
+    """Draw the still view on `server`; an OrcError when a declaration of the program (at `path`) cannot be evaluated."""
     cell_robot = CellRobot.virtual(robot=robot)
     shown = program if program is not None else n.Program(body=())
-    executive = evaluate_declarations(shown, cell_robot, registry)
+    executive = evaluate_declarations(shown, cell_robot, registry, path)
     if executive.status == "failed":
         raise OrcError(executive.report())
     view = LiveView(CellScene(server), executive, cell_robot, world)

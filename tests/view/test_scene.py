@@ -69,3 +69,20 @@ def test_highlight_enlarges_one_position_and_colours_one_planned_path() -> None:
         assert scene.positions["p2"].scale == 1.0 and (scene.paths[1].colors == PATH_RGB).all()
     finally:
         close_server(server)
+
+
+@pytest.mark.sim
+@pytest.mark.parametrize("program", sorted([*(ROOT / "programs").glob("*/*.rpl"), *(ROOT / "programs").glob("*/*.orl")]),
+                         ids=lambda p: p.name)
+def test_every_program_of_the_repository_shows_its_positions_without_running(program) -> None:
+    from orc_rpl.syntax.files import declared_world
+
+    world_path = declared_world(program, program.read_text(encoding="utf-8")) or ROOT / "worlds" / "cell_thesis.yaml"
+    _, tree = load_program(program, world_path)
+    server = open_server(port=0)
+    try:
+        view = show_still(server, load_world(world_path), tree, runtime_registry(), "irb2400", program.name, str(program))
+    finally:
+        close_server(server)
+    assert view.scene.positions, "a program of the repository declares or uses positions"
+    assert view.executive.status == "finished"
