@@ -16,6 +16,7 @@ from orc_rpl.view.positions import declared_names, world_transforms
 from orc_rpl.view.scene import CellScene, wxyz_of
 from orc_rpl.view.sender import Sender
 from orc_rpl.world.objects import FLANGE, PREDEFINED
+from orc_rpl.world.pose import shown_pose
 
 #: Updates per second of wall-clock time the view sends at most (the robot, the trace, the caption).
 RATE_HZ = 40.0
@@ -131,7 +132,9 @@ class LiveView:
         if self._trace_new:
             self.sender.always(partial(self.scene.extend_trace, self._trace_new))
             self._trace_new = []
-        self.sender.latest(partial(self._show_state, poses, flange, statement_caption(self.executive, self.robot.time_s())))
+        tcp = shown_pose(self.robot.tcp_pose(self.executive.machine.last_tool)).text()
+        caption = f"{statement_caption(self.executive, self.robot.time_s())}\n\nTCP {tcp}"
+        self.sender.latest(partial(self._show_state, poses, flange, caption))
 
     def _show_state(self, poses: Poses | None, flange: np.ndarray | None, caption: str) -> None:
         if poses is not None:

@@ -27,6 +27,7 @@ from orc_rpl.transform.loading import load_program  # noqa: E402
 from orc_rpl.view.live import LiveView, sim_cell  # noqa: E402
 from orc_rpl.view.scene import CellScene  # noqa: E402
 from orc_rpl.view.server import close_server, open_server  # noqa: E402
+from orc_rpl.world.pose import shown_pose  # noqa: E402
 
 pytestmark = pytest.mark.sim
 
@@ -65,6 +66,9 @@ def test_browser_shows_the_run_where_the_recording_says() -> None:
             assert executive.run() == "finished"
             view.finish()
             page.get_by_text(f"t = {robot.time_s():.2f} s").first.wait_for(timeout=120_000)  # the last update arrived
+            # the measured TCP, shown the one way orc run's summary shows it
+            tcp_text = shown_pose(robot.tcp_pose(executive.machine.last_tool)).text()
+            page.get_by_text(f"TCP {tcp_text}").first.wait_for(timeout=120_000)
             time.sleep(1.0)  # the scene fades in
             pixels = _canvas_pixels(page)
             browser.close()
