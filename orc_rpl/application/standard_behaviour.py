@@ -56,6 +56,8 @@ def _zone(value: Any) -> float:
         return 0.0
     if type(value) is Quantity and value.dim == LENGTH and value.value >= 0:
         return value.value
+    if type(value) in (int, float) and value > 0:
+        return float(value)  # a plain number where a length is expected is in metres
     raise BehaviourError(f"ZONE must be a length or FINE, got {value}")
 
 

@@ -10,7 +10,7 @@ from orc_rpl.checking.symbols import (
 )
 from orc_rpl.errors import Diagnostic, Location
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.units import TIME
+from orc_rpl.syntax.units import DIMENSIONLESS, TIME
 
 _DECLARED_KIND = {"TOOL": "tool", "FRAME": "frame", "POS": "pos", "PATH": "path", "CONST": "const", "VAR": "var"}
 _OUTPUTS = {"DigOut", "AnalogOut"}
@@ -26,6 +26,7 @@ class Checker:
         self.diagnostics: list[Diagnostic] = []
         self.types = ExpressionTyper(registry, self.report)
         self.installs: dict[str, str] = {}          #: installed name -> kind
+        self.dimension_lines: dict[int, int] = {}   #: id of a variable's Symbol -> line that fixed its dimension
         self._handlers: dict[type, object] = {}
 
     # ---- reporting
@@ -228,8 +229,10 @@ class Checker:
             self.report(clause.value, f"attribute {attribute.name} of {stmt.keyword} expects {describe_types(attribute.types)}, got {value}")
 
     def _Assign(self, stmt: n.Assign, scope: Scope, frame: str) -> None:
-        self.infer(stmt.value, scope, frame)
+        value = self.infer(stmt.value, scope, frame)
         target = stmt.target
+        if isinstance(target, n.Name):
+            self.track_dimension(target, stmt.value, value, scope)
         root = target
         while isinstance(root, (n.Field, n.Index)):
             root = root.value
@@ -243,6 +246,31 @@ class Checker:
                 self.report(root, f"'{root.id}' is a {symbol.kind.replace('_', ' ')} and cannot be assigned")
         if not isinstance(target, n.Name):
             self.infer(target, scope, frame)
+
+    def track_dimension(self, target: n.Name, expr: n.Expression, value: StaticType, scope: Scope) -> None:
+        """A variable takes the dimension of the quantities assigned to it; a second dimension is an error.
+
+        Plain numbers fit any dimension (they are SI of the dimension the context needs), so `x = 0` then
+        `x = x + 1mm` is fine. The check follows the file order, which is enough to catch `a = 2s` then
+        `c = a + 30mm` before the program runs.
+        """
+        symbol = scope.lookup(target.id)
+        if symbol is None or symbol.kind not in ("assigned", "var"):
+            return
+        old = symbol.type
+        if value.kind != "number" or value.dim is None:
+            if old.kind == "number" and value.kind != "any":
+                symbol.type = ANY  # a variable that changes kind: the checker cannot tell any more
+            return
+        if old.kind == "number" and old.dim not in (None, DIMENSIONLESS) and value.dim not in (DIMENSIONLESS, old.dim):
+            line = self.dimension_lines.get(id(symbol), "?")
+            self.report(expr, f"'{target.id}' holds {old} (since line {line}); it cannot be given {value}",
+                        "use another variable for a value of another dimension")
+            return
+        if old.kind in ("number", "any") and value.dim != DIMENSIONLESS or old.kind == "any":
+            if old.dim != value.dim:
+                self.dimension_lines[id(symbol)] = expr.span.line
+            symbol.type = value
 
     def _CallStatement(self, stmt: n.CallStatement, scope: Scope, frame: str) -> None:
         call = stmt.call

@@ -39,6 +39,9 @@ def accepts(types: tuple[object, ...], actual: StaticType) -> bool:
         if isinstance(expected, Dimension):
             if actual.kind == "number" and (actual.dim is None or actual.dim == expected):
                 return True
+            # A plain number where a length or an angle is expected is in SI (m, rad), as in world files.
+            if actual.kind == "number" and actual.dim == DIMENSIONLESS and expected in (LENGTH, ANGLE):
+                return True
         elif expected == "position" and actual.kind in ("pose", "joints"):
             return True
         elif expected == "function" and actual.kind == "routine":
@@ -169,9 +172,7 @@ class ExpressionTyper:
             if param is None:
                 self.report(argument, f"{name} has no parameter '{argument.name.id}'", "")  # type: ignore[union-attr]
                 continue
-            # A plain number where a length or an angle is expected is in SI (m, rad), as in world files.
-            plain_ok = actual.kind == "number" and actual.dim == DIMENSIONLESS and (ANGLE in param.types or LENGTH in param.types)
-            if not plain_ok and not accepts(param.types, actual):
+            if not accepts(param.types, actual):
                 self.report(argument.value, f"argument '{param.name}' of {name} expects {describe_types(param.types)}, "
                             f"got {actual}", "")
         if name in _FRAME_KEEPING and arg_types and arg_types[0].kind == "pose":
@@ -196,6 +197,11 @@ class ExpressionTyper:
         if left.kind != "number" or right.kind != "number" or left.dim is None or right.dim is None:
             return BOOL if op in ("=", "<>", "<", "<=", ">", ">=") else ANY
         if op in ("+", "-", "=", "<>", "<", "<=", ">", ">="):
+            # A plain number meeting a quantity is in SI of the quantity's dimension (`HERE.y > 0`).
+            if left.dim == DIMENSIONLESS:
+                left = right
+            elif right.dim == DIMENSIONLESS:
+                right = left
             if left.dim != right.dim:
                 verb = {"+": "add", "-": "subtract"}.get(op, "compare")
                 joiner = "with" if verb == "compare" else ("from" if verb == "subtract" else "and")

@@ -78,6 +78,14 @@ def unescape(literal: str) -> str:
     return "".join(out)
 
 
+def continuation_comments(text: str, marker: str) -> tuple[str | None, tuple[str, ...]]:
+    """The comments a CONT token holds: the one ending the line above, and the comment-only lines in between."""
+    lines = text.split("\n")[:-1]  # the last piece is the continuation line's indentation
+    first = lines[0].rstrip("\r")
+    between = tuple(line.strip(" \t\r")[len(marker):].rstrip() for line in lines[1:])
+    return (first[len(marker):].rstrip() if first.startswith(marker) else None), between
+
+
 def comment_text(token: Token | None) -> str | None:
     """The text of a `--` comment token after the dashes, trailing blanks removed."""
     if token is None:
@@ -140,9 +148,8 @@ def _clauses(parts: list[Any]) -> tuple[n.Clause, ...]:
             pending = part
             continue
         if pending is not None:
-            text = str(pending)
-            comment = comment_text(Token("COMMENT", text[: text.index("\n")].rstrip("\r"))) if text.startswith("--") else None
-            part = replace(part, new_line=True, line_comment=comment)
+            comment, between = continuation_comments(str(pending), "--")
+            part = replace(part, new_line=True, line_comment=comment, comments_before=between)
             pending = None
         clauses.append(part)
     return tuple(clauses)

@@ -68,6 +68,14 @@ def _width(text: str) -> int:
     return len(text) - len(text.lstrip(" \t"))
 
 
+def _continues(lines: list[str], number: int) -> bool:
+    """True when the comment-only lines from line `number` on are followed by a continuation line."""
+    for text in lines[number:]:
+        if not text.strip(" \t\r").startswith("#"):
+            return bool(_CONTINUATION.match(text))
+    return False
+
+
 def plan_indentation(lines: list[str]) -> IndentPlan:
     """Where blocks open and close. Blank lines go to the innermost block their own indentation reaches."""
     plan = IndentPlan()
@@ -99,6 +107,8 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
             continue
         if not previous_blank and _CONTINUATION.match(text):
             continue  # the CONT token joins it to the line above
+        if not previous_blank and stripped.startswith("#") and _continues(lines, number):
+            continue  # a comment line between a statement and its continuation is part of the CONT token
         previous_blank = False
         width = _width(text)
         comment_only = stripped.startswith("#")
