@@ -89,8 +89,6 @@ def standard_motion(call: MotionCall) -> MotionRequest:
         raise BehaviourError("a Cartesian motion needs a pose as its target, not a joint position")
     if kind == "circular" and (len(via) != 1 or type(via[0]) is not Pose):
         raise BehaviourError("CMOVE needs exactly one VIA pose: the circle passes through it")
-    if attrs.get("FORCE") is not None:
-        call.warn("FORCE is not applied: the standard motions have no force control (GRINDMOVE has)")
     speed_m_s, speed_fraction = _speed(attrs.get("SPEED"), call.speed_override)
     accel = attrs.get("ACCEL")
     if accel is None:

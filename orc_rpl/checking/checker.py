@@ -240,8 +240,12 @@ class Checker:
         attribute = spec.attribute(name)
         if attribute is None:
             guess = suggest(name, spec.attribute_names)
+            elsewhere = sorted(k for k, other in self.registry.motions.items() if other.attribute(name) is not None)
+            hint = "accepted: " + ", ".join(a.name for a in spec.attributes)
+            if elsewhere and not guess:
+                hint = f"{name} is an attribute of {', '.join(elsewhere)}; {hint}"
             self.report(clause.name, f"{stmt.keyword} does not accept attribute '{name}'" + (f"; did you mean '{guess}'?" if guess else ""),
-                        "accepted: " + ", ".join(a.name for a in spec.attributes))
+                        hint)
             return
         self.check_duplicate_attribute(seen, attribute.name, clause)
         if isinstance(clause.value, n.Name):

@@ -22,23 +22,23 @@ ENDFUNC
 """
 
 IMPURE = [
-    ("assigns a global", "FUNC ramp(s)\n    count = count + 1\n    RETURN 20N\nENDFUNC\nMOVE grinder TO start WITH FORCE = ramp\n",
+    ("assigns a global", "FUNC ramp(s)\n    count = count + 1\n    RETURN 20N\nENDFUNC\nGRINDMOVE grinder TO start WITH FORCE = ramp\n",
      "8:5: FUNC ramp is used as attribute FORCE at line 11, so it must be free of side effects, but it assigns the global 'count'"),
-    ("writes an output", "FUNC ramp(s)\n    DigOut[2] = 1\n    RETURN 20N\nENDFUNC\nMOVE grinder TO start WITH FORCE = ramp\n",
+    ("writes an output", "FUNC ramp(s)\n    DigOut[2] = 1\n    RETURN 20N\nENDFUNC\nGRINDMOVE grinder TO start WITH FORCE = ramp\n",
      "8:5: FUNC ramp is used as attribute FORCE at line 11, so it must be free of side effects, but it writes the output DigOut"),
     ("prints", "FUNC ramp(s)\n    IF s > 0.5 THEN\n        PRINT s\n    ENDIF\n    RETURN 20N\nENDFUNC\n"
-     "MOVE grinder TO start WITH FORCE = ramp\n",
+     "GRINDMOVE grinder TO start WITH FORCE = ramp\n",
      "9:9: FUNC ramp is used as attribute FORCE at line 13, so it must be free of side effects, but it prints"),
-    ("waits", "FUNC ramp(s)\n    WAIT 1s\n    RETURN 20N\nENDFUNC\nMOVE grinder TO start WITH FORCE = ramp\n",
+    ("waits", "FUNC ramp(s)\n    WAIT 1s\n    RETURN 20N\nENDFUNC\nGRINDMOVE grinder TO start WITH FORCE = ramp\n",
      "8:5: FUNC ramp is used as attribute FORCE at line 11, so it must be free of side effects, but it waits"),
     ("moves the robot, as a target", "FUNC path(s)\n    MOVE ARM TO start\n    RETURN start\nENDFUNC\nLMOVE ARM TO path\n",
      "8:5: FUNC path is used as the target at line 11, so it must be free of side effects, but it moves the robot (MOVE)"),
     ("calls a function that moves the robot", "FUNC ramp(s)\n    seam = RecordSeam([start])\n    RETURN 20N\nENDFUNC\n"
-     "MOVE grinder TO start WITH FORCE = ramp\n",
+     "GRINDMOVE grinder TO start WITH FORCE = ramp\n",
      "8:5: FUNC ramp is used as attribute FORCE at line 11, so it must be free of side effects, but it calls RecordSeam, "
      "which moves the robot"),
     ("through a helper", "FUNC helper(x)\n    count = x\n    RETURN x\nENDFUNC\nFUNC ramp(s)\n    RETURN helper(20N)\nENDFUNC\n"
-     "MOVE grinder TO start WITH FORCE = ramp\n",
+     "GRINDMOVE grinder TO start WITH FORCE = ramp\n",
      "12:5: FUNC ramp is used as attribute FORCE at line 14, so it must be free of side effects, but it calls helper, "
      "which assigns the global 'count' (line 8)"),
     ("an UNTIL condition", "FUNC seen()\n    DigOut[3] = 1\n    RETURN DigIn[2] = 1\nENDFUNC\nMOVE ARM TO start UNTIL seen()\n",

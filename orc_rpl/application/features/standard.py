@@ -33,17 +33,11 @@ def _p(name: str, *types: object, required: bool = True) -> ParamSpec:
     return ParamSpec(name, tuple(types) or ("any",), required=required)  # type: ignore[arg-type]
 
 
-#: The thesis' first listing (section 2) gives a plain MOVE a FORCE: contact force along the tool's z axis.
-CONTACT_FORCE = AttributeSpec("FORCE", (FORCE,), None, "contact force along the tool z axis (force control normal to the path)")
-
-
 def register(registry: Registry) -> None:
-    """Declare the standard words."""
-    registry.add_motion(motion("MOVE", "joint-interpolated, time-optimal motion through its VIA points", CONTACT_FORCE,
-                               targets=("TO", "ALONG")))
-    registry.add_motion(motion("JMOVE", "alias of MOVE: joint-interpolated motion", CONTACT_FORCE, targets=("TO", "ALONG")))
-    registry.add_motion(motion("LMOVE", "straight-line TCP motion, orientation interpolated", CONTACT_FORCE,
-                               targets=("TO", "ALONG")))
+    """Declare the standard words (no FORCE: force control belongs to GRINDMOVE, so `MOVE ... WITH FORCE` is a check error)."""
+    registry.add_motion(motion("MOVE", "joint-interpolated, time-optimal motion through its VIA points", targets=("TO", "ALONG")))
+    registry.add_motion(motion("JMOVE", "alias of MOVE: joint-interpolated motion", targets=("TO", "ALONG")))
+    registry.add_motion(motion("LMOVE", "straight-line TCP motion, orientation interpolated", targets=("TO", "ALONG")))
     registry.add_motion(motion("CMOVE", "circular motion through the current position, the VIA point and the target",
                                needs_via=True))
     functions = [
