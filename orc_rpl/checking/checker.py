@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from orc_rpl.application.declarations import describe_types
 from orc_rpl.application.registry import Registry, default_registry, suggest
 from orc_rpl.checking.expressions import ExpressionTyper, accepts
@@ -446,10 +448,16 @@ def _describe(expr: n.Expression) -> str:
     return expression(expr)
 
 
-def check_program(program: n.Program, path: str = "<input>", registry: Registry | None = None) -> list[Diagnostic]:
-    """Every static error of a program, in file order (empty when the program is clean)."""
+def check_program(program: n.Program, path: str = "<input>", registry: Registry | None = None,
+                  world_attributes: Mapping[str, Mapping[str, object]] | None = None) -> list[Diagnostic]:
+    """Every static error of a program, in file order (empty when the program is clean).
+
+    `world_attributes` (object -> soft and spatial attributes) are the program's world: `pallet.next_row` is checked
+    against it; without it such a field is an error.
+    """
     registry = registry or default_registry()
     checker = Checker(path, registry)
+    checker.types.world_attributes = world_attributes or {}
     scope = Scope(parent=builtin_scope(list(registry.functions)))
     checker.collect(program.body, scope, top_level=True)
     checker.check_body(program.body, scope, WORLD)

@@ -46,11 +46,11 @@ def speed_override(text: str) -> float:
     return value
 
 
-def check(program: Any, path: str, registry: Any) -> list[Diagnostic]:
-    """The static checks (the one place the run command calls the checker)."""
+def check(program: Any, path: str, registry: Any, attributes: Any = None) -> list[Diagnostic]:
+    """The static checks (the one place the run command calls the checker); `attributes`: the world's soft and spatial ones."""
     from orc_rpl.checking.checker import check_program
 
-    return check_program(program, path, registry)
+    return check_program(program, path, registry, attributes)
 
 
 def _fail_usage(message: str) -> int:
@@ -61,7 +61,7 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
-    from orc_rpl.transform.loading import load_program
+    from orc_rpl.transform.loading import load_program_and_attributes
 
     try:
         override = speed_override(args.speed_override)
@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
                 raise UsageError(f"--{option.replace('_', '-')}: the folder of '{target}' does not exist")
         # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
-        source, program = load_program(args.file, world_file)
+        source, program, attributes = load_program_and_attributes(args.file, world_file)
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
@@ -84,14 +84,14 @@ def run(args: argparse.Namespace) -> int:
     except OrcError as error:  # an off-line program its world model cannot map
         return _fail_usage(str(error))
     registry = runtime_registry()
-    diagnostics = check(program, args.file, registry)
+    diagnostics = check(program, args.file, registry, attributes)
     if diagnostics:
         for diagnostic in diagnostics:
             sys.stderr.write(diagnostic.format(source) + "\n")
         sys.stderr.write(f"orc run: {len(diagnostics)} check error{'s' if len(diagnostics) != 1 else ''}; nothing moved\n")
         return 2
     try:
-        return _run(args, source, program, registry, override)
+        return _run(args, source, program, registry, override, attributes)
     except UsageError as error:
         return _fail_usage(str(error))
     except OrcError as error:
@@ -102,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
         return 1
 
 
-def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float) -> int:
+def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float, attributes: Any) -> int:
     from orc_rpl.executive.report import Progress, summary, write_summary_text
     from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.executive import Executive
@@ -117,7 +117,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         sys.stdout.flush()
 
     executive = Executive(program, robot, registry, path=args.file, source=source, output=out,
-                          options=Options(speed_override=override))
+                          options=Options(speed_override=override, world_attributes=attributes))
     machine = executive.machine
     machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
     io_script = script_path(args.file, args.world)

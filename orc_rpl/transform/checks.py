@@ -35,4 +35,6 @@ def check_offline(program: n.Program, world: World, path: str, source: str, regi
         return error.diagnostics
     except TransformError as error:
         return [Diagnostic(Location(path, 1, 1), str(error))]
-    return check_program(online, path, registry)
+    from orc_rpl.transform.loading import world_attributes
+
+    return check_program(online, path, registry, world_attributes(world))
