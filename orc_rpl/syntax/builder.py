@@ -53,9 +53,15 @@ def _end(child: Any) -> n.Span | None:
 
 def meta_span(children: list[Any]) -> n.Span:
     """The span of a rule: from its first token to its last (keywords dropped by the grammar are not seen)."""
+    # The common cases first, without making a Span per child: the parser calls this for every rule it reduces.
+    head, tail = children[0] if children else None, children[-1] if children else None
+    if type(head) is Token and type(tail) is Token:
+        return n.Span(head.line, head.column, tail.end_line, tail.end_column)
     first = next((s for s in map(_start, children) if s), None)
     if first is None:
         return n.NO_SPAN
+    if type(tail) is Token:
+        return n.Span(first.line, first.column, tail.end_line, tail.end_column)
     last = next((s for s in map(_end, reversed(children)) if s), first)
     return n.Span(first.line, first.column, last.end_line, last.end_column)
 

@@ -163,6 +163,7 @@ class OfflinePostLexer:
 
     def __init__(self) -> None:
         self.plan = IndentPlan()
+        self.names: set[str] = set()   #: the NAME tokens of the last parse (are off-line keywords among them?)
 
     def _tokens(self, kinds: list[str], like: Token) -> Iterator[Token]:
         for kind in kinds:
@@ -171,7 +172,10 @@ class OfflinePostLexer:
     def process(self, stream: Iterator[Token]) -> Iterator[Token]:
         first = True
         last: Token | None = None
+        names = self.names = set()
         for token in stream:
+            if token.type == "NAME":
+                names.add(token.value)
             if first:
                 first = False
                 yield from self._tokens(self.plan.before.get(1, []), token)
