@@ -76,6 +76,15 @@ def _continues(lines: list[str], number: int) -> bool:
     return False
 
 
+def _middle_follows(lines: list[str], number: int) -> bool:
+    """True when the next line with code after line `number` is `else:`, `elif`, `except` or `end`."""
+    for text in lines[number:]:
+        stripped = text.strip(" \t\r")
+        if stripped and not stripped.startswith("#"):
+            return bool(_MIDDLE.match(text))
+    return False
+
+
 def plan_indentation(lines: list[str]) -> IndentPlan:
     """Where blocks open and close. Blank lines go to the innermost block their own indentation reaches."""
     plan = IndentPlan()
@@ -112,6 +121,8 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
         previous_blank = False
         width = _width(text)
         comment_only = stripped.startswith("#")
+        if comment_only and width < stack[-1] and _middle_follows(lines, number):
+            continue  # `# ...` just before `else:`/`elif`/`except` at the header's indentation stays in the block above
         if _MIDDLE.match(text) and pending:
             # Blank lines before `else:`, `elif`, `except` or `end` belong to the block above it: the header's
             # own block when the header is right above, else the block the keyword continues.
