@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import abc
 import difflib
 import re
 from dataclasses import dataclass, field
@@ -27,26 +26,43 @@ _MAYBE_ANCHOR = re.compile(r"(?:^|[\s\[\]{},:-])[&*][^\s,\[\]{}]", re.MULTILINE)
 __all__ = ["MappingNode", "Node", "ScalarNode", "SequenceNode", "SourceText", "did_you_mean", "find"]
 
 
-class Node(abc.ABC):
+class _NodeKind(type):
+    """`isinstance` by the concrete class of either parser's node: a set lookup (an ABC's registry walk is slower)."""
+
+    classes: frozenset[type]
+
+    def __instancecheck__(cls, obj: object) -> bool:
+        return type(obj) in cls.classes
+
+
+def _both(name: str) -> frozenset[type]:
+    """The node class of that name in ruamel and, when it is there, in PyYAML."""
+    return frozenset({getattr(_rt_nodes, name), *([getattr(_libyaml.nodes, name)] if _libyaml is not None else [])})
+
+
+class Node(metaclass=_NodeKind):
     """A YAML node as either parser makes it: `value`, `tag`, `style`, `flow_style`, `start_mark`, `end_mark`."""
 
+    classes = _both("ScalarNode") | _both("SequenceNode") | _both("MappingNode")
 
-class ScalarNode(Node):
+
+class ScalarNode(metaclass=_NodeKind):
     """A scalar node."""
 
+    classes = _both("ScalarNode")
 
-class SequenceNode(Node):
+
+class SequenceNode(metaclass=_NodeKind):
     """A sequence node."""
 
+    classes = _both("SequenceNode")
 
-class MappingNode(Node):
+
+class MappingNode(metaclass=_NodeKind):
     """A mapping node: `value` is a list of (key, value) node pairs."""
 
+    classes = _both("MappingNode")
 
-for _ours, _name in ((Node, "Node"), (ScalarNode, "ScalarNode"), (SequenceNode, "SequenceNode"), (MappingNode, "MappingNode")):
-    _ours.register(getattr(_rt_nodes, _name))
-    if _libyaml is not None:
-        _ours.register(getattr(_libyaml.nodes, _name))
 
 if _libyaml is not None:
     class _Yaml12Loader(_CParser, _libyaml.resolver.BaseResolver):  # type: ignore[misc, name-defined]
