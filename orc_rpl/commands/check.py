@@ -15,7 +15,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser = subparsers.add_parser("check", help="check programs for syntax and static errors",
                                    description="Check programs; exit 0 when clean, 2 when any error is found.")
     parser.add_argument("files", nargs="+", metavar="FILE", help="program files (.rpl, .orl)")
-    parser.add_argument("--world", metavar="FILE", help="world model of off-line programs (else their '# world: FILE' line)")
+    parser.add_argument("--world", metavar="FILE", help="world model of off-line programs (else their '# world: FILE' line); "
+                        "for on-line programs, the world whose soft and spatial attributes they read (pallet.next_row)")
     return parser
 
 

@@ -24,7 +24,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                     "2 on usage, syntax or check errors.")
     parser.add_argument("file", metavar="FILE", help="program file (.rpl, or .orl with its world model)")
     parser.add_argument("--world", metavar="DIR|FILE", help="folder with the program's simulated-IO script (<name>.sim.yaml), "
-                                                           "or the world model (YAML) of an off-line program (.orl)")
+                                                           "or the world model (YAML) of an off-line program (.orl), or the "
+                                                           "world whose soft and spatial attributes an on-line program reads")
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
     parser.add_argument("--log", metavar="OUT.npz", help="write the recorded signals (q, q_ref, tau, tcp, s) as NPZ")
     parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
