@@ -23,7 +23,7 @@ _MOTION_KEYWORD = re.compile(r"(?:[A-Z][A-Z0-9_]*)?MOVE")
 
 def is_motion_keyword(word: str) -> bool:
     """True for every upper-case word ending in MOVE (`MOVE`, `LMOVE`, `GRINDMOVE`, ...)."""
-    return _MOTION_KEYWORD.fullmatch(word) is not None
+    return word.endswith("MOVE") and _MOTION_KEYWORD.fullmatch(word) is not None  # the cheap test first: every NAME asks
 
 
 def is_reserved(word: str) -> bool:
