@@ -79,6 +79,8 @@ class FastContextualLexer:
 def speed_up(lark: Lark) -> Lark:
     """The parser with its contextual lexer replaced by the fast one (same tokens, same errors)."""
     frontend = lark.parser
-    if isinstance(frontend.lexer, ContextualLexer) and len(frontend.lexer.root_lexer.scanner._mres) == 1:
-        frontend.lexer = FastContextualLexer(frontend.lexer)
+    holder = frontend.lexer if not isinstance(frontend.lexer, ContextualLexer) else frontend  # behind a postlexer, or not
+    inner = getattr(holder, "lexer", None)
+    if isinstance(inner, ContextualLexer) and len(inner.root_lexer.scanner._mres) == 1:
+        holder.lexer = FastContextualLexer(inner)
     return lark

@@ -11,6 +11,7 @@ from lark.exceptions import UnexpectedInput, UnexpectedToken
 from orc_rpl.errors import Diagnostic, Location, SourceError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.grammar_files import grammar_path
+from orc_rpl.syntax.fast_lexer import speed_up
 from orc_rpl.syntax.offline_builder import OFFLINE_KEYWORDS, OfflineTreeBuilder, check_names
 from orc_rpl.syntax.offline_lexer import OfflinePostLexer, code_part, plan_indentation
 from orc_rpl.syntax.parser import _diagnostic, parse_recovering, source_lines
@@ -27,7 +28,7 @@ _OFFLINE_NAMES = {"_INDENT": "an indented block", "_DEDENT": "the end of the blo
 def _lark() -> tuple[Lark, OfflinePostLexer]:
     """The off-line parser and its postlexer, built once per process."""
     postlexer = OfflinePostLexer()
-    lark = Lark(
+    lark = speed_up(Lark(
         grammar_path("orl.lark").read_text(encoding="utf-8"),
         parser="lalr",
         lexer="contextual",
@@ -35,7 +36,7 @@ def _lark() -> tuple[Lark, OfflinePostLexer]:
         maybe_placeholders=True,
         postlex=postlexer,
         transformer=OfflineTreeBuilder(),
-    )
+    ))
     return lark, postlexer
 
 

@@ -60,3 +60,24 @@ def test_same_outcome_for_odd_input(text: str) -> None:
             assert (raised.value.line, raised.value.column) == (error.line, error.column)  # type: ignore[union-attr]
         return
     assert FAST.parse(text) == expected
+
+
+OFFLINE = sorted([*ROOT.glob("programs/offline/*.orl"), *ROOT.glob("tests/**/*.orl")])
+
+
+@pytest.mark.parametrize("program", OFFLINE, ids=lambda p: str(p.relative_to(ROOT)))
+def test_offline_same_tree_and_spans_as_lark(program: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from orc_rpl.syntax import offline_parser
+    from orc_rpl.syntax.offline_builder import OfflineTreeBuilder
+    from orc_rpl.syntax.offline_lexer import OfflinePostLexer
+
+    text = program.read_text()
+    fast = offline_parser.parse_offline(text, "p.orl")
+    postlexer = OfflinePostLexer()
+    plain = Lark(grammar_path("orl.lark").read_text(), parser="lalr", lexer="contextual", start="program",
+                 maybe_placeholders=True, postlex=postlexer, transformer=OfflineTreeBuilder())
+    monkeypatch.setattr(offline_parser, "_lark", lambda: (plain, postlexer))
+    expected = offline_parser.parse_offline(text, "p.orl")
+    assert not isinstance(plain.parser.lexer.lexer, FastContextualLexer)
+    assert fast == expected
+    assert [n.span for n in fast.walk()] == [n.span for n in expected.walk()]
