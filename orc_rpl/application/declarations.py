@@ -103,6 +103,11 @@ class FunctionSpec:
     def max_args(self) -> int | None:
         return None if self.variadic else len(self.params)
 
+    @property
+    def pure(self) -> bool:
+        """Free of side effects, so a parameter function may call it: every function that does not move the robot."""
+        return not self.moves
+
 
 @dataclass(frozen=True, slots=True)
 class MethodSpec:

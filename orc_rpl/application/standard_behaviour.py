@@ -56,6 +56,8 @@ def _zone(value: Any) -> float:
         return 0.0
     if type(value) is Quantity and value.dim == LENGTH and value.value >= 0:
         return value.value
+    if type(value) in (int, float) and value > 0:
+        return float(value)  # a plain number where a length is expected is in metres
     raise BehaviourError(f"ZONE must be a length or FINE, got {value}")
 
 
@@ -87,8 +89,6 @@ def standard_motion(call: MotionCall) -> MotionRequest:
         raise BehaviourError("a Cartesian motion needs a pose as its target, not a joint position")
     if kind == "circular" and (len(via) != 1 or type(via[0]) is not Pose):
         raise BehaviourError("CMOVE needs exactly one VIA pose: the circle passes through it")
-    if attrs.get("FORCE") is not None:
-        call.warn("FORCE is not applied: the standard motions have no force control (GRINDMOVE has)")
     speed_m_s, speed_fraction = _speed(attrs.get("SPEED"), call.speed_override)
     accel = attrs.get("ACCEL")
     if accel is None:

@@ -160,7 +160,7 @@ def length(items: Any) -> int:
         return len(items)
     if type(items) is Joints:
         return len(items.values)
-    raise BehaviourError(f"LEN needs a list or a path, got {_describe(items)}")
+    raise BehaviourError(f"LEN needs a list, a path or a string, got {_describe(items)}")
 
 
 #: name -> implementation, for the registry's `implementation` slots.

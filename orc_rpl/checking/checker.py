@@ -2,17 +2,18 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 from orc_rpl.application.declarations import describe_types
 from orc_rpl.application.registry import Registry, default_registry, suggest
 from orc_rpl.checking.expressions import ExpressionTyper, accepts
+from orc_rpl.checking.purity import ParameterUse, PurityProver
 from orc_rpl.checking.symbols import (
     ANY, WORLD, Scope, StaticType, Symbol, assigned_names, builtin_scope, declarations,
 )
 from orc_rpl.errors import Diagnostic, Location
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.units import TIME
+from orc_rpl.syntax.units import DIMENSIONLESS, TIME
 
 _DECLARED_KIND = {"TOOL": "tool", "FRAME": "frame", "POS": "pos", "PATH": "path", "CONST": "const", "VAR": "var"}
 _OUTPUTS = {"DigOut", "AnalogOut"}
@@ -28,6 +29,12 @@ class Checker:
         self.diagnostics: list[Diagnostic] = []
         self.types = ExpressionTyper(registry, self.report)
         self.installs: dict[str, str] = {}          #: installed name -> kind
+        self.dimension_lines: dict[int, int] = {}   #: id of a variable's Symbol -> line that fixed its dimension
+        self.routine_scopes: dict[str, tuple[n.Routine, Scope]] = {}
+        self.function_returns: dict[str, list[tuple[StaticType, n.Node]]] = {}   #: FUNC -> what its RETURNs give
+        self.parameter_uses: list[tuple[ParameterUse, n.Node]] = []   #: FUNCs the motion layer evaluates
+        self.untils: list[tuple[n.Expression, Scope]] = []
+        self.function_targets: list[tuple[n.Name, str]] = []          #: `TO f` with the motion's frame
         self._handlers: dict[type, object] = {}
 
     # ---- reporting
@@ -166,6 +173,7 @@ class Checker:
                     self.check_target(point, scope, frame, "via point")
             elif isinstance(clause, n.Until):
                 self.infer(clause.condition, scope, frame)
+                self.untils.append((clause.condition, scope))
             elif isinstance(clause, n.With):
                 self.check_attribute(stmt, spec, clause, scope, frame, seen)
         if spec is None:
@@ -196,6 +204,8 @@ class Checker:
 
     def check_target(self, expr: n.Expression, scope: Scope, frame: str, role: str) -> None:
         """The FRAME-context rule: inside `FRAME f` a target must be relative to f; outside, to world."""
+        if role == "target" and isinstance(expr, n.Name) and self.function_target(expr, scope, frame):
+            return
         target = self.infer(expr, scope, frame)
         if target.kind in ("pose", "path") and target.frame is not None and target.frame != frame:
             where = f"inside FRAME {frame}" if frame != WORLD else "outside every FRAME block (relative to world)"
@@ -205,6 +215,18 @@ class Checker:
         elif target.kind not in ("pose", "joints", "path", "list", "any"):
             self.report(expr, f"the {role} must be a position, got {target}")
 
+    def function_target(self, expr: n.Name, scope: Scope, frame: str) -> bool:
+        """`LMOVE ARM TO wave` with `FUNC wave(s)`: a motion in function space (frames checked when all RETURNs are known)."""
+        symbol = scope.lookup(expr.id)
+        if symbol is None or symbol.kind != "func":
+            return False
+        if symbol.params != 1:
+            self.report(expr, f"FUNC {expr.id} given as a target must take one parameter (s, 0..1), not {symbol.params}")
+            return True
+        self.function_targets.append((expr, frame))
+        self.parameter_uses.append((ParameterUse(expr.id, "the target", expr.span.line), expr))
+        return True
+
     def check_attribute(self, stmt: n.Motion, spec, clause: n.With, scope: Scope, frame: str, seen: dict) -> None:  # type: ignore[no-untyped-def]
         name = clause.name.id
         value = self.infer(clause.value, scope, frame)
@@ -212,12 +234,20 @@ class Checker:
             return
         if (isinstance(clause.value, n.Call) and isinstance(clause.value.function, n.Name)
                 and clause.value.function.id in spec.output_functions):
-            return  # an output binding: `WITH Id = IDENT(...)`
+            for argument in clause.value.arguments:  # an output binding: `WITH Id = IDENT(classify, parts)`
+                if isinstance(argument.value, n.Name) and (scope.lookup(argument.value.id) or Symbol("", "")).kind == "func":
+                    use = ParameterUse(argument.value.id, f"the {clause.value.function.id} classifier", stmt.span.line)
+                    self.parameter_uses.append((use, argument.value))
+            return
         attribute = spec.attribute(name)
         if attribute is None:
             guess = suggest(name, spec.attribute_names)
+            elsewhere = sorted(k for k, other in self.registry.motions.items() if other.attribute(name) is not None)
+            hint = "accepted: " + ", ".join(a.name for a in spec.attributes)
+            if elsewhere and not guess:
+                hint = f"{name} is an attribute of {', '.join(elsewhere)}; {hint}"
             self.report(clause.name, f"{stmt.keyword} does not accept attribute '{name}'" + (f"; did you mean '{guess}'?" if guess else ""),
-                        "accepted: " + ", ".join(a.name for a in spec.attributes))
+                        hint)
             return
         self.check_duplicate_attribute(seen, attribute.name, clause)
         if isinstance(clause.value, n.Name):
@@ -225,13 +255,18 @@ class Checker:
             if symbol is not None and symbol.kind == "func":
                 if not attribute.function_ok:
                     self.report(clause.value, f"attribute {attribute.name} cannot be a function")
+                else:
+                    self.parameter_uses.append((ParameterUse(clause.value.id, f"attribute {attribute.name}", stmt.span.line),
+                                                clause.value))
                 return
         if not accepts(attribute.types, value):
             self.report(clause.value, f"attribute {attribute.name} of {stmt.keyword} expects {describe_types(attribute.types)}, got {value}")
 
     def _Assign(self, stmt: n.Assign, scope: Scope, frame: str) -> None:
-        self.infer(stmt.value, scope, frame)
+        value = self.infer(stmt.value, scope, frame)
         target = stmt.target
+        if isinstance(target, n.Name):
+            self.track_dimension(target, stmt.value, value, scope)
         root = target
         while isinstance(root, (n.Field, n.Index)):
             root = root.value
@@ -245,6 +280,31 @@ class Checker:
                 self.report(root, f"'{root.id}' is a {symbol.kind.replace('_', ' ')} and cannot be assigned")
         if not isinstance(target, n.Name):
             self.infer(target, scope, frame)
+
+    def track_dimension(self, target: n.Name, expr: n.Expression, value: StaticType, scope: Scope) -> None:
+        """A variable takes the dimension of the quantities assigned to it; a second dimension is an error.
+
+        Plain numbers fit any dimension (they are SI of the dimension the context needs), so `x = 0` then
+        `x = x + 1mm` is fine. The check follows the file order, which is enough to catch `a = 2s` then
+        `c = a + 30mm` before the program runs.
+        """
+        symbol = scope.lookup(target.id)
+        if symbol is None or symbol.kind not in ("assigned", "var"):
+            return
+        old = symbol.type
+        if value.kind != "number" or value.dim is None:
+            if old.kind == "number" and value.kind != "any":
+                symbol.type = ANY  # a variable that changes kind: the checker cannot tell any more
+            return
+        if old.kind == "number" and old.dim not in (None, DIMENSIONLESS) and value.dim not in (DIMENSIONLESS, old.dim):
+            line = self.dimension_lines.get(id(symbol), "?")
+            self.report(expr, f"'{target.id}' holds {old} (since line {line}); it cannot be given {value}",
+                        "use another variable for a value of another dimension")
+            return
+        if old.kind in ("number", "any") and value.dim != DIMENSIONLESS or old.kind == "any":
+            if old.dim != value.dim:
+                self.dimension_lines[id(symbol)] = expr.span.line
+            symbol.type = value
 
     def _CallStatement(self, stmt: n.CallStatement, scope: Scope, frame: str) -> None:
         call = stmt.call
@@ -286,7 +346,9 @@ class Checker:
         if stmt.value is not None:
             if scope.routine is None or scope.routine.kind != "FUNC":
                 self.report(stmt, "RETURN with a value outside a FUNC", "a PROC or the main program returns without a value")
-            self.infer(stmt.value, scope, frame)
+            value = self.infer(stmt.value, scope, frame)
+            if scope.routine is not None and scope.routine.kind == "FUNC":
+                self.function_returns.setdefault(scope.routine.name.id, []).append((value, stmt.value))
 
     def _If(self, stmt: n.If, scope: Scope, frame: str) -> None:
         for branch in stmt.branches:
@@ -343,7 +405,37 @@ class Checker:
                 self.report(param, f"parameter '{param.id}' is given twice")
             local.symbols[param.id] = Symbol(param.id, "param", ANY, param)
         self.collect(stmt.body, local, top_level=False)
+        self.routine_scopes.setdefault(stmt.name.id, (stmt, local))
         self.check_body(stmt.body, local, WORLD)
+
+    # ---- what needs the whole program: parameter functions
+    def finish(self, scope: Scope) -> None:
+        """Checks that need every routine: FUNC targets give poses of the motion's frame; parameter FUNCs are pure."""
+        for expr, frame in self.function_targets:
+            for value, node in self.function_returns.get(expr.id, []):
+                if value.kind == "pose" and value.frame is not None and value.frame != frame:
+                    where = f"inside FRAME {frame}" if frame != WORLD else "outside every FRAME block (relative to world)"
+                    self.report(expr, f"FUNC {expr.id} gives poses relative to {value.frame} (line {node.span.line}), "
+                                f"but this motion is {where}", f"return poses relative to {frame}")
+                    break
+                if value.kind not in ("pose", "any"):
+                    self.report(expr, f"FUNC {expr.id} given as a target must give poses; line {node.span.line} gives {value}")
+                    break
+        prover = PurityProver(self.registry, scope, self.routine_scopes, self.installs)
+        reported: set[str] = set()
+        for use, node in self.parameter_uses:
+            effect = prover.side_effect(use.function)
+            if effect is None or use.function in reported:
+                continue
+            reported.add(use.function)
+            self.report(effect.node, f"FUNC {use.function} is used as {use.role} at line {use.line}, so it must be "
+                        f"free of side effects, but it {effect.reason}",
+                        "the planner evaluates it many times, at moments the program does not choose")
+        for condition, where in self.untils:
+            effect = prover.expression_effect(condition, where)
+            if effect is not None:
+                self.report(effect.node, f"an UNTIL condition must be free of side effects, but this one {effect.reason}",
+                            "the motion cycle evaluates it every 4 ms")
 
 
 def _skip(stmt: n.Statement, scope: Scope, frame: str) -> None:
@@ -356,13 +448,20 @@ def _describe(expr: n.Expression) -> str:
     return expression(expr)
 
 
-def check_program(program: n.Program, path: str = "<input>", registry: Registry | None = None) -> list[Diagnostic]:
-    """Every static error of a program, in file order (empty when the program is clean)."""
+def check_program(program: n.Program, path: str = "<input>", registry: Registry | None = None,
+                  world_attributes: Mapping[str, Mapping[str, object]] | None = None) -> list[Diagnostic]:
+    """Every static error of a program, in file order (empty when the program is clean).
+
+    `world_attributes` (object -> soft and spatial attributes) are the program's world: `pallet.next_row` is checked
+    against it; without it such a field is an error.
+    """
     registry = registry or default_registry()
     checker = Checker(path, registry)
+    checker.types.world_attributes = world_attributes or {}
     scope = Scope(parent=builtin_scope(list(registry.functions)))
     checker.collect(program.body, scope, top_level=True)
     checker.check_body(program.body, scope, WORLD)
+    checker.finish(scope)
     return sorted(checker.diagnostics, key=lambda d: (d.location.line, d.location.column))
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from functools import lru_cache
 from typing import Callable
 
@@ -10,7 +11,7 @@ from orc_rpl.application.features.standard import ROBOT_SIGNALS
 from orc_rpl.application.registry import Registry, suggest
 from orc_rpl.checking.symbols import ANY, BOOL, STRING, WORLD, Scope, StaticType, number
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.units import ANGLE, DIMENSIONLESS, LENGTH, Dimension, dim_of, parse_literal
+from orc_rpl.syntax.units import ANGLE, DIMENSIONLESS, LENGTH, Dimension, Quantity, dim_of, parse_literal
 
 Report = Callable[[n.Node, str, str], None]
 
@@ -39,6 +40,9 @@ def accepts(types: tuple[object, ...], actual: StaticType) -> bool:
         if isinstance(expected, Dimension):
             if actual.kind == "number" and (actual.dim is None or actual.dim == expected):
                 return True
+            # A plain number where a length or an angle is expected is in SI (m, rad), as in world files.
+            if actual.kind == "number" and actual.dim == DIMENSIONLESS and expected in (LENGTH, ANGLE):
+                return True
         elif expected == "position" and actual.kind in ("pose", "joints"):
             return True
         elif expected == "function" and actual.kind == "routine":
@@ -61,6 +65,7 @@ class ExpressionTyper:
     def __init__(self, registry: Registry, report: Report) -> None:
         self.registry = registry
         self.report = report
+        self.world_attributes: Mapping[str, Mapping[str, object]] = {}   #: the world's soft and spatial attributes
         # One dispatch table instead of a getattr per node: the checker runs on every keystroke of the pendant.
         self._dispatch = {cls: getattr(self, "_" + cls.__name__) for cls in (
             n.Number, n.String, n.Boolean, n.Name, n.ListExpr, n.Field, n.Index, n.Call, n.Unary, n.Binary)}
@@ -98,6 +103,11 @@ class ExpressionTyper:
     def _Field(self, expr: n.Field, scope: Scope, frame: str) -> StaticType:
         owner = self.infer(expr.value, scope, frame)
         field_name = expr.name.id
+        if (isinstance(expr.value, n.Name) and owner.kind in ("frame", "pose", "tool") and field_name not in _POSE_FIELDS
+                and (owner.kind == "frame" or expr.value.id in self.world_attributes)):
+            return self.world_attribute(expr, expr.value.id, field_name)
+        if owner.kind == "frame" and field_name in _POSE_FIELDS:
+            return number(_POSE_FIELDS[field_name])
         if owner.kind == "pose":
             if field_name not in _POSE_FIELDS:
                 self.report(expr.name, f"a pose has no field '{field_name}'; its fields are x, y, z, a, b, c", "")
@@ -122,6 +132,28 @@ class ExpressionTyper:
                             "ROBOT offers: " + ", ".join(ROBOT_SIGNALS))
             return ANY
         return ANY
+
+    def world_attribute(self, expr: n.Field, owner: str, name: str) -> StaticType:
+        """A soft or spatial attribute of a world object (`pallet.next_row`), checked against the world model."""
+        attributes = self.world_attributes.get(owner)
+        if attributes is None:
+            self.report(expr.name, f"'{owner}' has no field '{name}'; its fields are x, y, z, a, b, c",
+                        "soft and spatial attributes of world objects are read with the program's world (--world FILE)"
+                        if not self.world_attributes else f"'{owner}' has no soft or spatial attributes in the world model")
+            return ANY
+        if name not in attributes:
+            guess = suggest(name, attributes)
+            self.report(expr.name, f"'{owner}' has no attribute '{name}' in the world model"
+                        + (f"; did you mean '{guess}'?" if guess else ""), "attributes: " + ", ".join(attributes))
+            return ANY
+        value = attributes[name]
+        if isinstance(value, bool):
+            return BOOL
+        if isinstance(value, (int, float)):
+            return number(DIMENSIONLESS)
+        if isinstance(value, Quantity):
+            return number(value.dim)
+        return STRING if isinstance(value, str) else ANY
 
     def _Index(self, expr: n.Index, scope: Scope, frame: str) -> StaticType:
         owner = self.infer(expr.value, scope, frame)
@@ -169,9 +201,7 @@ class ExpressionTyper:
             if param is None:
                 self.report(argument, f"{name} has no parameter '{argument.name.id}'", "")  # type: ignore[union-attr]
                 continue
-            # A plain number where a length or an angle is expected is in SI (m, rad), as in world files.
-            plain_ok = actual.kind == "number" and actual.dim == DIMENSIONLESS and (ANGLE in param.types or LENGTH in param.types)
-            if not plain_ok and not accepts(param.types, actual):
+            if not accepts(param.types, actual):
                 self.report(argument.value, f"argument '{param.name}' of {name} expects {describe_types(param.types)}, "
                             f"got {actual}", "")
         if name in _FRAME_KEEPING and arg_types and arg_types[0].kind == "pose":
@@ -196,6 +226,11 @@ class ExpressionTyper:
         if left.kind != "number" or right.kind != "number" or left.dim is None or right.dim is None:
             return BOOL if op in ("=", "<>", "<", "<=", ">", ">=") else ANY
         if op in ("+", "-", "=", "<>", "<", "<=", ">", ">="):
+            # A plain number meeting a quantity is in SI of the quantity's dimension (`HERE.y > 0`).
+            if left.dim == DIMENSIONLESS:
+                left = right
+            elif right.dim == DIMENSIONLESS:
+                right = left
             if left.dim != right.dim:
                 verb = {"+": "add", "-": "subtract"}.get(op, "compare")
                 joiner = "with" if verb == "compare" else ("from" if verb == "subtract" else "and")

@@ -15,7 +15,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser = subparsers.add_parser("check", help="check programs for syntax and static errors",
                                    description="Check programs; exit 0 when clean, 2 when any error is found.")
     parser.add_argument("files", nargs="+", metavar="FILE", help="program files (.rpl, .orl)")
-    parser.add_argument("--world", metavar="FILE", help="world model of off-line programs (else their '# world: FILE' line)")
+    parser.add_argument("--world", metavar="FILE", help="world model of off-line programs (else their '# world: FILE' line); "
+                        "for on-line programs, the world whose soft and spatial attributes they read (pallet.next_row)")
     return parser
 
 
@@ -36,6 +37,15 @@ def check_file(path: str, registry=None, world: str | None = None) -> tuple[str 
         except SourceError as error:
             return error.source, error.diagnostics
         return text, check_offline(program, model, path, text, registry)
+    if world is not None:  # an on-line program reads the soft and spatial attributes of the world it travels with
+        from orc_rpl.transform.checks import load_world_file
+        from orc_rpl.transform.loading import world_attributes
+
+        try:
+            model = load_world_file(world)
+        except SourceError as error:
+            return error.source, error.diagnostics
+        return text, check_program(program, path, registry, world_attributes(model))
     return text, check_program(program, path, registry)
 
 

@@ -3,12 +3,19 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import os
+import re
 import sys
 from pathlib import Path
 
 from orc_rpl.atomic import write_text_atomic
 from orc_rpl.errors import OrcError, SourceError, UsageError
+from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.files import declared_world, is_offline, parse_file
+
+#: The comment that names an off-line program's world model (`# world: ../../worlds/cell.yaml`).
+_WORLD_COMMENT = re.compile(r"\s*world:\s*\S+\s*$")
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -53,20 +60,61 @@ def convert(args: argparse.Namespace) -> dict[str, str]:
         world_path = args.world or declared_world(args.file, text)
         if world_path is None:
             raise UsageError(f"--world: '{args.file}' is an off-line program; give its world model")
-        job = to_online(program, load_world_file(world_path), args.file, text, reduce=bool(args.online_world))
-        outputs[args.output or "-"] = print_program(job.program)
+        world = load_world_file(world_path)
+        _refuse_check_errors(program, text, args.file, world)
+        job = to_online(program, world, args.file, text, reduce=bool(args.online_world))
+        # The world line is the off-line program's: the on-line program travels with its (reduced) world instead.
+        outputs[args.output or "-"] = print_program(_without_world_line(job.program))
         if args.online_world:
             outputs[args.online_world] = job.world.dump()
         return outputs
     world = load_world_file(args.world) if args.world and Path(args.world).exists() else None
-    job = to_offline(program, world, args.file)
-    outputs[args.output or "-"] = print_offline(job.program)
+    _refuse_check_errors(program, text, args.file, None)
+    job = to_offline(program, world, args.file, move_declarations=True)
+    result = job.program
+    if args.world:
+        result = _with_world_line(result, args.world, args.output or args.file)
+    outputs[args.output or "-"] = print_offline(result)
     if args.world:
         if world is None or job.world.dump() != world.dump():
             outputs[args.world] = job.world.dump()
     elif job.world.objects:
         raise UsageError("--world: the program's positions need a world model file to go into")
     return outputs
+
+
+def _refuse_check_errors(program: n.Program, text: str, path: str, world) -> None:  # type: ignore[no-untyped-def]
+    """A program `orc check` rejects is not converted: its errors, as `orc check` prints them."""
+    from orc_rpl.application.registry import default_registry
+    from orc_rpl.checking.checker import check_program
+    from orc_rpl.transform.checks import check_offline
+
+    registry = default_registry()
+    found = check_offline(program, world, path, text, registry) if world is not None else check_program(program, path, registry)
+    if found:
+        raise SourceError(found, text)
+
+
+def _world_line_at(program: n.Program) -> int | None:
+    """Where the `# world: FILE` comment stands among the program's leading comment lines."""
+    for i, stmt in enumerate(program.body):
+        if not isinstance(stmt, n.Comment):
+            return None
+        if _WORLD_COMMENT.match(stmt.text):
+            return i
+    return None
+
+
+def _without_world_line(program: n.Program) -> n.Program:
+    at = _world_line_at(program)
+    return program if at is None else dataclasses.replace(program, body=program.body[:at] + program.body[at + 1:])
+
+
+def _with_world_line(program: n.Program, world: str, output: str) -> n.Program:
+    """The program naming the world it was converted with, relative to the file it is written to, as its first line."""
+    relative = Path(os.path.relpath(Path(world).resolve(), Path(output).resolve().parent)).as_posix()
+    body = _without_world_line(program).body
+    return dataclasses.replace(program, body=(n.Comment(f" world: {relative}"),) + body)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -25,7 +25,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                     "2 on usage, syntax or check errors.")
     parser.add_argument("file", metavar="FILE", help="program file (.rpl, or .orl with its world model)")
     parser.add_argument("--world", metavar="DIR|FILE", help="folder with the program's simulated-IO script (<name>.sim.yaml), "
-                                                           "or the world model (YAML) of an off-line program (.orl)")
+                                                           "or the world model (YAML) of an off-line program (.orl), or the "
+                                                           "world whose soft and spatial attributes an on-line program reads")
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
     parser.add_argument("--log", metavar="OUT.npz", help="write the recorded signals (q, q_ref, tau, tcp (flange), tool_tcp, s, process.*) as NPZ")
     parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
@@ -82,11 +83,11 @@ def speed_override(text: str) -> float:
     return value
 
 
-def check(program: Any, path: str, registry: Any) -> list[Diagnostic]:
-    """The static checks (the one place the run command calls the checker)."""
+def check(program: Any, path: str, registry: Any, attributes: Any = None) -> list[Diagnostic]:
+    """The static checks (the one place the run command calls the checker); `attributes`: the world's soft and spatial ones."""
     from orc_rpl.checking.checker import check_program
 
-    return check_program(program, path, registry)
+    return check_program(program, path, registry, attributes)
 
 
 def _fail_usage(message: str) -> int:
@@ -97,7 +98,7 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
-    from orc_rpl.transform.loading import load_program
+    from orc_rpl.transform.loading import load_program_and_attributes
 
     try:
         watch_how = watching(args)
@@ -112,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
                 raise UsageError(f"--{option.replace('_', '-')}: the folder of '{target}' does not exist")
         # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
-        source, program = load_program(args.file, world_file)
+        source, program, attributes = load_program_and_attributes(args.file, world_file)
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
@@ -121,14 +122,14 @@ def run(args: argparse.Namespace) -> int:
     except OrcError as error:  # an off-line program its world model cannot map
         return _fail_usage(str(error))
     registry = runtime_registry()
-    diagnostics = check(program, args.file, registry)
+    diagnostics = check(program, args.file, registry, attributes)
     if diagnostics:
         for diagnostic in diagnostics:
             sys.stderr.write(diagnostic.format(source) + "\n")
         sys.stderr.write(f"orc run: {len(diagnostics)} check error{'s' if len(diagnostics) != 1 else ''}; nothing moved\n")
         return 2
     try:
-        return _run(args, source, program, registry, override, watch_how)
+        return _run(args, source, program, registry, override, attributes, watch_how)
     except UsageError as error:
         return _fail_usage(str(error))
     except OrcError as error:
@@ -148,7 +149,8 @@ def _watched(args: argparse.Namespace, executive: Any, robot: Any, program: Any,
     return watch(executive, robot, program, world_of(args.file, args.world), registry, how)
 
 
-def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float, watch_how: Any = None) -> int:
+def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float, attributes: Any,
+         watch_how: Any = None) -> int:
     from orc_rpl.executive.process_report import SIGNAL_UNITS, plotted_signals, submit_process_signals
     from orc_rpl.executive.report import Progress, summary, write_summary_text
     from orc_rpl.executive.cell_robot import CellRobot
@@ -165,7 +167,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         sys.stdout.flush()
 
     executive = Executive(program, robot, registry, path=args.file, source=source, output=out,
-                          options=Options(speed_override=override))
+                          options=Options(speed_override=override, world_attributes=attributes))
     machine = executive.machine
     machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
     # the run's process record; with --log/--plot, the tool's TCP and the process signals beside the flange

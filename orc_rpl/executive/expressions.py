@@ -145,6 +145,9 @@ class ExpressionCompiler:
         value = self.compile(expr.value, scope)
         name = expr.name.id
         m = self.m
+        if isinstance(expr.value, n.Name) and name in m.options.world_attributes.get(expr.value.id, {}):
+            attributes = m.options.world_attributes[expr.value.id]
+            return lambda L: attributes[name]  # a soft or spatial attribute of a world object (`pallet.next_row`)
         get_field = ops.get_field
 
         def field(L: dict[str, Any]) -> Any:

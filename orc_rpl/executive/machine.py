@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -48,6 +48,8 @@ class Options:
     max_depth: int = 200                       #: routine calls deeper than this are an error
     speed_override: float = 1.0                #: `--speed-override`, scales every speed
     idle_wait_limit_s: float | None = 3600.0   #: a WAIT UNTIL without TIMEOUT gives up after this (None: never)
+    #: the world's soft and spatial attributes, object -> name -> value (`pallet.next_row`), read by programs
+    world_attributes: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
 
 
 class Machine:

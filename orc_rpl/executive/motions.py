@@ -150,8 +150,9 @@ class MotionCompiler:
             if type(value) is not Pose:
                 raise RunError(f"FUNC {routine.name} must give poses, got {type_name(value)}")
             return value
-        world_pose(0.0)  # the frame rule, before anything moves
-        return FunctionParam(routine.name, world_pose)
+        at = memoised(world_pose)
+        at(0.0)  # the frame rule, before anything moves
+        return FunctionParam(routine.name, at)
 
     def attributes(self, spec: Any, withs: list[tuple[str, Any]], L: Locals, span: n.Span) -> dict[str, Any]:
         """WITH values by canonical attribute name; a FUNC name becomes a function of the path coordinate."""
@@ -180,6 +181,19 @@ def _function_of_s(m: Machine, name: str, span: n.Span) -> Callable[[float], Any
     """A FUNC of s, compiled already, as a Python callable for the motion cycle."""
     def at(s: float) -> Any:
         return m.call_now(m.routines[name], [float(s)], span)
+    return memoised(at)
+
+
+def memoised(fn: Callable[[float], Any]) -> Callable[[float], Any]:
+    """`fn` called at most once per value of s during one motion: the checker proved it free of side effects,
+    and the planner asks for the same grid points several times (path length, time parametrisation, execution)."""
+    values: dict[float, Any] = {}
+
+    def at(s: float) -> Any:
+        key = float(s)
+        if key not in values:
+            values[key] = fn(key)
+        return values[key]
     return at
 
 

@@ -1,4 +1,4 @@
-"""Static scopes of a program (LANGUAGE.md section 3, Scope): which names are global, which are local to a routine."""
+"""Static scopes of a program (docs/language.md section 8): which names are global, which are local to a routine."""
 
 from __future__ import annotations
 

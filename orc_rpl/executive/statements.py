@@ -1,4 +1,4 @@
-"""Statements of LANGUAGE.md section 3 compiled into closures: assignment, PRINT, control flow, TRY, WAIT, calls."""
+"""Statements of docs/language.md section 6 compiled into closures: assignment, PRINT, control flow, TRY, WAIT, calls."""
 
 from __future__ import annotations
 

@@ -93,7 +93,7 @@ ROBOT = RobotSignals()
 
 
 def format_value(value: Any, nested: bool = False) -> str:
-    """A value as PRINT writes it (LANGUAGE.md section 3); strings are quoted only inside lists."""
+    """A value as PRINT writes it (docs/language.md section 6); strings are quoted only inside lists."""
     if value is True:
         return "TRUE"
     if value is False:
@@ -107,7 +107,7 @@ def format_value(value: Any, nested: bool = False) -> str:
         return str(value)
     if kind is tuple or kind is list:
         return "[" + ", ".join(format_value(v, True) for v in value) + "]"
-    if kind is EnumValue:
+    if kind is EnumValue or kind is EnumType:
         return value.name
     if kind is Pose:
         numbers = [Quantity(value.x, _LENGTH), Quantity(value.y, _LENGTH), Quantity(value.z, _LENGTH),

@@ -122,7 +122,12 @@ class Actions:
         """Add an action; its name (default: the function's) keys its result slot."""
         if stage not in STAGES:
             raise UsageError(f"action stage must be one of {', '.join(STAGES)}, not {stage!r}")
-        name = name or getattr(fn, "__name__", f"action{len(self._entries)}")
+        if name is None:
+            # Unnamed actions (several lambdas) share their function's name: number them `<lambda>_2`, ...
+            base = getattr(fn, "__name__", "action")
+            taken = {e.name for e in self._entries}
+            name = next(f"{base}_{k}" if k > 1 else base for k in range(1, len(taken) + 2)
+                        if (f"{base}_{k}" if k > 1 else base) not in taken)
         if any(e.name == name for e in self._entries):
             raise UsageError(f"an action named {name!r} is already in this action set")
         entry = _Entry(stage, name, fn, ActionSlot(name, self.signal))

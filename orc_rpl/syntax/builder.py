@@ -53,9 +53,15 @@ def _end(child: Any) -> n.Span | None:
 
 def meta_span(children: list[Any]) -> n.Span:
     """The span of a rule: from its first token to its last (keywords dropped by the grammar are not seen)."""
+    # The common cases first, without making a Span per child: the parser calls this for every rule it reduces.
+    head, tail = children[0] if children else None, children[-1] if children else None
+    if type(head) is Token and type(tail) is Token:
+        return n.Span(head.line, head.column, tail.end_line, tail.end_column)
     first = next((s for s in map(_start, children) if s), None)
     if first is None:
         return n.NO_SPAN
+    if type(tail) is Token:
+        return n.Span(first.line, first.column, tail.end_line, tail.end_column)
     last = next((s for s in map(_end, reversed(children)) if s), first)
     return n.Span(first.line, first.column, last.end_line, last.end_column)
 
@@ -76,6 +82,14 @@ def unescape(literal: str) -> str:
             out.append(ch)
             i += 1
     return "".join(out)
+
+
+def continuation_comments(text: str, marker: str) -> tuple[str | None, tuple[str, ...]]:
+    """The comments a CONT token holds: the one ending the line above, and the comment-only lines in between."""
+    lines = text.split("\n")[:-1]  # the last piece is the continuation line's indentation
+    first = lines[0].rstrip("\r")
+    between = tuple(line.strip(" \t\r")[len(marker):].rstrip() for line in lines[1:])
+    return (first[len(marker):].rstrip() if first.startswith(marker) else None), between
 
 
 def comment_text(token: Token | None) -> str | None:
@@ -140,9 +154,8 @@ def _clauses(parts: list[Any]) -> tuple[n.Clause, ...]:
             pending = part
             continue
         if pending is not None:
-            text = str(pending)
-            comment = comment_text(Token("COMMENT", text[: text.index("\n")].rstrip("\r"))) if text.startswith("--") else None
-            part = replace(part, new_line=True, line_comment=comment)
+            comment, between = continuation_comments(str(pending), "--")
+            part = replace(part, new_line=True, line_comment=comment, comments_before=between)
             pending = None
         clauses.append(part)
     return tuple(clauses)

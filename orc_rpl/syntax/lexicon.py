@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 
-#: LANGUAGE.md section 1: reserved, upper case and exact; never usable as names.
+#: docs/language.md section 1: reserved, upper case and exact; never usable as names.
 RESERVED: frozenset[str] = frozenset(
     """MOVE TO ALONG VIA WITH UNTIL IF THEN ELSIF ELSE ENDIF WHILE DO ENDWHILE FOR FROM STEP
     ENDFOR CASE OF ENDCASE FRAME ENDFRAME PROC ENDPROC FUNC ENDFUNC RETURN TRY ON ENDTRY
@@ -12,10 +12,10 @@ RESERVED: frozenset[str] = frozenset(
     TRUE FALSE""".split()
 )
 
-#: Names every program may use without declaring them (LANGUAGE.md section 1).
+#: Names every program may use without declaring them (docs/language.md section 1).
 PREDEFINED_NAMES: frozenset[str] = frozenset({"ARM", "ROBOT", "HERE", "world", "DigIn", "DigOut", "AnalogIn", "AnalogOut", "FINE"})
 
-#: Exceptions the system raises (LANGUAGE.md section 3); exception names need no declaration.
+#: Exceptions the system raises (docs/language.md section 8); exception names need no declaration.
 SYSTEM_EXCEPTIONS: tuple[str, ...] = ("NotFound", "Unreachable", "JointLimit", "Timeout", "SensorFault")
 
 _MOTION_KEYWORD = re.compile(r"(?:[A-Z][A-Z0-9_]*)?MOVE")
@@ -23,7 +23,7 @@ _MOTION_KEYWORD = re.compile(r"(?:[A-Z][A-Z0-9_]*)?MOVE")
 
 def is_motion_keyword(word: str) -> bool:
     """True for every upper-case word ending in MOVE (`MOVE`, `LMOVE`, `GRINDMOVE`, ...)."""
-    return _MOTION_KEYWORD.fullmatch(word) is not None
+    return word.endswith("MOVE") and _MOTION_KEYWORD.fullmatch(word) is not None  # the cheap test first: every NAME asks
 
 
 def is_reserved(word: str) -> bool:

@@ -191,6 +191,8 @@ class Clause(Node):
 
     new_line: bool = field(default=False, kw_only=True)
     line_comment: str | None = field(default=None, kw_only=True)
+    #: comment-only lines standing between the line above and this clause's continuation line
+    comments_before: tuple[str, ...] = field(default=(), kw_only=True)
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,7 +8,9 @@ from typing import Any
 from lark import Token
 
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.builder import BuildError, TreeBuilder, arrange, expr, meta_span, name, token_span
+from orc_rpl.syntax.builder import (
+    BuildError, TreeBuilder, arrange, continuation_comments, expr, meta_span, name, token_span,
+)
 
 #: Off-line keywords (lower case); together with the on-line reserved words they are never names.
 OFFLINE_KEYWORDS: frozenset[str] = frozenset(
@@ -96,9 +98,8 @@ class OfflineTreeBuilder(TreeBuilder):
                 pending = part
                 continue
             if pending is not None:
-                text = str(pending)
-                comment = text[1: text.index("\n")].rstrip("\r").rstrip() if text.startswith("#") else None
-                part = replace(part, new_line=True, line_comment=comment)
+                comment, between = continuation_comments(str(pending), "#")
+                part = replace(part, new_line=True, line_comment=comment, comments_before=between)
                 pending = None
             clauses.append(part)
         return tuple(clauses)

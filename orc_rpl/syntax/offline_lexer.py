@@ -68,6 +68,23 @@ def _width(text: str) -> int:
     return len(text) - len(text.lstrip(" \t"))
 
 
+def _continues(lines: list[str], number: int) -> bool:
+    """True when the comment-only lines from line `number` on are followed by a continuation line."""
+    for text in lines[number:]:
+        if not text.strip(" \t\r").startswith("#"):
+            return bool(_CONTINUATION.match(text))
+    return False
+
+
+def _middle_follows(lines: list[str], number: int) -> bool:
+    """True when the next line with code after line `number` is `else:`, `elif`, `except` or `end`."""
+    for text in lines[number:]:
+        stripped = text.strip(" \t\r")
+        if stripped and not stripped.startswith("#"):
+            return bool(_MIDDLE.match(text))
+    return False
+
+
 def plan_indentation(lines: list[str]) -> IndentPlan:
     """Where blocks open and close. Blank lines go to the innermost block their own indentation reaches."""
     plan = IndentPlan()
@@ -99,9 +116,13 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
             continue
         if not previous_blank and _CONTINUATION.match(text):
             continue  # the CONT token joins it to the line above
+        if not previous_blank and stripped.startswith("#") and _continues(lines, number):
+            continue  # a comment line between a statement and its continuation is part of the CONT token
         previous_blank = False
         width = _width(text)
         comment_only = stripped.startswith("#")
+        if comment_only and width < stack[-1] and _middle_follows(lines, number):
+            continue  # `# ...` just before `else:`/`elif`/`except` at the header's indentation stays in the block above
         if _MIDDLE.match(text) and pending:
             # Blank lines before `else:`, `elif`, `except` or `end` belong to the block above it: the header's
             # own block when the header is right above, else the block the keyword continues.
@@ -153,6 +174,7 @@ class OfflinePostLexer:
 
     def __init__(self) -> None:
         self.plan = IndentPlan()
+        self.names: set[str] = set()   #: the NAME tokens of the last parse (are off-line keywords among them?)
 
     def _tokens(self, kinds: list[str], like: Token) -> Iterator[Token]:
         for kind in kinds:
@@ -161,7 +183,10 @@ class OfflinePostLexer:
     def process(self, stream: Iterator[Token]) -> Iterator[Token]:
         first = True
         last: Token | None = None
+        names = self.names = set()
         for token in stream:
+            if token.type == "NAME":
+                names.add(token.value)
             if first:
                 first = False
                 yield from self._tokens(self.plan.before.get(1, []), token)

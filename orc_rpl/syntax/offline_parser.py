@@ -11,7 +11,8 @@ from lark.exceptions import UnexpectedInput, UnexpectedToken
 from orc_rpl.errors import Diagnostic, Location, SourceError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.grammar_files import grammar_path
-from orc_rpl.syntax.offline_builder import OfflineTreeBuilder, check_names
+from orc_rpl.syntax.fast_lexer import speed_up
+from orc_rpl.syntax.offline_builder import OFFLINE_KEYWORDS, OfflineTreeBuilder, check_names
 from orc_rpl.syntax.offline_lexer import OfflinePostLexer, code_part, plan_indentation
 from orc_rpl.syntax.parser import _diagnostic, parse_recovering, source_lines
 
@@ -27,7 +28,7 @@ _OFFLINE_NAMES = {"_INDENT": "an indented block", "_DEDENT": "the end of the blo
 def _lark() -> tuple[Lark, OfflinePostLexer]:
     """The off-line parser and its postlexer, built once per process."""
     postlexer = OfflinePostLexer()
-    lark = Lark(
+    lark = speed_up(Lark(
         grammar_path("orl.lark").read_text(encoding="utf-8"),
         parser="lalr",
         lexer="contextual",
@@ -35,7 +36,7 @@ def _lark() -> tuple[Lark, OfflinePostLexer]:
         maybe_placeholders=True,
         postlex=postlexer,
         transformer=OfflineTreeBuilder(),
-    )
+    ))
     return lark, postlexer
 
 
@@ -91,11 +92,14 @@ def parse_offline(text: str, path: str = "<input>") -> n.Program:
     if diagnostics:
         raise SourceError(diagnostics, "\n".join(lines))
     lark, postlexer = _lark()
+    first_source = "\n".join(lines) + "\n" if lines else ""
 
     def parse_once(source: str) -> n.Program:
-        postlexer.plan = plan_indentation(source.split("\n")[:-1] if source else [])
+        # The first pass parses the text as planned above; a repaired text (after an error) is planned again.
+        postlexer.plan = plan if source == first_source else plan_indentation(source.split("\n")[:-1] if source else [])
         tree = lark.parse(source)
-        check_names(tree)
+        if not postlexer.names.isdisjoint(OFFLINE_KEYWORDS):  # only then can a keyword stand as a name in the tree
+            check_names(tree)
         return tree
 
     return parse_recovering(path, lines, list(lines), diagnostics, parse_once, _offline_diagnostic, _neutralize)

@@ -10,7 +10,7 @@ from orc_rpl.syntax.printer import expression as online_expression
 #: Blocks and continuation lines are indented by four spaces.
 INDENT = "    "
 
-#: The off-line spelling of the operators and booleans (LANGUAGE.md section 5).
+#: The off-line spelling of the operators and booleans (docs/language.md section 10).
 OFFLINE = Spelling({"=": "==", "<>": "!=", "AND": "and", "OR": "or", "NOT": "not"}, "true", "false", "=")
 
 
@@ -112,6 +112,8 @@ class _Writer:
         for clause in clauses:
             if clause.new_line:
                 self.line(depth, text, clause.line_comment)
+                for between in clause.comments_before:
+                    self.lines.append(INDENT * depth + INDENT + "#" + between)
                 text = INDENT + clause_text(clause)
             else:
                 text += " " + clause_text(clause)

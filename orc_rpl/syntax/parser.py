@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 import re
 from collections.abc import Callable
 from functools import lru_cache
@@ -14,7 +15,9 @@ from orc_rpl.errors import Diagnostic, Location, SourceError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.blocks import NEUTRAL_HEADERS, block_keyword, check_blocks
 from orc_rpl.syntax.builder import BuildError, TreeBuilder
+from orc_rpl.syntax.fast_lexer import speed_up
 from orc_rpl.syntax.grammar_files import grammar_path
+from orc_rpl.syntax.lexicon import RESERVED, is_reserved
 
 T = TypeVar("T")
 
@@ -49,15 +52,15 @@ _CONTINUATION = re.compile(r"[ \t]*(WITH|VIA|UNTIL)\b")
 
 @lru_cache(maxsize=None)
 def _lark() -> Lark:
-    """The on-line parser, built once per process."""
-    return Lark(
+    """The on-line parser, built once per process (its lexer's common case sped up: same tokens, same errors)."""
+    return speed_up(Lark(
         grammar_path("rpl.lark").read_text(encoding="utf-8"),
         parser="lalr",
         lexer="contextual",
         start="program",
         maybe_placeholders=True,
         transformer=TreeBuilder(),
-    )
+    ))
 
 
 def describe_token(token: Token) -> str:
@@ -100,6 +103,9 @@ def _diagnostic(path: str, error: Exception, lines: list[str]) -> tuple[Diagnost
         expected = describe_expected(set(error.expected))
         message = f"unexpected {describe_token(token)}" + (f"; expected {expected}" if expected else "")
         hint = ""
+        unknown = _unknown_first_word(lines, line, column)
+        if unknown is not None:
+            return Diagnostic(Location(path, line, unknown[1], line, unknown[1] + len(unknown[0])), unknown[2]), line
         if token.type == "CONT":
             # Point at the WITH/VIA/UNTIL word that starts the continuation line.
             line, column = token.end_line or line, token.end_column or column
@@ -117,6 +123,33 @@ def _diagnostic(path: str, error: Exception, lines: list[str]) -> tuple[Diagnost
         line = len(lines)
         return Diagnostic(Location(path, line, 1), "unexpected end of file"), line
     raise error
+
+
+#: The motion keywords of the language itself, for did-you-mean before any registry is known.
+_STANDARD_MOTIONS = ("MOVE", "JMOVE", "LMOVE", "CMOVE")
+_FIRST_WORDS = re.compile(r"[ \t]*([A-Z][A-Z0-9_]*)[ \t]+([A-Za-z_][A-Za-z0-9_]*)(?:[ \t]+([A-Z]+))?")
+
+
+def _unknown_first_word(lines: list[str], line: int, column: int) -> tuple[str, int, str] | None:
+    """A misspelt statement word (`MOVEE grinder TO p`): the parse fails at the second word, the mistake is the first.
+
+    Returns the word, its column and the message, or None when the line does not look like that.
+    """
+    if not 0 < line <= len(lines):
+        return None
+    found = _FIRST_WORDS.match(lines[line - 1])
+    if found is None or found.start(2) + 1 != column or is_reserved(found.group(1)):
+        return None
+    word = found.group(1)
+    if found.group(3) in ("TO", "ALONG", "VIA", "WITH"):
+        others = {w for text in lines for w in re.findall(r"\b[A-Z][A-Z0-9_]*MOVE\b", text)}
+        guess = difflib.get_close_matches(word, sorted({*_STANDARD_MOTIONS, *others}), n=1, cutoff=0.6)
+        return word, found.start(1) + 1, f"unknown motion keyword '{word}'" + (f"; did you mean '{guess[0]}'?" if guess else
+                                                                               "; a motion keyword ends in MOVE")
+    guess = difflib.get_close_matches(word, sorted(RESERVED), n=1, cutoff=0.75)
+    if guess:
+        return word, found.start(1) + 1, f"unknown word '{word}'; did you mean '{guess[0]}'?"
+    return None
 
 
 def _neutralize(lines: list[str], number: int) -> None:

@@ -126,6 +126,8 @@ class _Writer:
         for clause in clauses:
             if clause.new_line:
                 self.line(depth, text, clause.line_comment)
+                for between in clause.comments_before:
+                    self.lines.append(INDENT * depth + CONTINUATION + "--" + between)
                 text = CONTINUATION + clause_text(clause)
             else:
                 text += " " + clause_text(clause)

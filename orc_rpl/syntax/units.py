@@ -86,7 +86,7 @@ SI_SYMBOLS: dict[Dimension, str] = {
     TORQUE: "Nm",
 }
 
-#: Every unit a literal may carry: name -> (SI factor, dimension). LANGUAGE.md section 1,
+#: Every unit a literal may carry: name -> (SI factor, dimension). docs/language.md section 1,
 #: plus the angular accelerations a joint ACCEL needs. Decimal prefixes are applied by
 #: division (see `to_si`) so that `300mm` is exactly the float 0.3.
 UNITS: dict[str, tuple[float, Dimension]] = {
@@ -174,9 +174,16 @@ def magnitude(value: Scalar) -> float:
     return value.value if isinstance(value, Quantity) else float(value)
 
 
+def _plain_as(value: Scalar, other: Scalar) -> Dimension:
+    """The dimension of `value`; a plain number meeting a quantity is in SI of the quantity's dimension."""
+    if type(value) is not Quantity and type(other) is Quantity:
+        return other.dim
+    return dim_of(value)
+
+
 def add(a: Scalar, b: Scalar, op: str = "+") -> Scalar:
     """a + b (or a - b) with both dimensions equal."""
-    da, db = dim_of(a), dim_of(b)
+    da, db = _plain_as(a, b), _plain_as(b, a)
     if da != db:
         raise DimensionError(f"cannot {'add' if op == '+' else 'subtract'} {da} ({da.symbol()}) and {db} ({db.symbol()})")
     if da.is_dimensionless:
@@ -205,7 +212,7 @@ def divide(a: Scalar, b: Scalar) -> Scalar:
 
 def compare_dims(a: Scalar, b: Scalar) -> None:
     """Raise DimensionError unless a and b can be compared."""
-    da, db = dim_of(a), dim_of(b)
+    da, db = _plain_as(a, b), _plain_as(b, a)
     if da != db:
         raise DimensionError(f"cannot compare {da} ({da.symbol()}) with {db} ({db.symbol()})")
 

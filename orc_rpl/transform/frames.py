@@ -48,6 +48,16 @@ def _label(found: set[Chain], outer: Chain) -> str:
     return nexts.pop() if len(nexts) == 1 else MIXED
 
 
+def _frame_dependent(stmt: n.Statement) -> bool:
+    """A statement whose value depends on its FRAME block: it reads HERE or writes a POSE/TRANSL literal."""
+    for node in stmt.walk():
+        if isinstance(node, n.Name) and node.id == "HERE":
+            return True
+        if isinstance(node, n.Call) and isinstance(node.function, n.Name) and node.function.id in ("POSE", "TRANSL"):
+            return True
+    return False
+
+
 def _map_bodies(stmt: n.Statement, fn) -> n.Statement:  # type: ignore[no-untyped-def]
     """The statement with `fn` applied to each of its blocks."""
     if isinstance(stmt, n.If):
@@ -74,6 +84,8 @@ def wrap(body: n.Body, outer: Chain, chains: Mapping[str, Chain]) -> n.Body:
             labels.append(NEUTRAL)
         elif isinstance(stmt, n.FrameBlock):
             labels.append(MIXED)  # written by the programmer: left where it is
+        elif isinstance(stmt, n.Return) and not _frame_dependent(stmt):
+            labels.append(NEUTRAL)  # `RETURN OFFS(corner1, ...)` gives the same pose in any block: no FRAME needed
         else:
             labels.append(_label(_chains(stmt, chains), outer))
     out: list[n.Statement] = []

@@ -8,7 +8,24 @@ from orc_rpl.errors import UsageError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.files import declared_world, is_offline, parse_file
 from orc_rpl.transform.pipeline import to_online
-from orc_rpl.world import load_world
+from orc_rpl.world import World, load_world
+
+#: Object name -> its soft and spatial attributes (`pallet` -> {rows: 3, next_row: 1}), values as RPL values.
+WorldAttributes = dict[str, dict[str, object]]
+
+
+def world_attributes(world: World) -> WorldAttributes:
+    """The soft and spatial attributes of every object that has any: what programs read as `pallet.next_row`."""
+    return {obj.name: {**obj.spatial, **obj.soft} for obj in world.objects if obj.spatial or obj.soft}
+
+
+def load_program_and_attributes(path: str | Path, world: str | Path | None = None) -> tuple[str, n.Program, WorldAttributes]:
+    """`load_program`, and the soft and spatial attributes of the program's world (on-line: of `world` when given)."""
+    text, program = load_program(path, world)
+    world_path = Path(world) if world is not None else (declared_world(path, text) if is_offline(path) else None)
+    if world_path is None or not world_path.is_file():
+        return text, program, {}
+    return text, program, world_attributes(load_world(world_path))
 
 
 def load_program(path: str | Path, world: str | Path | None = None) -> tuple[str, n.Program]:

@@ -71,29 +71,39 @@ def to_online(program: n.Program, world: World, path: str = "<program>", source:
     return reduce_world(job) if reduce else job
 
 
-def to_offline(program: n.Program, world: World | None, path: str = "<program>", store: ModelStore | None = None) -> Job:
+def to_offline(program: n.Program, world: World | None, path: str = "<program>", store: ModelStore | None = None, *,
+               move_declarations: bool = False) -> Job:
     """The off-line program and world model. Given the world the program came from, edits made on-line go into it;
-    without one, the world is made from the program's declarations, as far as the on-line text then comes back exactly."""
+    without one, the world is made from the program's declarations, as far as the on-line text then comes back exactly,
+    or, with `move_declarations` (what `orc convert` does), also those standing after other statements."""
     if world is not None:
         return run(Job(program, world, path, store=store), TO_OFFLINE)
-    return _from_declarations(program, path)
+    return _from_declarations(program, path, move_declarations)
 
 
-def _from_declarations(program: n.Program, path: str) -> Job:
-    """An on-line program that was never off-line: take as many leading declarations into a new world as round-trip exactly.
+def _from_declarations(program: n.Program, path: str, move_declarations: bool = False) -> Job:
+    """An on-line program that was never off-line: take as many declarations into a new world as come back.
 
-    Candidates, best first: the whole leading run of declarations the world can hold, its FRAME blocks removed, then
-    kept as written; then shorter runs (at most MAX_CANDIDATES), and at last none, which is always exact.
+    Candidates, best first (the first two with `move_declarations` only): every top-level declaration the world can
+    hold, wherever it stands (after an INSTALL, as in demo_pallet), coming back exactly, then coming back with only
+    the declarations in another place (the
+    transformation declares positions at the top, in first-use order; declarations are global wherever they stand,
+    so the program means the same); then the leading run of declarations and shorter runs (at most MAX_CANDIDATES)
+    coming back exactly, and at last none, which is always exact. Each with its FRAME blocks removed, then kept.
     """
     body = program.body
     start = leading_comments(body)
     end = start
     while end < len(body) and absorbable(body[end], new=True):
         end += 1
+    anywhere = frozenset(i for i, stmt in enumerate(body) if absorbable(stmt, new=True))
+    candidates: list[tuple[frozenset[int], Callable[[n.Program, frozenset[int]], bool]]] = []
+    if anywhere and move_declarations:
+        candidates += [(anywhere, lambda back, chosen: back == program), (anywhere, lambda back, chosen: _same_but_declaration_places(back, program, chosen))]
     counts = list(range(end - start, max(end - start - MAX_CANDIDATES, 0), -1)) + [0]
-    for count in counts:
-        chosen = frozenset(range(start, start + count))
-        for strip in (True, False) if count else (False,):
+    candidates += [(frozenset(range(start, start + count)), lambda back, chosen: back == program) for count in counts]
+    for chosen, same in candidates:
+        for strip in (True, False) if chosen else (False,):
             try:
                 job = absorb_new(program, chosen, path)
                 if strip:
@@ -102,6 +112,14 @@ def _from_declarations(program: n.Program, path: str) -> Job:
                 back = run(Job(job.program, job.world, path), TO_ONLINE)
             except OrcError:
                 continue  # a candidate the world model or the names refuse: try a smaller one
-            if back.program == program:
+            if same(back.program, chosen):
                 return dataclasses.replace(job, names=None, chains={})
     raise InternalError(f"no exact off-line form of {path} found")
+
+
+def _same_but_declaration_places(program: n.Program, original: n.Program, chosen: frozenset[int]) -> bool:
+    """`program` is `original` with the chosen declarations moved (they come back declared in another place)."""
+    declared = [original.body[i] for i in sorted(chosen)]
+    rest = [stmt for i, stmt in enumerate(original.body) if i not in chosen]
+    back_rest = [stmt for stmt in program.body if stmt not in declared]
+    return back_rest == rest and sorted(map(repr, declared)) == sorted(repr(s) for s in program.body if s in declared)

@@ -38,14 +38,20 @@ def _unknown(obj: WorldObject, attr: n.Name, world: World) -> tuple[str, str]:
     return f"'{obj.name}' has no frame, path or attribute '{attr.id}' in {world.path}", hint
 
 
+def installed_names(program: n.Program) -> frozenset[str]:
+    """Names the program INSTALLs equipment as: on a world tool (`install gripper as Gripper`), `gripper.Close` is a method."""
+    return frozenset(node.name.id for stmt in program.body for node in stmt.walk() if isinstance(node, n.Install))
+
+
 def world_diagnostics(program: n.Program, world: World, path: str) -> list[Diagnostic]:
     """Unknown world paths (`fixture.posX`) and path indices out of range, each at its line and column."""
     shadowed = declared_names(program)
+    installed = installed_names(program)
     out: list[Diagnostic] = []
     for expr in references(program):
         if isinstance(expr, n.Field) and isinstance(expr.value, n.Name):
             obj = _object(world, expr.value.id, shadowed)
-            if obj is not None and _attribute_kind(obj, expr.name.id) is None:
+            if obj is not None and _attribute_kind(obj, expr.name.id) is None and obj.name not in installed:
                 message, hint = _unknown(obj, expr.name, world)
                 span = expr.name.span
                 out.append(Diagnostic(Location(path, span.line or 1, span.column or 1, span.end_line, span.end_column),
@@ -68,6 +74,7 @@ def resolve_positions(job: Job) -> Job:
     world, names = job.world, job.names
     assert names is not None
     shadowed = declared_names(job.program)
+    installed = installed_names(job.program)
     used: dict[str, None] = dict.fromkeys(job.used)
 
     def use(dotted: str, like: n.Node) -> n.Name:
@@ -80,6 +87,8 @@ def resolve_positions(job: Job) -> Job:
             if obj is None:
                 return None
             kind = _attribute_kind(obj, expr.name.id)
+            if kind is None and obj.name in installed:
+                return dataclasses.replace(expr, value=use(obj.name, expr.value))  # a method of the equipment on it
             if kind is None:
                 message, hint = _unknown(obj, expr.name, world)
                 raise job.error(expr.name, message, hint)

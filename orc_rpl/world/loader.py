@@ -51,7 +51,8 @@ class _Reader:
         if root is not None and not isinstance(root, MappingNode):
             raise self.src.error(root, "a world file is a mapping with the keys 'robot' and 'world'")
         if root is not None:
-            self.check_no_anchors(root)
+            if "&" in self.src.text:  # an anchor needs an '&': without one there is nothing to look for
+                self.check_no_anchors(root)
             top = self.mapping(root, TOP_KEYS, "top-level key")
             if "robot" in top:
                 robot = self.robot(top["robot"][1])

@@ -3,15 +3,103 @@
 from __future__ import annotations
 
 import difflib
+import re
 from dataclasses import dataclass, field
 
 from ruamel.yaml import YAML
+from ruamel.yaml import nodes as _rt_nodes
 from ruamel.yaml.error import MarkedYAMLError
-from ruamel.yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+from ruamel.yaml.resolver import BaseResolver as _RtResolver, implicit_resolvers as _RT_IMPLICIT
 
 from orc_rpl.errors import Diagnostic, Location, SourceError
 
+try:  # libyaml through PyYAML composes a large world about twenty times faster than ruamel's pure-Python parser
+    import yaml as _libyaml
+    from yaml.cyaml import CParser as _CParser
+except (ImportError, AttributeError):  # PyYAML without libyaml: ruamel alone
+    _libyaml = None
+
+#: Where an anchor or an alias could start (after a blank, a flow indicator or at a line start); a text without one
+#: has none (a `*` inside a word, as in a comment `ARM*holder`, is not one).
+_MAYBE_ANCHOR = re.compile(r"(?:^|[\s\[\]{},:-])[&*][^\s,\[\]{}]", re.MULTILINE)
+
 __all__ = ["MappingNode", "Node", "ScalarNode", "SequenceNode", "SourceText", "did_you_mean", "find"]
+
+
+class _NodeKind(type):
+    """`isinstance` by the concrete class of either parser's node: a set lookup (an ABC's registry walk is slower)."""
+
+    classes: frozenset[type]
+
+    def __instancecheck__(cls, obj: object) -> bool:
+        return type(obj) in cls.classes
+
+
+def _both(name: str) -> frozenset[type]:
+    """The node class of that name in ruamel and, when it is there, in PyYAML."""
+    return frozenset({getattr(_rt_nodes, name), *([getattr(_libyaml.nodes, name)] if _libyaml is not None else [])})
+
+
+class Node(metaclass=_NodeKind):
+    """A YAML node as either parser makes it: `value`, `tag`, `style`, `flow_style`, `start_mark`, `end_mark`."""
+
+    classes = _both("ScalarNode") | _both("SequenceNode") | _both("MappingNode")
+
+
+class ScalarNode(metaclass=_NodeKind):
+    """A scalar node."""
+
+    classes = _both("ScalarNode")
+
+
+class SequenceNode(metaclass=_NodeKind):
+    """A sequence node."""
+
+    classes = _both("SequenceNode")
+
+
+class MappingNode(metaclass=_NodeKind):
+    """A mapping node: `value` is a list of (key, value) node pairs."""
+
+    classes = _both("MappingNode")
+
+
+if _libyaml is not None:
+    class _Yaml12Loader(_CParser, _libyaml.resolver.BaseResolver):  # type: ignore[misc, name-defined]
+        """libyaml's parser with the YAML 1.2 tags ruamel gives (`yes` is a string, `010` is ten), so both agree."""
+
+        yaml_implicit_resolvers: dict = {}
+
+        def __init__(self, text: str) -> None:
+            _CParser.__init__(self, text)
+            _libyaml.resolver.BaseResolver.__init__(self)
+
+    #: first character -> (tag, compiled pattern), YAML 1.2 as ruamel resolves it (ruamel's patterns are lazy proxies)
+    _IMPLICIT: dict[str, list[tuple[str, re.Pattern[str]]]] = {}
+    for _versions, _tag, _regexp, _first in _RT_IMPLICIT:
+        if (1, 2) in _versions:
+            for _char in _first:
+                _IMPLICIT.setdefault(_char, []).append((_tag, re.compile(_regexp.pattern, _regexp.flags)))
+
+    _SCALAR, _SEQUENCE = _libyaml.nodes.ScalarNode, _libyaml.nodes.SequenceNode
+    _STR, _SEQ, _MAP = (_libyaml.resolver.BaseResolver.DEFAULT_SCALAR_TAG, _libyaml.resolver.BaseResolver.DEFAULT_SEQUENCE_TAG,
+                        _libyaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG)
+    _TAGS: dict[str, str] = {}   #: plain scalar text -> its tag (world files repeat the same numbers thousands of times)
+
+    def _resolve(self, kind: type, value: str, implicit: tuple[bool, bool]) -> str:  # type: ignore[no-untyped-def]
+        """The node's tag: implicit scalars by the YAML 1.2 patterns, everything else by its kind (no path resolvers)."""
+        if kind is _SCALAR:
+            if not implicit[0]:
+                return _STR
+            tag = _TAGS.get(value)
+            if tag is None:
+                tag = next((t for t, pattern in _IMPLICIT.get(value[:1], ()) if pattern.match(value)), _STR)
+                if len(_TAGS) < 65536:
+                    _TAGS[value] = tag
+            return tag
+        return _SEQ if kind is _SEQUENCE else _MAP
+
+    _Yaml12Loader.resolve = _resolve  # type: ignore[method-assign]
 
 
 @dataclass(frozen=True)
@@ -64,7 +152,19 @@ class SourceText:
         return SourceError([self.diagnostic(node, message, hint)], self.text)
 
     def compose(self) -> Node | None:
-        """The YAML node tree; a syntax error becomes a SourceError at ruamel's mark."""
+        """The YAML node tree; a syntax error becomes a SourceError at ruamel's mark.
+
+        libyaml composes when it can: a text without anchors or aliases (refused with ruamel's positions)
+        that it parses without error (errors are reported with ruamel's words, as always).
+        """
+        if _libyaml is not None and _MAYBE_ANCHOR.search(self.text) is None:
+            loader = _Yaml12Loader(self.text)
+            try:
+                return loader.get_single_node()
+            except _libyaml.YAMLError:
+                pass  # ruamel reports it
+            finally:
+                loader.dispose()
         try:
             return YAML(typ="rt").compose(self.text)
         except MarkedYAMLError as exc:

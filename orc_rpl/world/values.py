@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+from functools import lru_cache
 
 from orc_rpl.errors import Diagnostic
 from orc_rpl.syntax.units import ANGLE, LENGTH, Dimension, Quantity, Scalar, dim_of, format_number, magnitude, parse_literal
@@ -38,15 +39,21 @@ def read_number(node: Node, what: str) -> Scalar:
     if not isinstance(node, ScalarNode) or node.style not in (None, ""):
         raise BadValue(node, f"{what} must be a number with an optional unit")
     text = node.value.strip()
-    sign = -1.0 if text.startswith("-") else 1.0
-    body = text[1:] if text[:1] in "+-" else text
     try:
-        value = parse_literal(body)
+        return _signed_literal(text)
     except KeyError:
+        body = text[1:] if text[:1] in "+-" else text
         unit = re.sub(r"^[\d.eE+-]+", "", body)
         raise BadValue(node, f"unknown unit '{unit}' in '{text}'", "units: mm cm m deg rad (a plain number is m or rad)") from None
     except ValueError:
         raise BadValue(node, f"'{text}' is not a number", f"{what} is a number with an optional unit") from None
+
+
+@lru_cache(maxsize=8192)
+def _signed_literal(text: str) -> Scalar:
+    """`-300mm` as a value; world files repeat the same few numbers thousands of times."""
+    sign = -1.0 if text.startswith("-") else 1.0
+    value = parse_literal(text[1:] if text[:1] in "+-" else text)
     if sign < 0:
         return Quantity(-value.value, value.dim) if isinstance(value, Quantity) else -value
     return value

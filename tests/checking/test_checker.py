@@ -59,7 +59,7 @@ GOLDEN = [
     ("pose fields", "x = p_world.q\n", ["1:13: a pose has no field 'q'; its fields are x, y, z, a, b, c"]),
     ("routines may be called before they are written", "Later\nPROC Later\nENDPROC\n", []),
     ("routine arity", "FUNC f(a, b)\n    RETURN a\nENDFUNC\nx = f(1)\n", ["4:5: FUNC f takes 2 arguments, got 1"]),
-    ("FUNC as attribute value", "FUNC ramp(s)\n    RETURN 20N + 10N * s\nENDFUNC\nMOVE grinder TO p_world WITH FORCE = ramp\n", []),
+    ("FUNC as attribute value", "FUNC ramp(s)\n    RETURN 20N + 10N * s\nENDFUNC\nGRINDMOVE grinder TO p_world WITH FORCE = ramp\n", []),
     ("globals visible in routines; locals stay local", "VAR count = 0\nPROC Bump\n    count = count + 1\n    tmp = 1\nENDPROC\nx = tmp\n",
      ["6:5: undefined name 'tmp'"]),
     ("IDENT binds its output name", "ENUM Part = NoObject, Bolt\nFUNC proc(r)\n    RETURN Bolt\nENDFUNC\n"

@@ -1,4 +1,4 @@
-"""Programs written in the style of LANGUAGE.md by someone else: valid ones check clean, broken ones fail at the right line."""
+"""Programs written in the style of docs/language.md by someone else: valid ones check clean, broken ones fail at the right line."""
 
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ def test_language_md_examples_check_clean() -> None:
 
 BROKEN = [
     ("typo in a motion keyword on line 4", "TOOL t = POSE(0, 0, 0, 0, 0, 0)\nPOS p = POSE(1m, 0, 1m, 0, 0, 0)\n\nLMOV t TO p\n",
-     [(4, 6)]),
+     [(4, 1)]),
     ("thesis layout with an unknown attribute", "TOOL g = TRANSL(0, 0, 0)\nPOS e = TRANSL(1m, 0, 1m)\nMOVE g TO e\n  WITH SPEED=0.15*mps\n  WITH FROCE=1N\n",
      [(5, 8)]),
     ("missing ENDFRAME", "FRAME f = TRANSL(1m, 0, 0)\nFRAME f\n    STOP\n", [(2, 1)]),

@@ -22,6 +22,7 @@ def cell(tmp_path: Path) -> Path:
 
 
 def test_convert_both_ways_gives_back_program_and_world(cell: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (cell / "prog.orl").write_text("# world: cell.yaml\n" + (cell / "prog.orl").read_text())
     assert main(["convert", str(cell / "prog.orl"), "--to", "online", "--world", str(cell / "cell.yaml"),
                  "-o", str(cell / "prog.rpl"), "--online-world", str(cell / "online.yaml")]) == 0
     online = (cell / "prog.rpl").read_text()
@@ -145,3 +146,38 @@ def test_run_offline_program_moves_like_its_online_form(cell: Path) -> None:
 def test_run_offline_program_finds_its_world_by_its_world_line(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["run", str(THESIS)]) == 0
     assert "motions: 4" in capsys.readouterr().err
+
+
+def test_convert_refuses_a_program_with_check_errors(cell: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (cell / "bad.rpl").write_text("POS p = POSE(0.8, 0, 0.6, 0, 180deg, 0)\nMOVE ARM TO p\nWAIT 3N\n")
+    (cell / "bad.orl").write_text("moveto pos0\nwait 3N\n")
+    assert main(["convert", str(cell / "bad.rpl"), "--world", str(cell / "new.yaml"), "-o", str(cell / "bad_out.orl")]) == 2
+    err = capsys.readouterr().err
+    assert f"{cell / 'bad.rpl'}:3:6: WAIT expects a time, got a force" in err and "nothing was written" in err
+    assert main(["convert", str(cell / "bad.orl"), "--world", str(cell / "cell.yaml"), "-o", str(cell / "bad_out.rpl")]) == 2
+    assert f"{cell / 'bad.orl'}:2:6: WAIT expects a time, got a force" in capsys.readouterr().err
+    assert not (cell / "new.yaml").exists() and not (cell / "bad_out.orl").exists() and not (cell / "bad_out.rpl").exists()
+
+
+def test_convert_names_the_world_it_used(cell: Path) -> None:
+    (cell / "sub").mkdir()
+    (cell / "prog.orl").write_text("# world: stale/old.yaml\n# a comment\nmoveto pos0\n")
+    assert main(["convert", str(cell / "prog.orl"), "--world", str(cell / "cell.yaml"), "-o", str(cell / "prog.rpl")]) == 0
+    assert "world:" not in (cell / "prog.rpl").read_text()
+    assert main(["convert", str(cell / "prog.rpl"), "--world", str(cell / "cell.yaml"), "-o", str(cell / "sub" / "p.orl")]) == 0
+    assert (cell / "sub" / "p.orl").read_text() == "# world: ../cell.yaml\n# a comment\nmoveto pos0\n"
+
+
+def test_convert_moves_declarations_after_an_install_into_the_new_world(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    world, orl, rpl = tmp_path / "pallet.yaml", tmp_path / "pallet.orl", tmp_path / "pallet.rpl"
+    source = ROOT / "programs" / "online" / "demo_pallet.rpl"
+    assert main(["convert", str(source), "--world", str(world), "-o", str(orl)]) == 0
+    made = world.read_text()
+    for entry in ("  gripper:\n", "  pallet:\n", "      corner1: [0, 0, 30mm, 0, 180deg, 0]\n", "  feeder:\n"):
+        assert entry in made
+    offline = orl.read_text()
+    assert offline.startswith("# world: pallet.yaml\n")
+    assert "pos corner1" not in offline and "return OFFS(pallet.corner1, " in offline
+    assert main(["convert", str(orl), "-o", str(rpl)]) == 0
+    assert main(["run", str(rpl)]) == 0
+    assert capsys.readouterr().out.splitlines()[-1] == "pallet full: 12 parts"

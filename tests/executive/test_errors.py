@@ -18,7 +18,7 @@ CASES = {
     "condition_not_boolean": ("IF 3 THEN\n    PRINT 1\nENDIF", 1, 1, "expected TRUE or FALSE"),
     "error_inside_loop_body_points_at_body": ("FOR i FROM 1 TO 3 DO\n    PRINT 1 / (i - 2)\nENDFOR", 2, 5, "division by zero"),
     "error_inside_routine_points_at_routine_line": (
-        "PROC Bad(x)\n    PRINT x + 1mm\nENDPROC\nBad(2)", 2, 5, "cannot add number"),
+        "PROC Bad(x)\n    PRINT x + 1mm\nENDPROC\nBad(2s)", 2, 5, "cannot add time"),
     "func_without_return": ("FUNC f(x)\n    x = 1\nENDFUNC\nPRINT f(1)", 4, 1, "FUNC f ended without RETURN"),
     "recursion_depth": ("FUNC f(x)\n    RETURN f(x + 1)\nENDFUNC\nPRINT f(1)", 2, 5, "nested deeper than"),
     "wrong_argument_count": ("PROC P(a, b)\n    PRINT a\nENDPROC\nP(1)", 4, 1, "takes 2 arguments, got 1"),

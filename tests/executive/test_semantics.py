@@ -1,4 +1,4 @@
-"""The interpreter's semantics on the recording robot: program text -> PRINT lines (LANGUAGE.md section 3)."""
+"""The interpreter's semantics on the recording robot: program text -> PRINT lines (docs/language.md sections 6-8)."""
 
 from __future__ import annotations
 

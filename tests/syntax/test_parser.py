@@ -1,4 +1,4 @@
-"""Parsing: source text -> the expected syntax tree, one row per construct of LANGUAGE.md sections 1-3."""
+"""Parsing: source text -> the expected syntax tree, one row per construct of docs/language.md sections 1-8."""
 
 from __future__ import annotations
 

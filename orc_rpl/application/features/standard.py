@@ -8,7 +8,7 @@ from orc_rpl.syntax.units import ACCELERATION, ANGLE, DIMENSIONLESS, FORCE, LENG
 
 ORIGIN = "standard"
 
-#: Attributes every motion keyword accepts (LANGUAGE.md section 3).
+#: Attributes every motion keyword accepts (docs/language.md section 4).
 STANDARD_ATTRIBUTES: tuple[AttributeSpec, ...] = (
     AttributeSpec("SPEED", (VELOCITY, DIMENSIONLESS), None,
                   "TCP speed, or a fraction of the maximum (`0.5*Vmax`, `50%`)", aliases=("V", "VELOCITY")),
@@ -33,17 +33,11 @@ def _p(name: str, *types: object, required: bool = True) -> ParamSpec:
     return ParamSpec(name, tuple(types) or ("any",), required=required)  # type: ignore[arg-type]
 
 
-#: The thesis' first listing (section 2) gives a plain MOVE a FORCE: contact force along the tool's z axis.
-CONTACT_FORCE = AttributeSpec("FORCE", (FORCE,), None, "contact force along the tool z axis (force control normal to the path)")
-
-
 def register(registry: Registry) -> None:
-    """Declare the standard words."""
-    registry.add_motion(motion("MOVE", "joint-interpolated, time-optimal motion through its VIA points", CONTACT_FORCE,
-                               targets=("TO", "ALONG")))
-    registry.add_motion(motion("JMOVE", "alias of MOVE: joint-interpolated motion", CONTACT_FORCE, targets=("TO", "ALONG")))
-    registry.add_motion(motion("LMOVE", "straight-line TCP motion, orientation interpolated", CONTACT_FORCE,
-                               targets=("TO", "ALONG")))
+    """Declare the standard words (no FORCE: force control belongs to GRINDMOVE, so `MOVE ... WITH FORCE` is a check error)."""
+    registry.add_motion(motion("MOVE", "joint-interpolated, time-optimal motion through its VIA points", targets=("TO", "ALONG")))
+    registry.add_motion(motion("JMOVE", "alias of MOVE: joint-interpolated motion", targets=("TO", "ALONG")))
+    registry.add_motion(motion("LMOVE", "straight-line TCP motion, orientation interpolated", targets=("TO", "ALONG")))
     registry.add_motion(motion("CMOVE", "circular motion through the current position, the VIA point and the target",
                                needs_via=True))
     functions = [
@@ -66,12 +60,13 @@ def register(registry: Registry) -> None:
         FunctionSpec("ATAN2", "angle of the vector (x, y)", (_p("y"), _p("x")), returns=ANGLE),
         FunctionSpec("MIN", "the smallest argument", (_p("a"), _p("b")), variadic=True),
         FunctionSpec("MAX", "the largest argument", (_p("a"), _p("b")), variadic=True),
-        FunctionSpec("LEN", "number of elements of a list or path", (_p("items", "list", "path"),), returns=DIMENSIONLESS),
+        FunctionSpec("LEN", "number of elements of a list or path, or of characters of a string",
+                     (_p("items", "list", "path", "string"),), returns=DIMENSIONLESS),
     ]
     for spec in functions:
         registry.add_function(FunctionSpec(spec.name, spec.doc, spec.params, spec.returns, spec.variadic, origin=ORIGIN))
 
-#: Software sensors readable as `ROBOT.<name>` (LANGUAGE.md section 4); indexed ones take a joint number.
+#: Software sensors readable as `ROBOT.<name>` (docs/language.md section 9); indexed ones take a joint number.
 ROBOT_SIGNALS: dict[str, str] = {
     "Joints": "joint angles (list, rad)",
     "Torque": "torque estimate of joint j (`ROBOT.Torque[j]`, N m)",
