@@ -32,6 +32,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
+    parser.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
+                        help="replace the value of a top-level CONST, e.g. --set Vmax=1.2mps (repeatable)")
     return parser
 
 
@@ -62,6 +64,7 @@ def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
     from orc_rpl.transform.loading import load_program
+    from orc_rpl.transform.overrides import override_constants
 
     try:
         override = speed_override(args.speed_override)
@@ -76,6 +79,7 @@ def run(args: argparse.Namespace) -> int:
         # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
         source, program = load_program(args.file, world_file)
+        program = override_constants(program, args.set)
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
