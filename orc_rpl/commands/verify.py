@@ -34,6 +34,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--save-baseline", metavar="FILE", help="save this verification's cycle times as a baseline")
     parser.add_argument("--slowdown", metavar="PERCENT", type=float, default=5.0,
                         help="fail a run slower than its baseline by more than this (default 5)")
+    parser.add_argument("--min-clearance", metavar="MM", type=float, default=0.0,
+                        help="fail a run whose robot comes nearer than this to the cell's objects (default 0: "
+                             "only collisions fail)")
     parser.add_argument("--junit", metavar="FILE", help="write JUnit XML for CI systems")
     parser.add_argument("--json", metavar="FILE", help="write every row as JSON")
     add_cluster_options(parser)
@@ -107,7 +110,7 @@ def _verify(args: argparse.Namespace, engine: Any, pairs: list[tuple[Found, str]
                 index = to_run[done.index]
                 program, robot = pairs[index]
                 rows[index] = judge(program.shown, robot, program.expectation, done.result, done.attempts,
-                                    done.failure, baseline, args.slowdown)
+                                    done.failure, baseline, args.slowdown, args.min_clearance)
                 table.add(rows[index])
         except KeyboardInterrupt:
             interrupted = True
@@ -122,6 +125,7 @@ def _verify(args: argparse.Namespace, engine: Any, pairs: list[tuple[Found, str]
                  f"{tally['cancelled']} cancelled ({wall_s:.1f} s wall)", markup=False, highlight=False)
     if args.json:
         reports.write_json(args.json, ordered, {"scheduler": args.scheduler or "local", "slowdown_pct": args.slowdown,
+                                               "min_clearance_mm": args.min_clearance,
                                                "wall_s": round(wall_s, 3)})
     if args.junit:
         reports.write_junit(args.junit, ordered, wall_s)

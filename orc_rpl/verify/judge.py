@@ -32,6 +32,8 @@ class Row:
     warnings: int = 0
     joint_margin_deg: float | None = None
     margin_joint: int | None = None
+    clearance_mm: float | None = None         #: nearest approach of the robot to the cell's objects (negative: collision)
+    nearest: str = ""                         #: which link came nearest to which object, and when
     process: Any = None                       #: the run summary's `process` section, when the run has one
     attempts: int = 1                         #: 2 when its worker died and it ran again
     expected: str = "finished"
@@ -57,7 +59,7 @@ def _message(outcome: RunOutcome) -> str:
 
 
 def judge(program: str, robot: str, expectation: Expectation, outcome: RunOutcome | None, attempts: int,
-          failure: str | None, baseline: Mapping[str, Any], slowdown_pct: float) -> Row:
+          failure: str | None, baseline: Mapping[str, Any], slowdown_pct: float, min_clearance_mm: float = 0.0) -> Row:
     """The row of one run: what happened, against what the header expects and the baseline's cycle time."""
     if outcome is None:
         return Row(program, robot, "lost", attempts=attempts, expected=expectation.outcome, verdict=FAIL,
@@ -72,11 +74,17 @@ def judge(program: str, robot: str, expectation: Expectation, outcome: RunOutcom
                   cycle_time_s=summary.get("cycle_time_s"), motions=summary.get("motions"),
                   warnings=len(summary.get("warnings", ())), joint_margin_deg=outcome.joint_margin_deg,
                   margin_joint=outcome.margin_joint, process=summary.get("process"), attempts=attempts,
+                  clearance_mm=None if outcome.clearance_m is None else round(1000 * outcome.clearance_m, 3),
+                  nearest=outcome.nearest,
                   expected=expectation.outcome, message=_message(outcome) if error else "")
     reasons = []
     if not expectation.met_by(row.status, row.exception):
         got = row.status + (f" ({row.exception})" if row.exception else "")
         reasons.append(f"expected {expectation.outcome}, got {got}")
+    if row.clearance_mm is not None and row.clearance_mm < 0:
+        reasons.append(f"collision: {row.nearest} ({-row.clearance_mm:.1f} mm deep)")
+    elif row.clearance_mm is not None and row.clearance_mm < min_clearance_mm:
+        reasons.append(f"near miss: {row.clearance_mm:.1f} mm, {row.nearest} (below {min_clearance_mm:g} mm)")
     before = baseline.get(row.key(), {}).get("cycle_time_s")
     change = None
     if before is not None and row.cycle_time_s is not None and before > 0:

@@ -94,6 +94,8 @@ def record_of(index: int, point: Point, outcome: RunOutcome | None, attempts: in
     record.update({"status": status, "exception": error.get("exception"), "cycle_time_s": summary.get("cycle_time_s"),
                    "motions": summary.get("motions"), "warnings": len(summary.get("warnings", ())),
                    "joint_margin_deg": outcome.joint_margin_deg if outcome is not None else None,
+                   "clearance_mm": (None if outcome is None or outcome.clearance_m is None
+                                    else round(1000 * outcome.clearance_m, 3)),
                    "attempts": attempts})
     if "process" in summary:
         _flat("process", summary["process"], record)

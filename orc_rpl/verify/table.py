@@ -32,6 +32,13 @@ def _process_text(process: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
+def _clearance(row: Row) -> str:
+    if row.clearance_mm is None:
+        return "> 500 mm" if row.nearest else ""
+    text = f"{row.clearance_mm:.0f} mm"
+    return f"[bold red]{text} COLLISION[/]" if row.clearance_mm < 0 else text
+
+
 def _change(row: Row, have_baseline: bool) -> str:
     if row.change_pct is not None:
         return f"{row.change_pct:+.1f} %"
@@ -43,7 +50,8 @@ def build_table(rows: list[Row], have_baseline: bool) -> Table:
     with_process = any(row.process is not None for row in rows)
     table = Table(title="orc verify", title_justify="left")
     for name, justify in (("program", "left"), ("robot", "left"), ("status", "left"), ("cycle s", "right"),
-                          ("vs baseline", "right"), ("motions", "right"), ("joint margin", "right")):
+                          ("vs baseline", "right"), ("motions", "right"), ("clearance", "right"),
+                          ("joint margin", "right")):
         table.add_column(name, justify=justify)  # type: ignore[arg-type]
     if with_process:
         table.add_column("process")
@@ -57,6 +65,7 @@ def build_table(rows: list[Row], have_baseline: bool) -> Table:
                  "" if row.cycle_time_s is None else f"{row.cycle_time_s:.3f}",
                  _change(row, have_baseline),
                  "" if row.motions is None else str(row.motions),
+                 _clearance(row),
                  "" if row.joint_margin_deg is None else f"{row.joint_margin_deg:.1f} deg (j{row.margin_joint})"]
         if with_process:
             cells.append(_process_text(row.process))

@@ -15,6 +15,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from orc_rpl.plant.clearance import DISTMAX_M, nearest_in_default_cell
 from orc_rpl.robot.robots import ROBOTS
 from orc_rpl.signals.recording import Recording
 
@@ -58,17 +59,20 @@ class RunOutcome:
     stderr: str
     joint_margin_deg: float | None = None   #: smallest distance of any joint to its limit over the run
     margin_joint: int | None = None         #: the joint (1-based) where that margin was smallest
+    clearance_m: float | None = None        #: nearest approach of the robot's links to the cell's fixed objects
+    nearest: str = ""                       #: which link came nearest to which object, and when
     wall_s: float = 0.0
     worker: str = field(default="")         #: host and process id that ran it
 
 
-def joint_margin(log_npz: Path, robot: str) -> tuple[float, int] | None:
-    """The smallest distance (deg) of a recorded joint to its range limit, and the joint; None without a recording."""
+def margins(log_npz: Path, robot: str) -> tuple[tuple[float, int] | None, Any]:
+    """From the run's recording: the smallest distance (deg) of a joint to its limit and the joint (1-based), and the
+    nearest approach to the cell (plant.clearance, sampled at its replay rate); (None, None) without a recording."""
     if not log_npz.is_file() or robot not in ROBOTS:
-        return None
+        return None, None
     recording = Recording.from_npz(log_npz)
     if "q" not in recording.signals or len(recording.time_s) == 0:
-        return None
+        return None, None
     spec = ROBOTS.get(robot)
     q = np.asarray(recording.signals["q"], dtype=float)
     n = min(q.shape[1], len(spec.q_min_rad))
@@ -76,7 +80,7 @@ def joint_margin(log_npz: Path, robot: str) -> tuple[float, int] | None:
     upper = np.asarray(spec.q_max_rad[:n]) - q[:, :n]
     per_joint = np.minimum(lower.min(axis=0), upper.min(axis=0))
     joint = int(np.argmin(per_joint))
-    return float(np.degrees(per_joint[joint])), joint + 1
+    return (float(np.degrees(per_joint[joint])), joint + 1), nearest_in_default_cell(robot, recording.time_s, q)
 
 
 def _tail(text: str) -> str:
@@ -99,9 +103,12 @@ def run_task(orc_main: OrcMain, spec: RunSpec) -> RunOutcome:
                 err.write(f"orc run: internal error (a bug in orc_rpl, please report it): {type(error).__name__}: {error}\n")
                 code = 1
         summary = json.loads(summary_json.read_text(encoding="utf-8")) if summary_json.is_file() else None
-        margin = joint_margin(log_npz, spec.robot) if log_npz is not None and summary is not None else None
+        margin, approach = margins(log_npz, spec.robot) if log_npz is not None and summary is not None else (None, None)
     return RunOutcome(
         exit_code=code, summary=summary, stdout=_tail(out.getvalue()), stderr=_tail(err.getvalue()),
         joint_margin_deg=None if margin is None else round(margin[0], 6),
         margin_joint=None if margin is None else margin[1],
+        clearance_m=None if approach is None else round(approach.distance_m, 6),
+        nearest=(f"nothing within {1000 * DISTMAX_M:.0f} mm" if approach is None else
+                 f"{approach.robot_geom} to {approach.obstacle_geom} at {approach.time_s:.2f} s") if margin else "",
         wall_s=time.perf_counter() - start, worker=f"{socket.gethostname()}:{os.getpid()}")

@@ -24,6 +24,9 @@ UNREACHABLE = ("-- Out of reach on purpose.\n-- expect: Unreachable\nTOOL probe 
 NOT_AS_EXPECTED = ("-- expect: Unreachable\nTOOL probe = POSE(0, 0, 100mm, 0, 0, 0)\n"
                    "MOVE probe TO POSE(900mm, 0, 700mm, 0, 180deg, 0)\n")
 UR5E_ONLY = "-- robots: ur5e\nPRINT 1\n"
+COLLIDES = ("-- Into the table (top at 350 mm) on purpose.\nTOOL probe = POSE(0, 0, 100mm, 0, 0, 0)\n"
+            "MOVE probe TO POSE(1000mm, 0, 600mm, 0, 180deg, 0)\n"
+            "LMOVE probe TO POSE(1000mm, 0, 250mm, 0, 180deg, 0) WITH SPEED = 0.5mps\n")
 
 
 def alone(program: str | Path, robot: str = "irb2400") -> dict[str, Any]:
@@ -51,7 +54,8 @@ def same_as_alone(row: dict[str, Any], summary: dict[str, Any]) -> None:
 
 @pytest.fixture
 def extra_programs(tmp_path: Path) -> dict[str, Path]:
-    files = {"unreachable.rpl": UNREACHABLE, "not_as_expected.rpl": NOT_AS_EXPECTED, "ur5e_only.rpl": UR5E_ONLY}
+    files = {"unreachable.rpl": UNREACHABLE, "not_as_expected.rpl": NOT_AS_EXPECTED, "ur5e_only.rpl": UR5E_ONLY,
+             "collides.rpl": COLLIDES}
     for name, text in files.items():
         (tmp_path / name).write_text(text, encoding="utf-8")
     return {name: tmp_path / name for name in files}

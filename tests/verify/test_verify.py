@@ -26,7 +26,7 @@ def test_verify_matches_each_program_run_alone_and_judges_it(extra_programs: dic
                                        for shown, summary in reference.items() if shown in SUBSET}}
     (tmp_path / "baseline.json").write_text(json.dumps(baseline), encoding="utf-8")
     result = orc("verify", *SUBSET, *(str(p) for p in extra_programs.values()), "--robot", "irb2400",
-                 "--workers", "2", "--baseline", str(tmp_path / "baseline.json"), "--json", str(tmp_path / "r.json"),
+                 "--workers", "2", "--min-clearance", "20", "--baseline", str(tmp_path / "baseline.json"), "--json", str(tmp_path / "r.json"),
                  "--junit", str(tmp_path / "j.xml"), "--save-baseline", str(tmp_path / "new.json"))
     assert result.returncode == 1, result.stderr
     rows = {Path(row["program"]).name: row for row in json.loads((tmp_path / "r.json").read_text())["runs"]}
@@ -37,16 +37,20 @@ def test_verify_matches_each_program_run_alone_and_judges_it(extra_programs: dic
     assert rows["not_as_expected.rpl"]["verdict"] == "FAIL"
     assert rows["not_as_expected.rpl"]["reasons"] == ["expected Unreachable, got finished"]
     assert rows["ur5e_only.rpl"]["verdict"] == "skipped"
+    collided = rows["collides.rpl"]
+    assert collided["status"] == "finished" and collided["verdict"] == "FAIL" and collided["clearance_mm"] < 0
+    assert collided["reasons"][0].startswith("collision: robot/") and "table_top" in collided["reasons"][0]
+    assert all(rows[Path(shown).name]["clearance_mm"] > 20 for shown in SUBSET)
     assert rows[Path(slower).name]["verdict"] == "FAIL"
     assert rows[Path(slower).name]["reasons"][0].startswith("10.0 % slower than the baseline")
     assert rows[Path(SUBSET[0]).name]["change_pct"] == 0.0 and rows[Path(SUBSET[0]).name]["verdict"] == "ok"
     suite = ET.parse(tmp_path / "j.xml").getroot()
-    assert (suite.get("tests"), suite.get("failures"), suite.get("skipped")) == ("6", "2", "1")
+    assert (suite.get("tests"), suite.get("failures"), suite.get("skipped")) == ("7", "3", "1")
     saved = json.loads((tmp_path / "new.json").read_text())["runs"]
     assert saved[f"{SUBSET[1]} [irb2400]"]["cycle_time_s"] == reference[SUBSET[1]]["cycle_time_s"]
     for shown in SUBSET:
         assert shown in result.stdout  # the table lists every program
-    assert "6 runs: 3 ok, 2 failed, 1 skipped, 0 cancelled" in result.stderr
+    assert "7 runs: 3 ok, 3 failed, 1 skipped, 0 cancelled" in result.stderr
 
 
 def _free_port() -> int:
