@@ -121,6 +121,8 @@ def _check_first(args: argparse.Namespace, point: Any, options: tuple[str, ...])
         _, tree = load_program(args.program, world)
     except SourceError as error:
         raise UsageError(error.format()) from None
+    except OrcError as error:  # an off-line program its world model cannot map
+        raise UsageError(str(error)) from None
     override_constants(tree, [f"{name}={value}" for name, value in point.settings])
 
 
