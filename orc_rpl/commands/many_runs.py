@@ -34,7 +34,7 @@ _OWN = ("--summary-json", "--log", "--robot", "--world", "--set", "--realtime", 
 
 
 def run_args(text: str | None) -> tuple[str, ...]:
-    """`--run-args '--plant ideal --seed 3'` split and checked against `orc run`'s parser."""
+    """`--run-args='--plant ideal --seed 3'` split and checked against `orc run`'s parser."""
     if not text:
         return ()
     try:
@@ -59,8 +59,8 @@ def add_cluster_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--tls-key", metavar="FILE", help="this client's private key")
     parser.add_argument("--insecure", action="store_true",
                         help="allow a plain tcp:// scheduler on another machine (a network you trust)")
-    parser.add_argument("--run-args", metavar="'ARGS'", help="further orc run options for every run, quoted, "
-                        "e.g. '--speed-override 50%%'")
+    parser.add_argument("--run-args", metavar="='ARGS'", help="further orc run options for every run, after an "
+                        "equals sign and quoted, e.g. --run-args='--speed-override 50%%'")
 
 
 def cluster_settings(args: argparse.Namespace) -> ClusterSettings:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import ipaddress
 import logging
 import os
@@ -79,6 +80,8 @@ class Engine:
 
     def __init__(self, settings: ClusterSettings) -> None:
         check_scheduler(settings)
+        if importlib.util.find_spec("distributed") is None:
+            raise UsageError("this command needs Dask distributed: pip install 'orc_rpl[verify]'")
         if settings.workers < 1:
             raise UsageError(f"--workers must be at least 1, got {settings.workers}")
         self.settings = settings
@@ -105,7 +108,7 @@ class Engine:
                                 tls_client_key=s.tls_key_file, require_encryption=True)
         try:
             self.client = Client(s.scheduler, security=security, timeout=f"{CONNECT_TIMEOUT_S}s")
-        except (OSError, TimeoutError) as error:
+        except (OSError, TimeoutError, ValueError) as error:  # refused, timed out, a TLS file that is no certificate
             raise OrcError(f"cannot reach the Dask scheduler at {s.scheduler}: {error}") from None
         return self
 

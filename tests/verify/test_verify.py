@@ -103,3 +103,15 @@ def test_ctrl_c_cancels_the_remaining_runs_and_keeps_the_finished_ones(tmp_path:
     verdicts = [row["verdict"] for row in rows]
     assert verdicts.count("ok") == 1 and verdicts.count("cancelled") == 2
     assert "cancelled" in out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--run-args=--bogus 1"], "--run-args: orc run says: unrecognized arguments: --bogus 1"),
+    (["--run-args=--log x.npz"], "--run-args: --log is set by this command itself"),
+    (["--robot", "r2d2"], "--robot: unknown robot 'r2d2'"),
+    (["--baseline", "missing.json"], "--baseline: 'missing.json' does not exist"),
+    (["--scheduler", "tcp://10.1.2.3:8786"], "plain TCP to another machine"),
+])
+def test_usage_errors_stop_before_anything_runs(argv: list[str], message: str) -> None:
+    result = orc("verify", SUBSET[0], *argv)
+    assert result.returncode == 2 and message in result.stderr and result.stdout == ""
