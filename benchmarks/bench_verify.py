@@ -19,25 +19,14 @@ import tempfile  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
+from bench_executive import MOTIONS  # noqa: E402  (benchmarks/ is the script's folder)
 from orc_rpl.cli import main  # noqa: E402
 from orc_rpl.verify.engine import ClusterSettings, Engine  # noqa: E402
 from orc_rpl.verify.task import RunSpec, run_task  # noqa: E402
 
-#: One short program: laps of a blended rectangle in front of the robot (every copy is the same work).
-PROGRAM = """-- bench_verify corpus: {laps} laps of a rectangle
-TOOL gripper = POSE(0, 0, 150mm, 0, 0, 0)
-POS p1 = POSE(850mm, -250mm, 650mm, 0, 180deg, 0)
-POS p2 = POSE(850mm, 250mm, 650mm, 0, 180deg, 0)
-POS p3 = POSE(1050mm, 250mm, 550mm, 0, 180deg, 0)
-POS p4 = POSE(1050mm, -250mm, 550mm, 0, 180deg, 0)
-MOVE gripper TO p1
-FOR lap FROM 1 TO {laps} DO
-    LMOVE gripper TO p2 WITH SPEED = 1mps WITH ZONE = 20mm
-    LMOVE gripper TO p3 WITH SPEED = 1mps WITH ZONE = 20mm
-    LMOVE gripper TO p4 WITH SPEED = 1mps WITH ZONE = 20mm
-    MOVE gripper TO p1
-ENDFOR
-"""
+#: One short program: laps of a blended rectangle in front of the robot (every copy is the same work); the
+#: executive benchmark's 1,000-motion program, shortened.
+PROGRAM = MOTIONS
 
 #: The projection printed at the end: a plant's programs on a cluster of nodes with this many workers each.
 PROJECTION_RUNS, PROJECTION_NODES, PROJECTION_WORKERS_PER_NODE = 1000, 100, 2
