@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -91,8 +91,8 @@ def judge(program: str, robot: str, expectation: Expectation, outcome: RunOutcom
         change = 100.0 * (row.cycle_time_s - before) / before
         if change > slowdown_pct:
             reasons.append(f"{change:.1f} % slower than the baseline ({before:.3f} s)")
-    return Row(**{**asdict(row), "baseline_cycle_time_s": before, "change_pct": change,
-                  "verdict": FAIL if reasons else OK, "reasons": tuple(reasons)})
+    return replace(row, baseline_cycle_time_s=before, change_pct=change, verdict=FAIL if reasons else OK,
+                   reasons=tuple(reasons))
 
 
 def skipped(program: str, robot: str, expectation: Expectation) -> Row:
