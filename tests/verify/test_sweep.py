@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from orc_rpl.cli import main
 from orc_rpl.commands.many_runs import run_accepts
 from orc_rpl.errors import UsageError
 from orc_rpl.verify.sweep import Variation, grid, split_values
@@ -67,7 +68,7 @@ def test_seeds_need_an_orc_run_with_seed(tmp_path: Path) -> None:
     program = tmp_path / "speed.rpl"
     program.write_text(PROGRAM, encoding="utf-8")
     if run_accepts("--seed"):
-        pytest.skip("orc run has --seed here: seeds are swept (covered by the sweep of seeds)")
+        pytest.skip("orc run has --seed here: seeds are swept (test_seeds_are_swept_as_orc_run_seed)")
     result = orc("sweep", str(program), "--set", "speed=1mps", "--seeds", "3", cwd=tmp_path)
     assert result.returncode == 2 and "orc run of this installation has no --seed option yet" in result.stderr
 
@@ -81,3 +82,20 @@ def test_plant_variations_are_checked_against_orc_run(tmp_path: Path) -> None:
                  cwd=tmp_path)
     assert result.returncode == 2
     assert "variation 'bad'" in result.stderr and "--no-such-option" in result.stderr
+
+
+@pytest.mark.sim
+def test_seeds_are_swept_as_orc_run_seed(tmp_path: Path) -> None:
+    if not run_accepts("--seed"):
+        pytest.skip("orc run of this installation has no --seed option yet")
+    program = tmp_path / "speed.rpl"
+    program.write_text(PROGRAM, encoding="utf-8")
+    result = orc("sweep", str(program), "--set", "speed=0.5mps", "--seeds", "2", "--workers", "2",
+                 "--out", str(tmp_path / "seeds"), cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    lines = [json.loads(line) for line in (tmp_path / "seeds.jsonl").read_text().splitlines()]
+    assert [line["seed"] for line in lines] == [0, 1]
+    for line in lines:
+        summary = tmp_path / f"alone-{line['seed']}.json"
+        assert main(["run", str(program), "--seed", str(line["seed"]), "--summary-json", str(summary)]) == 0
+        assert line["cycle_time_s"] == json.loads(summary.read_text())["cycle_time_s"]
