@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import socket
 import subprocess
 import sys
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, Iterator
 
 import pytest
 
@@ -50,6 +52,35 @@ def same_as_alone(row: dict[str, Any], summary: dict[str, Any]) -> None:
     assert (row["status"], row["exception"], row["cycle_time_s"], row["motions"], row["warnings"]) == \
         (summary["status"], error.get("exception"), summary["cycle_time_s"], summary["motions"],
          len(summary["warnings"])), row["program"]
+
+
+@contextlib.contextmanager
+def dask_cluster(folder: Path, workers: int, protocol: str = "tcp",
+                 tls: Callable[[str], list[str]] = lambda role: []) -> Iterator[str]:
+    """A Dask scheduler and single-threaded workers, each its own process, on 127.0.0.1; yields the address.
+
+    The scheduler gives up on a task at its first worker death, as docs/verify.md advises.
+    """
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    env = {**os.environ, "DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": "0"}
+    address = f"{protocol}://127.0.0.1:{port}"
+    quiet = {"cwd": folder, "env": env, "stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+    processes = [subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--protocol", protocol,
+                                   "--host", "127.0.0.1", "--port", str(port), "--no-dashboard", *tls("scheduler")],
+                                  **quiet)]
+    try:
+        for _ in range(workers):
+            processes.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--host",
+                                               "127.0.0.1", "--nthreads", "1", "--no-dashboard", *tls("worker")],
+                                              **quiet))
+        yield address
+    finally:
+        for process in reversed(processes):
+            process.terminate()
+        for process in processes:
+            process.wait(timeout=30)
 
 
 @pytest.fixture

@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 import json
-import os
 import signal
-import socket
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -13,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.verify.conftest import ROOT, SUBSET, alone, orc, same_as_alone
+from tests.verify.conftest import ROOT, SUBSET, alone, dask_cluster, orc, same_as_alone
 
 
 @pytest.mark.sim
@@ -53,37 +51,16 @@ def test_verify_matches_each_program_run_alone_and_judges_it(extra_programs: dic
     assert "7 runs: 3 ok, 3 failed, 1 skipped, 0 cancelled" in result.stderr
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
 @pytest.mark.sim
 def test_verify_on_a_separate_dask_cluster_on_loopback_gives_the_same_rows(tmp_path: Path) -> None:
-    port = _free_port()
-    env = {**os.environ, "DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": "0"}
-    processes = [subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1",
-                                   "--port", str(port), "--no-dashboard"], env=env, cwd=tmp_path,
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
-    try:
-        for _ in range(2):
-            processes.append(subprocess.Popen(
-                [sys.executable, "-m", "distributed.cli.dask_worker", f"tcp://127.0.0.1:{port}", "--host", "127.0.0.1",
-                 "--nthreads", "1", "--no-dashboard"], env=env, cwd=tmp_path,
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
-        result = orc("verify", *SUBSET[:2], "--scheduler", f"tcp://127.0.0.1:{port}", "--json", str(tmp_path / "r.json"))
-        assert result.returncode == 0, result.stderr
-        rows = json.loads((tmp_path / "r.json").read_text())["runs"]
-        assert [row["program"] for row in rows] == list(SUBSET[:2])
-        for row in rows:
-            same_as_alone(row, alone(ROOT / row["program"]))
-            assert row["verdict"] == "ok" and row["attempts"] == 1
-    finally:
-        for process in reversed(processes):
-            process.terminate()
-        for process in processes:
-            process.wait(timeout=30)
+    with dask_cluster(tmp_path, workers=2) as address:
+        result = orc("verify", *SUBSET[:2], "--scheduler", address, "--json", str(tmp_path / "r.json"))
+    assert result.returncode == 0, result.stderr
+    rows = json.loads((tmp_path / "r.json").read_text())["runs"]
+    assert [row["program"] for row in rows] == list(SUBSET[:2])
+    for row in rows:
+        same_as_alone(row, alone(ROOT / row["program"]))
+        assert row["verdict"] == "ok" and row["attempts"] == 1
 
 
 def test_ctrl_c_cancels_the_remaining_runs_and_keeps_the_finished_ones(tmp_path: Path) -> None:
