@@ -77,6 +77,9 @@ def _flat(prefix: str, value: Any, into: dict[str, Any]) -> None:
     if isinstance(value, dict):
         for key, inner in value.items():
             _flat(f"{prefix}.{key}", inner, into)
+    elif isinstance(value, list):  # records of a process (welds, identifications...): one column each, by index
+        for index, inner in enumerate(value):
+            _flat(f"{prefix}.{index}", inner, into)
     elif isinstance(value, (int, float, str, bool)) or value is None:
         into[prefix] = value
 

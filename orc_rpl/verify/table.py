@@ -15,7 +15,8 @@ _STYLE = {OK: "green", FAIL: "bold red", SKIPPED: "dim", CANCELLED: "yellow"}
 
 
 def _process_text(process: Any) -> str:
-    """A process section in one short cell: its scalar values as name=value."""
+    """A process section in one short cell: scalars as name=value, lists of records as their count (how many are
+    good, how many faults were not caught, when the records say so)."""
     if process is None:
         return ""
     if not isinstance(process, dict):
@@ -28,6 +29,12 @@ def _process_text(process: Any) -> str:
             items.append(f"{name}={value}")
         elif isinstance(value, dict):
             items.append(f"{name}: {_process_text(value)}")
+        elif isinstance(value, list) and value:
+            records = [r for r in value if isinstance(r, dict)]
+            good = sum(1 for r in records if r.get("good") is True)
+            uncaught = sum(1 for r in records if r.get("caught") is False)
+            items.append(f"{name} {len(value)}" + (f" ({good} good)" if any("good" in r for r in records) else "")
+                         + (f" ({uncaught} not caught)" if uncaught else ""))
     text = ", ".join(items)
     return text if len(text) <= 60 else text[:57] + "..."
 

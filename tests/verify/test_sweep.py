@@ -11,7 +11,8 @@ import pytest
 from orc_rpl.cli import main
 from orc_rpl.commands.many_runs import run_accepts
 from orc_rpl.errors import UsageError
-from orc_rpl.verify.sweep import Variation, grid, split_values
+from orc_rpl.verify.sweep import Variation, grid, record_of, split_values
+from orc_rpl.verify.task import RunOutcome
 from tests.verify.conftest import alone, orc
 
 PROGRAM = ("-- One motion whose speed and height are parameters.\nCONST speed = 0.5mps\nCONST height = 700mm\n"
@@ -99,3 +100,12 @@ def test_seeds_are_swept_as_orc_run_seed(tmp_path: Path) -> None:
         summary = tmp_path / f"alone-{line['seed']}.json"
         assert main(["run", str(program), "--seed", str(line["seed"]), "--summary-json", str(summary)]) == 0
         assert line["cycle_time_s"] == json.loads(summary.read_text())["cycle_time_s"]
+
+
+def test_a_process_section_becomes_columns_of_the_table() -> None:
+    summary = {"status": "finished", "cycle_time_s": 2.0, "motions": 3, "warnings": [], "error": None,
+               "process": {"identifications": [{"part": "heavy", "payload_kg": 4.98}], "welds": []}}
+    record = record_of(0, grid(["m=1"], None, [])[0], RunOutcome(0, summary, "", ""), 1, None)
+    assert record["m"] == "1" and record["status"] == "finished" and record["cycle_time_s"] == 2.0
+    assert record["process.identifications.0.part"] == "heavy"
+    assert record["process.identifications.0.payload_kg"] == 4.98

@@ -19,10 +19,11 @@ def _text(rows: list[Row], have_baseline: bool = True) -> str:
 def test_a_process_section_gets_its_column() -> None:
     plain = Row("a.rpl", "irb2400", "finished", cycle_time_s=1.5, motions=3, clearance_mm=120.0)
     welded = Row("b.rpl", "irb2400", "finished", cycle_time_s=2.0, motions=6, clearance_mm=80.0,
-                 process={"welds": 6, "spatter_mm": 0.25, "gun": {"closed_s": 0.12}})
+                 process={"welds": [{"good": True}, {"good": False}], "bulges": [], "spatter_mm": 0.25,
+                          "faults": [{"exception": "WeldFault", "caught": False}]})
     assert "process" not in _text([plain]).splitlines()[2]
     text = _text([plain, welded])
-    assert "process" in text and "welds=6, spatter_mm=0.25, gun: closed_s=0.12" in text
+    assert "process" in text and "welds 2 (1 good), spatter_mm=0.25, faults 1 (1 not caught)" in text
 
 
 def test_rows_show_retries_collisions_baseline_changes_and_reasons() -> None:
