@@ -21,7 +21,7 @@ from orc_rpl.pendant.tree import EditError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.lexicon import RESERVED
 from orc_rpl.syntax.printer import simple_statement
-from orc_rpl.world.pose import Joints, Pose, readable_angles
+from orc_rpl.world.pose import Joints, Pose, ShownPose, shown_pose
 
 #: The IO banks the cell has, as the language names them and as the cell does.
 IO_BANKS = (("DigIn", "DigIn"), ("DigOut", "DigOut"), ("AnalogIn", "AnaIn"), ("AnalogOut", "AnaOut"))
@@ -47,9 +47,7 @@ STATEMENT_HELP = {
 
 def _format_value(value: object) -> str:
     if type(value) is Pose:
-        numbers = [f"{v * 1000:.2f}mm" for v in (value.x, value.y, value.z)]
-        numbers += [f"{math.degrees(v):.2f}deg" for v in (value.a, value.b, value.c)]
-        return f"({', '.join(numbers)})" + (f" IN {value.frame}" if value.frame != "world" else "")
+        return shown_pose(value, 2, 2).text() + (f" IN {value.frame}" if value.frame != "world" else "")
     if type(value) is Joints:
         return "JOINTS(" + ", ".join(f"{math.degrees(v):.2f}deg" for v in value.values) + ")"
     return "(no value: its declaration failed)" if value is None else str(value)
@@ -80,12 +78,10 @@ class Panels:
 
     def where(self) -> str:
         state = self.where_values()
-        pose: Pose = state["tcp"]
+        pose: ShownPose = state["tcp"]
         joints = "  ".join(f"J{i + 1} {q:8.2f}" for i, q in enumerate(state["joints_deg"]))
         return (f"joints (deg)  {joints}\n"
-                f"TCP of {state['tool']} in {state['frame']}: x {pose.x * 1000:.2f} mm  y {pose.y * 1000:.2f} mm  "
-                f"z {pose.z * 1000:.2f} mm  a {math.degrees(pose.a):.2f}  b {math.degrees(pose.b):.2f}  "
-                f"c {math.degrees(pose.c):.2f} deg\n"
+                f"TCP of {state['tool']} in {state['frame']}: {pose.text()}\n"
                 f"mode {state['mode']}  override {state['override'] * 100:g}%  time {state['time_s']:.3f} s")
 
     def io(self) -> str:
@@ -175,14 +171,15 @@ class Panels:
         raise EditError(f":help: nothing is called {word!r} (:help lists the commands)")
 
     def where_values(self) -> dict[str, Any]:
-        """Joints (deg), TCP (relative to the cursor's frame), tool, mode, override: the state panel's numbers."""
+        """Joints (deg), TCP (relative to the cursor's frame, as shown to people), tool, mode, override: the state panel's numbers."""
         frame = self.editor.context()[1]
         execution = self.execution
         try:
             ex = execution.executive()
             world = self.robot.tcp_pose(execution.tool_pose())
-            pose = readable_angles(Pose.from_matrix(np.linalg.inv(ex.machine.frame_matrix(frame)) @ world.matrix(), frame))
+            pose = Pose.from_matrix(np.linalg.inv(ex.machine.frame_matrix(frame)) @ world.matrix(), frame)
         except (RunError, OrcError):
             pose, frame = self.robot.tcp_pose(None), "world"
-        return {"joints_deg": self.robot.joints_deg(), "tcp": pose, "frame": frame, "tool": execution.tool,
+        joints = tuple(round(q, 2) + 0.0 for q in self.robot.joints_deg())  # shown to 0.01 deg: never -0.00
+        return {"joints_deg": joints, "tcp": shown_pose(pose, 2, 2), "frame": frame, "tool": execution.tool,
                 "mode": execution.mode, "override": execution.override, "time_s": self.robot.time_s()}

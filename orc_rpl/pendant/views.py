@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 from prompt_toolkit.formatted_text import StyleAndTextTuples
@@ -78,12 +77,10 @@ def state(session: PendantSession) -> StyleAndTextTuples:
     for i, q in enumerate(values["joints_deg"]):
         out += [("class:label", f"  J{i + 1} "), ("class:value", f"{q:9.2f} deg\n")]
     out.append(("class:label", f" TCP of {values['tool']} in {values['frame']}\n"))
-    for axis, value in zip("xyz", (pose.x, pose.y, pose.z)):
-        out += [("class:label", f"  {axis} "), ("class:value", f"{value * 1000:9.2f} mm\n")]
-    for axis, value in zip("abc", (pose.a, pose.b, pose.c)):
-        degrees = math.degrees(value)
-        degrees = 180.0 if abs(degrees + 180.0) < 0.005 else round(degrees, 2) + 0.0  # one spelling of +-180 and of 0
-        out += [("class:label", f"  {axis} "), ("class:value", f"{degrees:9.2f} deg\n")]
+    for axis, value in zip("xyz", (pose.x_mm, pose.y_mm, pose.z_mm)):
+        out += [("class:label", f"  {axis} "), ("class:value", f"{value:9.2f} mm\n")]
+    for axis, value in zip("abc", (pose.a_deg, pose.b_deg, pose.c_deg)):
+        out += [("class:label", f"  {axis} "), ("class:value", f"{value:9.2f} deg\n")]
     mode_style = "class:manual" if values["mode"] == "manual" else "class:value"
     out += [("class:label", " mode "), (mode_style, values["mode"]),
             ("class:label", "  override "), ("class:value", f"{values['override'] * 100:g}%\n"),

@@ -270,7 +270,9 @@ def test_where_shows_the_tcp_in_the_cursor_frame(tmp_path) -> None:
     session = session_on(tmp_path)
     session.editor.goto(LINE_MOVE_POS1)
     session.execution.exec_cursor()
-    assert "in base_plate: x 100.00 mm  y -100.00 mm  z 50.00 mm" in session.panels.where()
+    where = session.panels.where()
+    assert "in base_plate: (100.00, -100.00, 50.00) mm, (0.00, 180.00, 0.00) deg" in where  # as declared
+    assert "-0.00" not in where
     session.editor.goto(LINE_MOVE_POS3)
     assert "in world:" in session.panels.where()
 
