@@ -7,7 +7,7 @@ import importlib
 import sys
 
 #: Subcommand modules under orc_rpl.commands, in the order `orc --help` lists them.
-COMMANDS: tuple[str, ...] = ("check", "fmt", "run", "convert", "diff", "pendant", "lsp", "view")
+COMMANDS: tuple[str, ...] = ("check", "fmt", "run", "convert", "diff", "pendant", "lsp", "view", "verify", "sweep")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -23,6 +23,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every subcommand."""
     parser = _Parser(prog="orc", description="Open Robot Control: check, format, run and convert robot programs.")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    parser.set_defaults(orc_main=main)  # verify and sweep run `orc run` in their workers through it, without an import
     for name in COMMANDS:
         module = importlib.import_module(f"orc_rpl.commands.{name}")
         sub = module.add_parser(subparsers)

@@ -40,6 +40,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     view.add_argument("--host", metavar="ADDRESS", help="with --view: listen on ADDRESS instead of 127.0.0.1")
     view.add_argument("--port", metavar="PORT", type=int, help="with --view: the first port to try (default 8080)")
     view.add_argument("--video", metavar="OUT.mp4", help="film the run offscreen into an MP4 video")
+    parser.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
+                        help="replace the value of a top-level CONST, e.g. --set Vmax=1.2mps (repeatable)")
     return parser
 
 
@@ -99,6 +101,7 @@ def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
     from orc_rpl.transform.loading import load_program_and_attributes
+    from orc_rpl.transform.overrides import override_constants
 
     try:
         watch_how = watching(args)
@@ -114,6 +117,7 @@ def run(args: argparse.Namespace) -> int:
         # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
         source, program, attributes = load_program_and_attributes(args.file, world_file)
+        program = override_constants(program, args.set)
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:

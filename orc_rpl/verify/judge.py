@@ -1,0 +1,126 @@
+"""Judging a verified run: its row of the table, the expectation of its header, and its baseline."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+from typing import Any, Mapping
+
+from orc_rpl.errors import UsageError
+from orc_rpl.verify.programs import Expectation
+from orc_rpl.verify.task import RunOutcome
+
+BASELINE_VERSION = 1
+
+#: Verdicts: ok, FAIL (exit 1), skipped (the header names other robots), cancelled (Ctrl-C before it ran).
+OK, FAIL, SKIPPED, CANCELLED = "ok", "FAIL", "skipped", "cancelled"
+
+
+@dataclass(frozen=True, slots=True)
+class Row:
+    """One program on one robot, as the table, the JSON report and JUnit show it."""
+
+    program: str
+    robot: str
+    status: str                               #: finished, stopped, failed, rejected (exit 2), lost, skipped, cancelled
+    exception: str | None = None
+    cycle_time_s: float | None = None
+    baseline_cycle_time_s: float | None = None
+    change_pct: float | None = None           #: cycle time against the baseline, in percent
+    motions: int | None = None
+    warnings: int = 0
+    joint_margin_deg: float | None = None
+    margin_joint: int | None = None
+    clearance_mm: float | None = None         #: nearest approach of the robot to the cell's objects (negative: collision)
+    nearest: str = ""                         #: which link came nearest to which object, and when
+    process: Any = None                       #: the run summary's `process` section, when the run has one
+    attempts: int = 1                         #: 2 when its worker died and it ran again
+    expected: str = "finished"
+    verdict: str = OK
+    reasons: tuple[str, ...] = ()
+    message: str = ""                         #: the error or the end of the run's output, for failures
+
+    def key(self) -> str:
+        return f"{self.program} [{self.robot}]"
+
+    def as_json(self) -> dict[str, Any]:
+        data = asdict(self)
+        data["reasons"] = list(self.reasons)
+        return data
+
+
+def _message(outcome: RunOutcome) -> str:
+    error = (outcome.summary or {}).get("error")
+    if error:
+        return f"line {error['line']}: {error.get('exception') or 'error'}: {error['message']}"
+    lines = [line for line in outcome.stderr.splitlines() if line.strip()]
+    return "\n".join(lines[-6:])
+
+
+def judge(program: str, robot: str, expectation: Expectation, outcome: RunOutcome | None, attempts: int,
+          failure: str | None, baseline: Mapping[str, Any], slowdown_pct: float, min_clearance_mm: float = 0.0) -> Row:
+    """The row of one run: what happened, against what the header expects and the baseline's cycle time."""
+    if outcome is None:
+        return Row(program, robot, "lost", attempts=attempts, expected=expectation.outcome, verdict=FAIL,
+                   reasons=(f"not run: {failure}",), message=failure or "")
+    summary = outcome.summary
+    if summary is None:  # exit 2: syntax, check or usage error; nothing moved
+        status = "rejected" if outcome.exit_code == 2 else "failed"
+        row = Row(program, robot, status, attempts=attempts, expected=expectation.outcome, message=_message(outcome))
+    else:
+        error = summary.get("error") or {}
+        row = Row(program, robot, str(summary["status"]), exception=error.get("exception"),
+                  cycle_time_s=summary.get("cycle_time_s"), motions=summary.get("motions"),
+                  warnings=len(summary.get("warnings", ())), joint_margin_deg=outcome.joint_margin_deg,
+                  margin_joint=outcome.margin_joint, process=summary.get("process"), attempts=attempts,
+                  clearance_mm=None if outcome.clearance_m is None else round(1000 * outcome.clearance_m, 3),
+                  nearest=outcome.nearest,
+                  expected=expectation.outcome, message=_message(outcome) if error else "")
+    reasons = []
+    if not expectation.met_by(row.status, row.exception):
+        got = row.status + (f" ({row.exception})" if row.exception else "")
+        reasons.append(f"expected {expectation.outcome}, got {got}")
+    if row.clearance_mm is not None and row.clearance_mm < 0:
+        reasons.append(f"collision: {row.nearest} ({-row.clearance_mm:.1f} mm deep)")
+    elif row.clearance_mm is not None and row.clearance_mm < min_clearance_mm:
+        reasons.append(f"near miss: {row.clearance_mm:.1f} mm, {row.nearest} (below {min_clearance_mm:g} mm)")
+    before = baseline.get(row.key(), {}).get("cycle_time_s")
+    change = None
+    if before is not None and row.cycle_time_s is not None and before > 0:
+        change = 100.0 * (row.cycle_time_s - before) / before
+        if change > slowdown_pct:
+            reasons.append(f"{change:.1f} % slower than the baseline ({before:.3f} s)")
+    return replace(row, baseline_cycle_time_s=before, change_pct=change, verdict=FAIL if reasons else OK,
+                   reasons=tuple(reasons))
+
+
+def skipped(program: str, robot: str, expectation: Expectation) -> Row:
+    """A program whose header names the robots it runs on, and not this one."""
+    return Row(program, robot, "skipped", expected=expectation.outcome, verdict=SKIPPED,
+               reasons=(f"runs only on {', '.join(expectation.robots)}",))
+
+
+def cancelled(program: str, robot: str, expectation: Expectation) -> Row:
+    """A run Ctrl-C cancelled before it finished."""
+    return Row(program, robot, "cancelled", expected=expectation.outcome, verdict=CANCELLED)
+
+
+def load_baseline(path: str) -> dict[str, Any]:
+    """The runs of a baseline written by `--save-baseline` (a UsageError naming the file otherwise)."""
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise UsageError(f"--baseline: '{path}' does not exist") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise UsageError(f"--baseline: cannot read '{path}': {error}") from None
+    if not isinstance(data, dict) or data.get("version") != BASELINE_VERSION or not isinstance(data.get("runs"), dict):
+        raise UsageError(f"--baseline: '{path}' is not a baseline written by orc verify --save-baseline")
+    return data["runs"]
+
+
+def baseline_of(rows: list[Row]) -> dict[str, Any]:
+    """The baseline of these rows: status, cycle time and motions of every run that ran."""
+    runs = {row.key(): {"status": row.status, "cycle_time_s": row.cycle_time_s, "motions": row.motions}
+            for row in rows if row.verdict in (OK, FAIL) and row.status != "lost"}
+    return {"version": BASELINE_VERSION, "runs": dict(sorted(runs.items()))}
