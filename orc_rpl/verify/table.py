@@ -59,7 +59,8 @@ def build_table(rows: list[Row], have_baseline: bool) -> Table:
     for name, justify in (("program", "left"), ("robot", "left"), ("status", "left"), ("cycle s", "right"),
                           ("vs baseline", "right"), ("motions", "right"), ("clearance", "right"),
                           ("joint margin", "right")):
-        table.add_column(name, justify=justify)  # type: ignore[arg-type]
+        # a program's path is what the reader searches for: never wrapped (the other columns fold first)
+        table.add_column(name, justify=justify, no_wrap=name == "program")  # type: ignore[arg-type]
     if with_process:
         table.add_column("process")
     table.add_column("warnings", justify="right")
