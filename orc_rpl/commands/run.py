@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from orc_rpl.commands import bus_robot
 from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError
 
 #: The progress display is refreshed every this many motion cycles.
@@ -32,6 +33,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
+    bus_robot.add_options(parser)
     return parser
 
 
@@ -65,6 +67,9 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         override = speed_override(args.speed_override)
+        bus_robot.check_options(args)
+        if args.port is not None and args.realtime:
+            raise UsageError("--realtime: a real arm (--port) always runs in real time")
         if args.robot not in ROBOTS:
             raise UsageError(f"--robot: unknown robot {args.robot!r}; known robots: {', '.join(ROBOTS.names())}")
         if args.world is not None and not Path(args.world).is_dir() and not Path(args.world).is_file():
@@ -110,7 +115,10 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     from orc_rpl.executive.sim_io import load_script, script_path
 
     record = bool(args.log or args.plot)
-    robot = CellRobot.virtual(robot=args.robot, realtime=args.realtime, record=record)
+    if args.port is not None:
+        robot = bus_robot.connect(args, record)
+    else:
+        robot = CellRobot.virtual(robot=args.robot, realtime=args.realtime, record=record)
 
     def out(line: str) -> None:
         sys.stdout.write(line + "\n")
@@ -126,7 +134,13 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     wall_start = time.perf_counter()
     with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress:
         machine.robot = progress.monitor(robot)
-        executive.run()
+        try:
+            executive.run()
+        except KeyboardInterrupt:
+            if args.port is None:
+                raise
+            bus_robot.stop_and_hold(robot)
+            return 130
     machine.robot = robot
     wall_s = time.perf_counter() - wall_start
     result = summary(executive, robot)

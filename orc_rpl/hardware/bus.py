@@ -11,7 +11,7 @@ from orc_rpl.hardware.packets import (PING, READ, SYNC_READ, SYNC_WRITE, WRITE, 
 
 #: A servo that has not answered this long after the request left is taken as absent. The wire time of
 #: the exchange is added; USB adapters add their latency timer (set it to 1 ms: see docs/hardware.md).
-REPLY_MARGIN_S = 0.004
+REPLY_MARGIN_S = 0.020
 
 
 class ServoBus:
