@@ -140,7 +140,7 @@ class BusBackend:
             self.hold(others)
         except BusError:
             pass
-        raise DriveFault(f"{self._name(error.servo_id)}: {error}; the other joints hold their positions") from None
+        raise DriveFault(f"{self._name(error.servo_id)}: {error.reason}; the other joints hold their positions") from None
 
     def _alarm(self, servo_id: int, status: Status) -> None:
         if self.model.family == "feetech":

@@ -31,6 +31,7 @@ class ServoBus:
             except (serial.SerialException, OSError, ValueError) as exc:
                 raise BusError(f"cannot open the servo bus port {port!r}: {exc}") from None
         self._buffer = bytearray()
+        self._dirty = False  #: an exchange failed: drain late replies before the next request
         self.bytes_on_wire = 0  #: bytes written and read so far (for the wire-time figures)
 
     def close(self) -> None:
@@ -82,7 +83,20 @@ class ServoBus:
         self._send(self.codec.instruction(servo_id, instruction, params))
         return self._receive(servo_id, reply_params)
 
+    def _fail(self, servo_id: int, reason: str) -> None:
+        self._dirty = True
+        raise BusError(f"servo {servo_id}: {reason}", servo_id, reason)
+
+    def _drain(self) -> None:
+        """After a failed exchange, late replies may still come: wait until the wire is quiet, drop them."""
+        quiet_s = self.reply_margin_s / 4
+        while select.select([self._serial.fileno()], [], [], quiet_s)[0]:
+            self._serial.read(self._serial.in_waiting or 1)
+        self._dirty = False
+
     def _send(self, packet: bytes) -> None:
+        if self._dirty:
+            self._drain()
         self._buffer.clear()
         self._serial.reset_input_buffer()  # a late reply of an earlier exchange must not be taken for this one
         self._serial.write(packet)
@@ -100,16 +114,16 @@ class ServoBus:
                 self.bytes_on_wire += used
                 del buffer[:used]
             if complaint is not None:
-                raise BusError(f"servo {servo_id}: damaged reply on {self.port} ({complaint})", servo_id)
+                self._fail(servo_id, f"damaged reply on {self.port} ({complaint})")
             if isinstance(packet, Status):
                 if packet.servo_id != servo_id:
-                    raise BusError(f"servo {servo_id}: servo {packet.servo_id} answered instead on {self.port}", servo_id)
+                    self._fail(servo_id, f"servo {packet.servo_id} answered instead on {self.port}")
                 return packet
             if used:
                 continue
             remaining = deadline - time.perf_counter()
             if remaining <= 0:
-                raise BusError(f"servo {servo_id} does not answer on {self.port}", servo_id)
+                self._fail(servo_id, f"does not answer on {self.port}")
             # wait for bytes without busy polling (select on the port's descriptor), then take what came
             if not select.select([link.fileno()], [], [], remaining)[0]:
                 continue

@@ -18,7 +18,7 @@ from orc_rpl.hardware.packets import ACTION, PING, READ, REG_WRITE, SYNC_READ, S
 from orc_rpl.hardware.registers import MODELS
 
 FAULT_KINDS = ("unplugged", "silent", "slow", "corrupt", "overload", "overheat")
-SLOW_REPLY_S = 0.010  #: a slow servo answers this much late: beyond the host's reply margin
+SLOW_REPLY_S = 0.050  #: a slow servo answers this much late: beyond the host's reply margin (20 ms)
 
 
 @dataclass(frozen=True, slots=True)

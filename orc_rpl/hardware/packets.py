@@ -13,9 +13,10 @@ PING, READ, WRITE, REG_WRITE, ACTION, SYNC_READ, SYNC_WRITE = 0x01, 0x02, 0x03, 
 class BusError(OrcError):
     """The bus itself failed: no reply, a corrupted reply, a port that cannot be opened."""
 
-    def __init__(self, message: str, servo_id: int | None = None) -> None:
+    def __init__(self, message: str, servo_id: int | None = None, reason: str = "") -> None:
         super().__init__(message)
         self.servo_id = servo_id  #: the servo that did not answer properly (None: the bus as a whole)
+        self.reason = reason or message  #: what went wrong, without the servo's name
 
 
 @dataclass(frozen=True, slots=True)

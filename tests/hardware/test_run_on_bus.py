@@ -1,0 +1,83 @@
+"""`orc run --port` on the emulated bus: programs move the arm; each injected fault stops it with a catchable DriveFault."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from orc_rpl.hardware.bus import ServoBus
+from orc_rpl.hardware.emulator import codec_for
+from tests.hardware.emulators import emulated_bus
+
+pytestmark = pytest.mark.sim
+
+#: connecting takes 41 goal-position sync writes (40 timed cycles and the hold): a fault @N with N a
+#: little above fires in the middle of the program's first motions
+DURING_FIRST_MOVE = 80
+
+MOVES = """TOOL jaws = POSE(0, 0, 0, 0, 0, 0)
+POS a = POSE(200mm, -60mm, 30mm, 0, 180deg, 0)
+POS b = POSE(200mm, 60mm, 30mm, 0, 180deg, 0)
+"""
+
+
+def orc_run(tmp_path: Path, text: str, *options: str) -> tuple[int, str, str, dict]:
+    program = tmp_path / "prog.rpl"
+    program.write_text(text, encoding="utf-8")
+    summary = tmp_path / "summary.json"
+    done = subprocess.run([sys.executable, "-m", "orc_rpl", "run", str(program), "--robot", "so101",
+                           "--summary-json", str(summary), *options], capture_output=True, text=True, timeout=120)
+    data = json.loads(summary.read_text()) if summary.exists() else {}
+    return done.returncode, done.stdout, done.stderr, data
+
+
+@pytest.mark.parametrize("bus", ["feetech", "dynamixel"])
+def test_a_program_moves_the_emulated_arm_to_its_positions(tmp_path: Path, bus: str) -> None:
+    text = MOVES + "MOVE jaws TO a\nLMOVE jaws TO b WITH SPEED = 100mm/s\nPRINT ROUND(HERE.y / 1mm)\n"
+    with emulated_bus("--robot", "so101", "--bus", bus) as port:
+        code, out, err, summary = orc_run(tmp_path, text, "--port", port, "--bus", bus)
+    assert code == 0, err
+    assert out.split() == ["60"], out
+    tcp = summary["final_tcp"]
+    # the servos' own loops droop a count or two under the arm's weight: a millimetre at most
+    assert abs(tcp["x_m"] - 0.200) < 1e-3 and abs(tcp["y_m"] - 0.060) < 1e-3 and abs(tcp["z_m"] - 0.030) < 1e-3, tcp
+    assert "motion period" in err
+
+
+@pytest.mark.parametrize("fault, servo", [("silent:3", 3), ("slow:2", 2), ("corrupt:4", 4), ("overload:3", 3),
+                                          ("overheat:1", 1), ("unplugged", 1)])
+def test_an_injected_fault_is_a_catchable_drive_fault_at_the_statement(tmp_path: Path, fault: str, servo: int) -> None:
+    text = MOVES + ("TRY\n    MOVE jaws TO a\n    MOVE jaws TO b\nON DriveFault :\n    PRINT \"caught\"\nENDTRY\n"
+                    "PRINT \"after\"\n")
+    with emulated_bus("--robot", "so101", "--fault", f"{fault}@{DURING_FIRST_MOVE}") as port:
+        code, out, err, _ = orc_run(tmp_path, text, "--port", port)
+        if fault.startswith(("overload", "overheat")):
+            check = ServoBus(port, codec_for("feetech"))
+            torque = {i: check.read(i, 40, 1)[0] for i in range(1, 6)}
+            check.close()
+            # the alarmed servo is limp, the others hold
+            assert torque == {i: int(i != servo) for i in range(1, 6)}, torque
+    assert code == 0, err
+    assert out.split() == ["caught", "after"], out
+
+
+def test_an_uncaught_drive_fault_names_the_servo_and_the_statement(tmp_path: Path) -> None:
+    text = MOVES + "MOVE jaws TO a\nMOVE jaws TO b\n"
+    with emulated_bus("--robot", "so101", "--fault", f"silent:3@{DURING_FIRST_MOVE}") as port:
+        code, _, err, summary = orc_run(tmp_path, text, "--port", port)
+    assert code == 1
+    assert summary["error"]["exception"] == "DriveFault"
+    assert summary["error"]["line"] in (4, 5)
+    assert "servo 3 (joint 3)" in summary["error"]["message"]
+    assert "DriveFault: servo 3 (joint 3)" in err
+
+
+def test_an_arm_that_is_not_there_is_refused_before_anything_moves(tmp_path: Path) -> None:
+    code, _, err, _ = orc_run(tmp_path, MOVES + "MOVE jaws TO a\n", "--port", str(tmp_path / "ttyUSB9"))
+    assert code == 2 and "--port: no such device" in err
+    code, _, err, _ = orc_run(tmp_path, MOVES + "MOVE jaws TO a\n", "--calibration", "x.json")
+    assert code == 2 and "--calibration needs --port" in err
