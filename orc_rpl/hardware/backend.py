@@ -27,6 +27,7 @@ MIN_PERIOD_S = 0.002
 MEASURED_CYCLES = 40
 #: Dynamixel bus watchdog: the servos stop by themselves when the host is silent this long (20 ms units).
 WATCHDOG_UNITS = 5
+STALL_CURRENT_A = 2.7  #: STS3215 stall current (the gripper's current limit is a share of it)
 ENCODER_COUNTS_SETTLED = 4  #: a FINE move has arrived within this many encoder counts (droop plus a count)
 
 
@@ -49,6 +50,8 @@ class BusBackend:
         self._qd = np.zeros(len(self.ids))
         self._load = np.zeros(len(self.ids))
         self._counts: dict[int, int] = {}
+        self._servo_goals: dict[int, int] = {}
+        self._servo_seen_moving: dict[int, bool] = {}
         self._connect()
         self.cycle_times_s: list[float] = []
         self.servo_period_s = motion_period_s if motion_period_s is not None else self._choose_period()
@@ -219,13 +222,38 @@ class BusBackend:
         typical_ms = 1000.0 * float(np.percentile(self.cycle_times_s, 90))
         return max(MIN_PERIOD_S, math.ceil(PERIOD_MARGIN * typical_ms) / 1000.0)
 
-    def gripper_goal(self, closed: bool) -> None:
-        """Send the gripper servo to its open or closed count."""
+    # -- a gripper (or any other servo beside the arm's joints) ------------------------------------
+
+    def drive_servo(self, servo_id: int, angle_rad: float, current_limit_a: float) -> None:
+        """Send a servo that is not an arm joint to an angle; on STS its torque limit is set from the current limit."""
+        if servo_id in self.ids:
+            raise UsageError(f"servo {servo_id} is joint {self.ids.index(servo_id) + 1} of the arm, not a gripper")
         gripper = self.cal.gripper
-        if gripper is None:
-            raise UsageError("this calibration has no gripper servo")
-        count = gripper.closed_count if closed else gripper.open_count
-        self.bus.write(gripper.servo_id, self._goal.address, self._goal.encode(count))
+        zero, direction = (gripper.zero_count, gripper.direction) if gripper and gripper.servo_id == servo_id \
+            else (self.model.center_count, 1)
+        count = zero + direction * int(round(angle_rad / self.model.rad_per_count()))
+        try:
+            if "torque_limit" in self.model.registers:
+                # the STS limits torque (0.1 % units); its stall current is about 2.7 A
+                share = max(0, min(1000, int(round(1000.0 * current_limit_a / STALL_CURRENT_A))))
+                self.bus.write(servo_id, self.model.reg("torque_limit").address, self.model.reg("torque_limit").encode(share))
+            self.bus.write(servo_id, self._goal.address, self._goal.encode(count))
+            self.bus.write(servo_id, self.model.reg("torque_enable").address, b"\x01")
+        except BusError as error:
+            raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
+        self._servo_goals[servo_id] = count
+        self._servo_seen_moving[servo_id] = False
+
+    def servo_arrived(self, servo_id: int) -> bool:
+        """True when the servo is within a few counts of its goal, or has stopped (a gripper squeezing a part)."""
+        try:
+            block = self.bus.read(servo_id, *self._block)
+        except BusError as error:
+            raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
+        count, speed = self.model.value("present_position", block), self.model.value("present_speed", block)
+        close = abs(count - self._servo_goals.get(servo_id, count)) <= 2 * ENCODER_COUNTS_SETTLED
+        self._servo_seen_moving[servo_id] = self._servo_seen_moving.get(servo_id, False) or speed != 0
+        return close or (self._servo_seen_moving[servo_id] and speed == 0)
 
     def describe(self) -> dict[str, Any]:
         """Figures for the run's summary: the bus, the period chosen and what the cycles measured."""

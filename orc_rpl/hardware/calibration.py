@@ -28,12 +28,12 @@ class JointCalibration:
 
 @dataclass(frozen=True, slots=True)
 class GripperCalibration:
-    """The gripper's servo: its counts when open and when closed, and the current at which it stops squeezing."""
+    """The gripper's servo: angle = direction * (count - zero_count) * 2 pi / counts_per_rev (the program gives
+    its OPEN and CLOSED angles)."""
 
     servo_id: int
-    open_count: int
-    closed_count: int
-    grip_current_a: float = 0.5
+    zero_count: int
+    direction: int = 1
 
 
 @dataclass(frozen=True, slots=True)
@@ -73,7 +73,7 @@ def nominal(spec: RobotSpec, bus: str) -> Calibration:
     joints = tuple(JointCalibration(i + 1, model.center_count, 1, lo, hi)
                    for i, (lo, hi) in enumerate(zip(spec.q_min_rad, spec.q_max_rad)))
     n = len(joints)
-    gripper = GripperCalibration(n + 1, model.center_count + 1100, model.center_count - 60)
+    gripper = GripperCalibration(n + 1, model.center_count)
     return Calibration(spec.name, bus, joints, gripper)
 
 
@@ -112,10 +112,11 @@ def load(path: str | Path, spec: RobotSpec) -> Calibration:
     if data.get("gripper") is not None:
         g = data["gripper"]
         try:
-            gripper = GripperCalibration(int(g["servo_id"]), int(g["open_count"]), int(g["closed_count"]),
-                                         float(g.get("grip_current_a", 0.5)))
+            gripper = GripperCalibration(int(g["servo_id"]), int(g["zero_count"]), int(g.get("direction", 1)))
         except (KeyError, TypeError, ValueError) as exc:
-            raise UsageError(f"{where}: gripper: needs servo_id, open_count, closed_count ({exc})") from None
+            raise UsageError(f"{where}: gripper: needs servo_id and zero_count ({exc})") from None
+        if gripper.direction not in (1, -1):
+            raise UsageError(f"{where}: gripper: direction must be 1 or -1")
     ids = [j.servo_id for j in joints] + ([gripper.servo_id] if gripper else [])
     if len(set(ids)) != len(ids):
         raise UsageError(f"{where}: two joints use the same servo id")

@@ -39,6 +39,7 @@ class EmulatedArm:
         self._center = self.model.center_count
         self._tau_max = np.full(self.n, self.model.stall_torque_nm)
         self._gripper_q = 0.0
+        self._gripper_qd = 0.0
         self.hand: list[float] | None = None  #: joint targets of a hand moving the limp arm (calibration), or None
         self._held = self.cell.q  #: where the gearbox holds each limp joint
         self.publish()
@@ -73,7 +74,9 @@ class EmulatedArm:
             goal = self.count_to_rad(self.gripper.get("goal_position"))
             goal = min(max(goal, GRIPPER_RANGE_RAD[0]), GRIPPER_RANGE_RAD[1])
             step = GRIPPER_SPEED_RAD_S * self.cell.timestep_s
-            self._gripper_q += max(-step, min(step, goal - self._gripper_q))
+            moved = max(-step, min(step, goal - self._gripper_q))
+            self._gripper_q += moved
+            self._gripper_qd = moved / self.cell.timestep_s
         self._tau = self.cell.tau
         self.publish()
 
@@ -98,3 +101,4 @@ class EmulatedArm:
             servo.put("moving", int(abs(qd[i]) > 0.01))
         if self.gripper is not None:
             self.gripper.put("present_position", self.rad_to_count(self._gripper_q))
+            self.gripper.put("present_speed", int(round(self._gripper_qd / self.model.speed_rad_s_per_unit)))

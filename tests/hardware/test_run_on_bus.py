@@ -81,3 +81,17 @@ def test_an_arm_that_is_not_there_is_refused_before_anything_moves(tmp_path: Pat
     assert code == 2 and "--port: no such device" in err
     code, _, err, _ = orc_run(tmp_path, MOVES + "MOVE jaws TO a\n", "--calibration", "x.json")
     assert code == 2 and "--calibration needs --port" in err
+
+
+def test_the_desk_arm_demo_runs_unchanged_on_the_simulated_cell_and_on_the_emulated_bus(tmp_path: Path) -> None:
+    text = (Path(__file__).parents[2] / "programs" / "online" / "demo_desk_arm.rpl").read_text(encoding="utf-8")
+    code, simulated, err, sim = orc_run(tmp_path, text)
+    assert code == 0, err
+    assert simulated.splitlines() == ["picked at 20 -60 10", "placed at 20 60 10", "gripper closed: FALSE"]
+    with emulated_bus("--robot", "so101") as port:
+        code, on_bus, err, bus = orc_run(tmp_path, text, "--port", port)
+    assert code == 0, err
+    assert on_bus == simulated
+    assert sim["motions"] == bus["motions"]
+    for axis in ("x_m", "y_m", "z_m"):
+        assert abs(sim["final_tcp"][axis] - bus["final_tcp"][axis]) < 1e-3, (axis, sim["final_tcp"], bus["final_tcp"])
