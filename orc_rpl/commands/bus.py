@@ -76,9 +76,60 @@ def _emulate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _open(args: argparse.Namespace):  # -> ServoBus
+    import os
+
+    from orc_rpl.hardware.bus import ServoBus
+    from orc_rpl.hardware.emulator import codec_for
+
+    if not os.path.exists(args.port):
+        raise UsageError(f"--port: no such device {args.port!r} (is the arm plugged in? is the emulator running?)")
+    return ServoBus(args.port, codec_for(args.bus), args.baud)
+
+
 def _scan(args: argparse.Namespace) -> int:
-    raise UsageError("scan is not available yet")
+    from orc_rpl.hardware.calibrate import scan
+    from orc_rpl.hardware.registers import MODELS
+
+    first, _, last = args.ids.partition("-")
+    try:
+        ids = range(int(first), int(last or first) + 1)
+    except ValueError:
+        raise UsageError(f"--ids: expected FIRST-LAST such as 1-20, got {args.ids!r}") from None
+    if not ids or ids.start < 0 or ids.stop > 254:
+        raise UsageError(f"--ids: ids run from 0 to 253, got {args.ids!r}")
+    bus = _open(args)
+    found = scan(bus, ids)
+    bus.close()
+    names = {m.model_number: m.name for m in MODELS.values()}
+    for servo_id, model in found:
+        print(f"servo {servo_id}: model {model} ({names.get(model, 'unknown model')})")
+    print(f"{len(found)} servo{'s' if len(found) != 1 else ''} found on {args.port} ({args.bus}, {args.baud} baud, "
+          f"ids {ids.start}-{ids.stop - 1})")
+    return 0 if found else 1
 
 
 def _calibrate(args: argparse.Namespace) -> int:
-    raise UsageError("calibrate is not available yet")
+    import math
+    from pathlib import Path
+
+    from orc_rpl.hardware.calibrate import calibrate
+    from orc_rpl.robot.robots import ROBOTS
+
+    spec = ROBOTS.get(args.robot)
+    output = Path(args.output)
+    if output.exists():
+        raise UsageError(f"--output: {output} exists; choose another file name (a calibration is never overwritten)")
+    if not output.resolve().parent.is_dir():
+        raise UsageError(f"--output: the folder of {output} does not exist")
+    if args.record_s is not None and not args.record_s > 0:
+        raise UsageError("--record-s must be above 0")
+    bus = _open(args)
+    result = calibrate(bus, spec, args.bus, args.record_s, sys.stdout)
+    bus.close()
+    result.save(output)
+    for k, joint in enumerate(result.joints):
+        print(f"joint {k + 1}: servo {joint.servo_id}, zero at count {joint.zero_count}, range "
+              f"{math.degrees(joint.min_rad):.1f}..{math.degrees(joint.max_rad):.1f} deg")
+    print(f"wrote {output}; the torque stays off (the arm rests on its gearboxes)")
+    return 0

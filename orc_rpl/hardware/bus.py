@@ -10,8 +10,9 @@ from orc_rpl.hardware.packets import (PING, READ, SYNC_READ, SYNC_WRITE, WRITE, 
                                       read_params, sync_write_params)
 
 #: A servo that has not answered this long after the request left is taken as absent. The wire time of
-#: the exchange is added; USB adapters add their latency timer (set it to 1 ms: see docs/hardware.md).
-REPLY_MARGIN_S = 0.020
+#: the exchange is added; USB adapters add their latency timer (set it to 1 ms: see docs/hardware.md),
+#: and a busy host may not look at the port for a few tens of milliseconds.
+REPLY_MARGIN_S = 0.050
 
 
 class ServoBus:
@@ -116,9 +117,10 @@ class ServoBus:
             if complaint is not None:
                 self._fail(servo_id, f"damaged reply on {self.port} ({complaint})")
             if isinstance(packet, Status):
-                if packet.servo_id != servo_id:
-                    self._fail(servo_id, f"servo {packet.servo_id} answered instead on {self.port}")
-                return packet
+                if packet.servo_id == servo_id:
+                    return packet
+                continue  # a late reply to an earlier request: not this servo's answer
+
             if used:
                 continue
             remaining = deadline - time.perf_counter()

@@ -18,7 +18,7 @@ from orc_rpl.hardware.packets import ACTION, PING, READ, REG_WRITE, SYNC_READ, S
 from orc_rpl.hardware.registers import MODELS
 
 FAULT_KINDS = ("unplugged", "silent", "slow", "corrupt", "overload", "overheat")
-SLOW_REPLY_S = 0.050  #: a slow servo answers this much late: beyond the host's reply margin (20 ms)
+SLOW_REPLY_S = 0.150  #: a slow servo answers this much late: beyond the host's reply margin (50 ms)
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,6 +70,7 @@ class EmulatedBus:
         self.goal_writes = 0      #: sync writes of goal positions so far (fault schedules count them)
         self.wire_free_s = 0.0    #: when the emulated wire is next idle
         self.bad_packets = 0
+        self.torque_written = False  #: a torque enable register was written (the emulated hand watches this)
         self._arm_faults()
 
     def wire_s(self, n_bytes: int) -> float:
@@ -119,6 +120,7 @@ class EmulatedBus:
                 servo = self.servos.get(body[k])
                 if servo is not None:
                     servo.write(address, body[k + 1:k + 1 + length])
+            self.torque_written |= address == self.model.reg("torque_enable").address
             if address == self.model.reg("goal_position").address:
                 self.goal_writes += 1
                 self._arm_faults()
@@ -138,6 +140,7 @@ class EmulatedBus:
             return [(servo, servo.read(address, length))]
         if code in (WRITE, REG_WRITE) and len(p) > w:
             servo.write(int.from_bytes(p[:w], "little"), p[w:])
+            self.torque_written |= int.from_bytes(p[:w], "little") == self.model.reg("torque_enable").address
             return [(servo, b"")]
         if code == ACTION:
             return [(servo, b"")]

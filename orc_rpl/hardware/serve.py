@@ -51,9 +51,11 @@ def serve(robot: str, bus: str, baud: int = 1_000_000, faults: tuple[FaultPlan, 
             steps = 0
             while arm.time_s + step_s <= now and steps < MAX_CATCH_UP_STEPS:
                 if hand:
-                    limp = not any(s.torque_on for s in arm.arm_servos)
-                    limp_since = (limp_since if limp_since is not None else now) if limp else None
-                    arm.hand = hand_pose(list(spec.q_min_rad), list(spec.q_max_rad), now - limp_since) if limp else None
+                    # the hand takes the arm when the host switches the torque off (not while nobody has talked)
+                    if emulated.torque_written:
+                        emulated.torque_written = False
+                        limp_since = now if not any(s.torque_on for s in arm.arm_servos) else None
+                    arm.hand = None if limp_since is None else hand_pose(list(spec.q_min_rad), list(spec.q_max_rad), now - limp_since)
                 arm.step()
                 steps += 1
                 if outgoing and outgoing[0][0] <= time.perf_counter() - start:

@@ -95,3 +95,38 @@ def test_the_desk_arm_demo_runs_unchanged_on_the_simulated_cell_and_on_the_emula
     assert sim["motions"] == bus["motions"]
     for axis in ("x_m", "y_m", "z_m"):
         assert abs(sim["final_tcp"][axis] - bus["final_tcp"][axis]) < 1e-3, (axis, sim["final_tcp"], bus["final_tcp"])
+
+
+def test_scan_lists_the_servos_and_calibrate_records_zeros_and_ranges_that_run_then_enforces(tmp_path: Path) -> None:
+    from orc_rpl.hardware.calibration import load
+    from orc_rpl.robot.robots import ROBOTS
+
+    orc = [sys.executable, "-m", "orc_rpl", "bus"]
+    output = tmp_path / "so101.json"
+    with emulated_bus("--robot", "so101", "--hand") as port:
+        scan = subprocess.run([*orc, "scan", "--port", port, "--ids", "1-8"], capture_output=True, text=True, timeout=60)
+        calibrate = subprocess.run([*orc, "calibrate", "--port", port, "--robot", "so101", "-o", str(output),
+                                    "--record-s", "4.5"], capture_output=True, text=True, timeout=60)
+        again = subprocess.run([*orc, "calibrate", "--port", port, "-o", str(output)], capture_output=True, text=True,
+                               timeout=60)
+    # the calibrated range of joint 1 made narrower by hand: a target beyond it is refused before any motion
+    with emulated_bus("--robot", "so101") as port:
+        data = json.loads(output.read_text())
+        data["joints"][0]["min_rad"] = -0.1  # joint 1 turns the arm towards +y when negative
+        narrow = tmp_path / "narrow.json"
+        narrow.write_text(json.dumps(data))
+        code, out, err, summary = orc_run(tmp_path, MOVES + "MOVE jaws TO a\nPRINT \"a\"\nMOVE jaws TO b\nPRINT \"b\"\n",
+                                          "--port", port, "--calibration", str(narrow))
+    assert scan.returncode == 0 and scan.stdout.splitlines()[:6] == [f"servo {i}: model 777 (STS3215)" for i in range(1, 7)]
+    assert "6 servos found" in scan.stdout
+    assert calibrate.returncode == 0, calibrate.stderr
+    assert again.returncode == 2 and "never overwritten" in again.stderr
+    spec = ROBOTS.get("so101")
+    cal = load(output, spec)
+    for joint, lo, hi in zip(cal.joints, spec.q_min_rad, spec.q_max_rad):
+        assert abs(joint.zero_count - 2048) <= 2  # the emulated arm is assembled as designed
+        # the emulated hand takes each joint to within 1 % of the ends of its range
+        assert lo - 0.01 <= joint.min_rad <= lo + 0.04 * (hi - lo) and hi - 0.04 * (hi - lo) <= joint.max_rad <= hi + 0.01
+    assert out.split() == ["a"] and code == 1
+    # inverse kinematics keeps inside the calibrated ranges: the target is out of reach, at its statement
+    assert summary["error"]["exception"] == "Unreachable" and summary["error"]["line"] == 6, summary["error"]
