@@ -10,7 +10,11 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.errors import UsageError
+from orc_rpl.errors import Diagnostic, Location, UsageError
+
+#: What needs joint torques, and why; a bus servo reports its load (PWM duty) and current, not torque.
+TORQUE_MOTIONS = {"IDENTMOVE": "identifies parts from joint torques", "GRINDMOVE": "controls its force from joint torques"}
+TORQUE_FUNCTIONS = {"IDENT": "identifies parts from joint torques", "CALIBRATE": "tunes the servo loops from joint torques"}
 
 
 def add_options(parser: argparse.ArgumentParser) -> None:
@@ -34,6 +38,32 @@ def check_options(args: argparse.Namespace) -> None:
         raise UsageError(f"--port: no such device {args.port!r} (is the arm plugged in? is the emulator running?)")
     if args.calibration is not None and not os.path.isfile(args.calibration):
         raise UsageError(f"--calibration: no such file {args.calibration!r}")
+
+
+def torque_diagnostics(program: Any, path: str, robot: str) -> list[Diagnostic]:
+    """Check-time refusals on a real arm: features that need joint torques its bus servos cannot measure."""
+    from orc_rpl.syntax import nodes
+
+    found: list[Diagnostic] = []
+
+    def refuse(node: Any, what: str, why: str) -> None:
+        span = node.span
+        found.append(Diagnostic(Location(path, span.line or 1, span.column or 1, span.end_line, span.end_column),
+                                f"{what} {why}; {robot}'s bus servos report load and current, not joint torque",
+                                hint="run it on the simulated cell (without --port)"))
+
+    for node in program.walk():
+        if isinstance(node, nodes.Motion) and node.keyword.upper() in TORQUE_MOTIONS:
+            refuse(node, node.keyword.upper(), TORQUE_MOTIONS[node.keyword.upper()])
+        elif isinstance(node, nodes.Call) and isinstance(node.function, nodes.Name) \
+                and node.function.id.upper() in TORQUE_FUNCTIONS:
+            refuse(node, node.function.id.upper(), TORQUE_FUNCTIONS[node.function.id.upper()])
+        elif isinstance(node, nodes.With) and node.name.id.upper() == "TUNING":
+            refuse(node, "WITH TUNING", "sets servo gains that need joint torques")
+        elif isinstance(node, nodes.Field) and isinstance(node.value, nodes.Name) and node.value.id.upper() == "ROBOT" \
+                and node.name.id.upper() == "THERMAL":
+            refuse(node, "ROBOT.Thermal", "estimates motor heating from joint torques")
+    return found
 
 
 def connect(args: argparse.Namespace, record: bool) -> Any:

@@ -90,6 +90,8 @@ def run(args: argparse.Namespace) -> int:
         return _fail_usage(str(error))
     registry = runtime_registry()
     diagnostics = check(program, args.file, registry)
+    if args.port is not None:
+        diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot)
     if diagnostics:
         for diagnostic in diagnostics:
             sys.stderr.write(diagnostic.format(source) + "\n")

@@ -57,6 +57,12 @@ class EmulatedServo:
 
     def write(self, address: int, data: bytes) -> None:
         """Store the bytes; torque enable while an alarm is active is refused, as the servo does."""
+        goal = self.model.reg("goal_position")
+        if "bus_watchdog" in self.model.registers and self.get("bus_watchdog") == 255 \
+                and address <= goal.address < address + len(data):
+            # a Dynamixel whose watchdog fired refuses goals until the host clears it (writes 0)
+            data = data[:goal.address - address] + self.memory[goal.address:goal.address + goal.size] \
+                + data[goal.address - address + goal.size:]
         self.memory[address:address + len(data)] = data
         if self.faults.alarm_bits and self.get("torque_enable"):
             self.put("torque_enable", 0)

@@ -69,6 +69,7 @@ class EmulatedBus:
         self.unplugged = False
         self.goal_writes = 0      #: sync writes of goal positions so far (fault schedules count them)
         self.wire_free_s = 0.0    #: when the emulated wire is next idle
+        self.last_packet_s = 0.0  #: when the host last sent a packet (the Dynamixel bus watchdog)
         self.bad_packets = 0
         self.torque_written = False  #: a torque enable register was written (the emulated hand watches this)
         self._arm_faults()
@@ -93,8 +94,19 @@ class EmulatedBus:
 
     # -- packets --------------------------------------------------------------------------
 
+    def watchdog(self, now_s: float) -> None:
+        """Dynamixel's bus watchdog: a servo that hears nothing for its set time stops and holds (register 98 = 255)."""
+        if "bus_watchdog" not in self.model.registers:
+            return
+        for servo in self.servos.values():
+            units = servo.get("bus_watchdog")
+            if 0 < units < 255 and now_s - self.last_packet_s > 0.020 * units:
+                servo.put("bus_watchdog", 255)
+                servo.put("goal_position", servo.get("present_position"))
+
     def handle(self, packet: Instruction, n_bytes: int, now_s: float) -> list[tuple[float, bytes]]:
         """The replies to one host packet as (time the last byte is on the wire, bytes)."""
+        self.last_packet_s = now_s
         t = max(now_s, self.wire_free_s) + self.wire_s(n_bytes)
         replies: list[tuple[float, bytes]] = []
         for servo, params in self._answers(packet):

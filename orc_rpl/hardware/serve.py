@@ -48,6 +48,7 @@ def serve(robot: str, bus: str, baud: int = 1_000_000, faults: tuple[FaultPlan, 
             now = time.perf_counter() - start
             while outgoing and outgoing[0][0] <= now:
                 os.write(master, outgoing.popleft()[1])
+            emulated.watchdog(now)
             steps = 0
             while arm.time_s + step_s <= now and steps < MAX_CATCH_UP_STEPS:
                 if hand:

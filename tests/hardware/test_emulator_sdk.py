@@ -109,3 +109,25 @@ def test_an_overload_alarm_shows_in_the_status_error_byte_and_the_servo_goes_lim
         assert packets.read1ByteTxRx(port, 2, 40)[0] == 0  # torque stays off while the alarm lasts
         assert packets.read1ByteTxRx(port, 1, 40)[2] == 0  # the others are fine
         port.closePort()
+
+
+def test_the_dynamixel_bus_watchdog_stops_a_servo_whose_host_falls_silent() -> None:
+    with emulated_bus("--robot", "so101", "--bus", "dynamixel") as path:
+        port = dynamixel_sdk.PortHandler(path)
+        assert port.openPort() and port.setBaudRate(1_000_000)
+        packets = dynamixel_sdk.PacketHandler(2.0)
+        start = packets.read4ByteTxRx(port, 1, 132)[0]
+        packets.write4ByteTxRx(port, 1, 116, start)
+        packets.write1ByteTxRx(port, 1, 64, 1)
+        packets.write1ByteTxRx(port, 1, 98, 5)           # 100 ms
+        packets.write4ByteTxRx(port, 1, 116, start + 1500)  # a long move (about 130 deg)
+        time.sleep(0.4)                                    # the host falls silent mid-move
+        assert packets.read1ByteTxRx(port, 1, 98)[0] == 255  # the watchdog fired
+        stopped = packets.read4ByteTxRx(port, 1, 116)[0]
+        assert stopped < start + 1500                       # the goal was dropped: the servo stopped on its way
+        packets.write4ByteTxRx(port, 1, 116, start)          # refused until the host clears the watchdog
+        assert packets.read4ByteTxRx(port, 1, 116)[0] == stopped
+        packets.write1ByteTxRx(port, 1, 98, 0)
+        packets.write4ByteTxRx(port, 1, 116, start)
+        assert packets.read4ByteTxRx(port, 1, 116)[0] == start
+        port.closePort()

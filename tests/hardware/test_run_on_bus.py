@@ -130,3 +130,14 @@ def test_scan_lists_the_servos_and_calibrate_records_zeros_and_ranges_that_run_t
     assert out.split() == ["a"] and code == 1
     # inverse kinematics keeps inside the calibrated ranges: the target is out of reach, at its statement
     assert summary["error"]["exception"] == "Unreachable" and summary["error"]["line"] == 6, summary["error"]
+
+
+def test_features_that_need_joint_torques_are_refused_at_check_time_on_a_bus_arm(tmp_path: Path) -> None:
+    port = tmp_path / "ttyUSB0"
+    port.write_text("")
+    program = Path(__file__).parents[2] / "programs" / "online" / "thesis_2_4_calibrate.rpl"
+    done = subprocess.run([sys.executable, "-m", "orc_rpl", "run", str(program), "--robot", "so101", "--port", str(port)],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2
+    assert "CALIBRATE tunes the servo loops from joint torques; so101's bus servos report load and current" in done.stderr
+    assert "nothing moved" in done.stderr
