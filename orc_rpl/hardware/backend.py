@@ -50,6 +50,7 @@ class BusBackend:
         self._qd = np.zeros(len(self.ids))
         self._load = np.zeros(len(self.ids))
         self._counts: dict[int, int] = {}
+        self._last_cycle_s = -1e9  #: when the last cycle talked to the bus (the Dynamixel watchdog)
         self._servo_goals: dict[int, int] = {}
         self._servo_seen_moving: dict[int, bool] = {}
         self._connect()
@@ -103,9 +104,23 @@ class BusBackend:
     # -- cycles -----------------------------------------------------------------------------------
 
     def _cycle(self, counts: list[int]) -> None:
+        now = time.perf_counter()
+        if self.model.family == "dynamixel" and now - self._last_cycle_s > 0.5 * WATCHDOG_UNITS * 0.020:
+            self._rearm_watchdog()
+        self._last_cycle_s = now
         self.bus.sync_write(self._goal.address, self._goal.size,
                             {i: self._goal.encode(c) for i, c in zip(self.ids, counts)})
         self._read_state()
+
+    def _rearm_watchdog(self) -> None:
+        """After a pause of the host (planning, a WAIT on input), the watchdog may have fired: clear and set it again.
+
+        A fired watchdog stopped the servos where they were; the motion layer held its reference meanwhile
+        unless the host itself stalled in the middle of a motion (then the arm catches up with the reference).
+        """
+        watchdog = self.model.reg("bus_watchdog").address
+        self.bus.sync_write(watchdog, 1, {i: b"\x00" for i in self._all_ids()})
+        self.bus.sync_write(watchdog, 1, {i: bytes((WATCHDOG_UNITS,)) for i in self._all_ids()})
 
     def _read_state(self) -> None:
         address, length = self._block
@@ -204,7 +219,6 @@ class BusBackend:
                 bus.write(servo_id, reg("return_delay").address, b"\x00")
                 bus.write(servo_id, reg("profile_acceleration").address, bytes(4))
                 bus.write(servo_id, reg("profile_velocity").address, bytes(4))
-                bus.write(servo_id, reg("bus_watchdog").address, bytes((WATCHDOG_UNITS,)))
         self._read_state()
         self.hold()
         gripper = self.cal.gripper
