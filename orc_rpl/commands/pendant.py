@@ -6,6 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from orc_rpl.commands import bus_robot
 from orc_rpl.errors import OrcError, UsageError
 
 
@@ -20,6 +21,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
     parser.add_argument("--backend", choices=("servo", "kinematic"), default="servo",
                         help="servo: MuJoCo cell with servo loops (default); kinematic: fast, no :snapshot")
+    bus_robot.add_options(parser)
     recovery = parser.add_mutually_exclusive_group()
     recovery.add_argument("--recover", action="store_true", help="take unsaved edits from the journal without asking")
     recovery.add_argument("--discard", action="store_true", help="discard unsaved edits in the journal without asking")
@@ -61,6 +63,7 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError(f"'{args.file}': a program file must end in .rpl")
         if args.file is not None and Path(args.file).is_dir():
             raise UsageError(f"'{args.file}' is a directory")
+        bus_robot.check_options(args)
     except UsageError as error:
         return _fail(str(error))
     try:
@@ -75,7 +78,10 @@ def _run(args: argparse.Namespace) -> int:
     from orc_rpl.pendant.robot import PendantRobot
     from orc_rpl.pendant.session import PendantSession
 
-    robot = PendantRobot.virtual(args.robot, backend=args.backend)
+    if args.port is not None:
+        robot = PendantRobot(bus_robot.connect(args, record=False))  # a real (or emulated) arm on a servo bus
+    else:
+        robot = PendantRobot.virtual(args.robot, backend=args.backend)
     session = PendantSession(args.file, robot=robot, synchronous=False)
     try:
         message = _ask_recovery(session, args)
