@@ -87,7 +87,7 @@ def connect(args: argparse.Namespace, record: bool) -> Any:
             raise UsageError(f"--bus {args.bus} differs from the calibration's bus {cal.bus}")
     else:
         cal = nominal(spec, args.bus or "feetech")
-        sys.stderr.write(f"orc run: no --calibration: assuming {spec.name} assembled as designed (orc bus calibrate "
+        sys.stderr.write(f"orc: no --calibration: assuming {spec.name} assembled as designed (orc bus calibrate "
                          "records the real offsets and ranges)\n")
     # The planner refuses what the calibration forbids: limits are enforced before any motion.
     lows = tuple(max(a, j.min_rad) for a, j in zip(spec.q_min_rad, cal.joints))
@@ -99,7 +99,7 @@ def connect(args: argparse.Namespace, record: bool) -> Any:
     preload()
     if record:
         attach_recorder(layer)
-    sys.stderr.write(f"orc run: {spec.name} on {args.port} ({cal.model.name}, {cal.bus}): motion period "
+    sys.stderr.write(f"orc: {spec.name} on {args.port} ({cal.model.name}, {cal.bus}): motion period "
                      f"{1000 * backend.servo_period_s:.0f} ms (measured bus cycle: median "
                      f"{1000 * float(np.median(backend.cycle_times_s)):.2f} ms)\n")
     return CellRobot(layer)

@@ -141,3 +141,30 @@ def test_features_that_need_joint_torques_are_refused_at_check_time_on_a_bus_arm
     assert done.returncode == 2
     assert "CALIBRATE tunes the servo loops from joint torques; so101's bus servos report load and current" in done.stderr
     assert "nothing moved" in done.stderr
+
+
+def test_ctrl_c_stops_the_motion_and_the_arm_holds_with_its_torque_on(tmp_path: Path) -> None:
+    import signal
+    import time
+
+    program = tmp_path / "long.rpl"
+    program.write_text(MOVES + "FOR i FROM 1 TO 20 DO\n    MOVE jaws TO a\n    MOVE jaws TO b\nENDFOR\n", encoding="utf-8")
+    with emulated_bus("--robot", "so101") as port:
+        run = subprocess.Popen([sys.executable, "-m", "orc_rpl", "run", str(program), "--robot", "so101", "--port", port],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        for line in run.stderr:  # wait until it has connected and started moving
+            if "motion period" in line:
+                break
+        time.sleep(1.5)
+        run.send_signal(signal.SIGINT)
+        _, err = run.communicate(timeout=30)
+        check = ServoBus(port, codec_for("feetech"))
+        torque = [check.read(i, 40, 1)[0] for i in range(1, 6)]
+        first = [int.from_bytes(check.read(i, 56, 2), "little") for i in range(1, 6)]
+        time.sleep(0.3)
+        later = [int.from_bytes(check.read(i, 56, 2), "little") for i in range(1, 6)]
+        check.close()
+    assert run.returncode == 130, err
+    assert "stopped by Ctrl-C; the arm holds its position (torque stays on)" in err
+    assert torque == [1, 1, 1, 1, 1]
+    assert max(abs(a - b) for a, b in zip(first, later)) <= 2, (first, later)  # at rest, held
