@@ -52,6 +52,12 @@ def run(args: argparse.Namespace) -> int:
     if args.bus_command is None:
         return _fail("say what to do: orc bus scan|calibrate|emulate (orc bus --help)")
     try:
+        if hasattr(args, "robot"):
+            from orc_rpl.hardware.calibration import check_bus_robot
+            from orc_rpl.robot.robots import ROBOTS
+
+            ROBOTS.get(args.robot)
+            check_bus_robot(args.robot)
         if args.bus_command == "emulate":
             return _emulate(args)
         if args.bus_command == "scan":

@@ -34,6 +34,9 @@ def check_options(args: argparse.Namespace) -> None:
             if getattr(args, option) is not None:
                 raise UsageError(f"--{option} needs --port (it describes a real arm's servo bus)")
         return
+    from orc_rpl.hardware.calibration import check_bus_robot
+
+    check_bus_robot(args.robot, "--robot (with --port)")
     if not os.path.exists(args.port):
         raise UsageError(f"--port: no such device {args.port!r} (is the arm plugged in? is the emulator running?)")
     if args.calibration is not None and not os.path.isfile(args.calibration):

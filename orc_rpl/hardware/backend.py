@@ -199,7 +199,8 @@ class BusBackend:
         """Every servo answers with the expected model; profiles off, replies at once, goal = present, torque on."""
         model, bus = self.model, self.bus
         for servo_id in self._all_ids():
-            found = bus.ping(servo_id)
+            # three tries: one lost reply is not yet a missing servo
+            found = next((m for m in (bus.ping(servo_id) for _ in range(3)) if m is not None), None)
             if found is None:
                 raise DriveFault(f"{self._name(servo_id)} does not answer on {bus.port} (check the cable, the power "
                                  "supply and the ids: orc bus scan)")

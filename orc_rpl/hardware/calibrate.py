@@ -46,7 +46,7 @@ def calibrate(bus: ServoBus, spec: RobotSpec, bus_name: str, record_s: float | N
     model = plan.model
     ids = [j.servo_id for j in plan.joints] + ([plan.gripper.servo_id] if plan.gripper else [])
     for servo_id in ids:
-        if bus.ping(servo_id) is None:
+        if all(bus.ping(servo_id) is None for _ in range(3)):
             raise BusError(f"servo {servo_id} does not answer on {bus.port} (orc bus scan lists the servos found)", servo_id)
     torque = model.reg("torque_enable")
     bus.sync_write(torque.address, 1, {i: b"\x00" for i in ids})

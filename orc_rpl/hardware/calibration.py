@@ -13,6 +13,14 @@ from orc_rpl.hardware.registers import MODELS, ServoModel
 from orc_rpl.robot.robots import RobotSpec
 
 FORMAT = "orc_rpl servo calibration 1"
+#: Robots built from serial-bus servos (the others are industrial arms: simulation only)
+BUS_ROBOTS = ("so101",)
+
+
+def check_bus_robot(robot: str, option: str = "--robot") -> None:
+    """A UsageError unless `robot` is an arm on a servo bus."""
+    if robot not in BUS_ROBOTS:
+        raise UsageError(f"{option}: {robot!r} is not an arm on a servo bus (those are: {', '.join(BUS_ROBOTS)})")
 
 
 @dataclass(frozen=True, slots=True)

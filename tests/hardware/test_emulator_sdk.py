@@ -11,6 +11,11 @@ from tests.hardware.emulators import emulated_bus
 scservo_sdk = pytest.importorskip("scservo_sdk")
 dynamixel_sdk = pytest.importorskip("dynamixel_sdk")
 
+# The SDKs give a reply 2 x LATENCY_TIMER + 2 ms (34 ms); on this shared, busy machine the emulator's
+# process is sometimes not scheduled that soon. A longer wait changes nothing else.
+scservo_sdk.port_handler.LATENCY_TIMER = 100
+dynamixel_sdk.port_handler.LATENCY_TIMER = 100
+
 STS3215_MODEL = 777
 XL430_MODEL = 1060
 
