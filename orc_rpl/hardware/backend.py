@@ -27,7 +27,6 @@ MIN_PERIOD_S = 0.002
 MEASURED_CYCLES = 40
 #: Dynamixel bus watchdog: the servos stop by themselves when the host is silent this long (20 ms units).
 WATCHDOG_UNITS = 5
-STALL_CURRENT_A = 2.7  #: STS3215 stall current (the gripper's current limit is a share of it)
 ENCODER_COUNTS_SETTLED = 4  #: a FINE move has arrived within this many encoder counts (droop plus a count)
 
 
@@ -147,6 +146,7 @@ class BusBackend:
                 self._load[k] = self.cal.joints[k].direction * model.value("present_load", block) / 1000.0
             else:
                 self.current_a[k] = model.value("present_current", block) * model.current_a_per_unit
+                self._load[k] = self.cal.joints[k].direction * self.current_a[k] / model.stall_current_a
         self._q = np.array(self.cal.to_rad(counts))
         if alarms:
             self._alarm(*alarms[0])
@@ -249,8 +249,8 @@ class BusBackend:
         count = zero + direction * int(round(angle_rad / self.model.rad_per_count()))
         try:
             if "torque_limit" in self.model.registers:
-                # the STS limits torque (0.1 % units); its stall current is about 2.7 A
-                share = max(0, min(1000, int(round(1000.0 * current_limit_a / STALL_CURRENT_A))))
+                # the STS limits torque (0.1 % units of its stall torque): the current limit as a share of stall
+                share = max(0, min(1000, int(round(1000.0 * current_limit_a / self.model.stall_current_a))))
                 self.bus.write(servo_id, self.model.reg("torque_limit").address, self.model.reg("torque_limit").encode(share))
             self.bus.write(servo_id, self._goal.address, self._goal.encode(count))
             self.bus.write(servo_id, self.model.reg("torque_enable").address, b"\x01")

@@ -40,6 +40,7 @@ class EmulatedArm:
         self._tau_max = np.full(self.n, self.model.stall_torque_nm)
         self._gripper_q = 0.0
         self._gripper_qd = 0.0
+        self._tau = np.zeros(self.n)
         self.hand: list[float] | None = None  #: joint targets of a hand moving the limp arm (calibration), or None
         self._held = self.cell.q  #: where the gearbox holds each limp joint
         self.publish()
@@ -88,13 +89,13 @@ class EmulatedArm:
     def publish(self) -> None:
         """Write the measured state into the servos' registers (12-bit encoder: whole counts)."""
         q, qd = self.cell.q, self.cell.qd
-        tau = getattr(self, "_tau", np.zeros(self.n))
+        tau = self._tau
         feetech = self.model.family == "feetech"
         for i, servo in enumerate(self.arm_servos):
             servo.put("present_position", self.rad_to_count(q[i]))
             servo.put("present_speed", int(round(qd[i] / self.model.speed_rad_s_per_unit)))
             share = tau[i] / self.model.stall_torque_nm
-            current = int(round(abs(share) * 2.7 / self.model.current_a_per_unit))
+            current = int(round(abs(share) * self.model.stall_current_a / self.model.current_a_per_unit))
             if feetech:
                 servo.put("present_load", int(round(1000.0 * share)))
             servo.put("present_current", current if feetech else int(math.copysign(current, share)))

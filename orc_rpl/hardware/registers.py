@@ -48,6 +48,7 @@ class ServoModel:
     current_a_per_unit: float            #: present current unit
     voltage_v_per_unit: float            #: present voltage unit
     stall_torque_nm: float               #: torque at full load (load = 100 %), for the load-based estimate
+    stall_current_a: float               #: current at full load
     state_block: tuple[int, int]         #: (address, length) of the sync read done every motion cycle
     default_return_delay_units: int      #: factory return delay (2 us units)
 
@@ -96,6 +97,7 @@ STS3215 = ServoModel(
     current_a_per_unit=0.0065,
     voltage_v_per_unit=0.1,
     stall_torque_nm=2.94,
+    stall_current_a=2.7,
     state_block=(56, 10),                        # position, speed, load, voltage, temperature, -, status
     default_return_delay_units=250,
 )
@@ -131,6 +133,7 @@ XL430 = ServoModel(
     current_a_per_unit=0.00269,
     voltage_v_per_unit=0.1,
     stall_torque_nm=1.5,
+    stall_current_a=1.4,
     state_block=(126, 21),                       # current, speed, position, trajectories, voltage, temperature
     default_return_delay_units=250,
 )
