@@ -196,19 +196,26 @@ def solve_ik(model: ArmModel, target: Any, q_seed: Any, tool: Any = None,
     best_miss: tuple[float, float] = (math.inf, math.inf)
     rot_tolerance = settings.tolerance * 10 if model.n_joints >= 6 else settings.reduced_angle_tolerance_rad
     solutions: list[np.ndarray] = []
+    #: fewer than six axes: how far each solution's orientation is from the target's (exact ones are preferred)
+    rot_misses: dict[int, float] = {}
 
     def attempt(start: np.ndarray) -> np.ndarray | None:
         nonlocal best_miss
         q, err = _descend(model, target, start, t_tool, settings)
         pos_miss, rot_miss = float(np.linalg.norm(err[:3])), float(np.linalg.norm(err[3:]))
         if pos_miss < settings.tolerance * 10 and rot_miss < rot_tolerance:
-            return _nearest_turn(model, q, seed)
+            q = _nearest_turn(model, q, seed)
+            rot_misses[id(q)] = rot_miss
+            return q
         if pos_miss + rot_miss < sum(best_miss):
             best_miss = (pos_miss, rot_miss)
         return None
 
+    def exact(q: np.ndarray) -> bool:
+        return model.n_joints >= 6 or rot_misses[id(q)] < settings.tolerance * 10
+
     first = attempt(seed)
-    if first is not None and abs(first - seed).max() <= settings.near_seed_rad:
+    if first is not None and abs(first - seed).max() <= settings.near_seed_rad and exact(first):
         return first
     if first is not None:
         solutions.append(first)
@@ -217,7 +224,8 @@ def solve_ik(model: ArmModel, target: Any, q_seed: Any, tool: Any = None,
         if q is not None:
             solutions.append(q)
     if solutions:
-        return min(solutions, key=lambda s: float(np.sum((s - seed) ** 2)))
+        # (with six axes every solution is exact: nearest to the seed, as always)
+        return min(solutions, key=lambda s: (not exact(s), float(np.sum((s - seed) ** 2))))
 
     p = target[:3, 3]
     tool_text = "" if t_tool is None else f" with a tool {1000 * np.linalg.norm(t_tool[:3, 3]):.0f} mm long"
