@@ -27,6 +27,7 @@ MIN_PERIOD_S = 0.002
 MEASURED_CYCLES = 40
 #: Dynamixel bus watchdog: the servos stop by themselves when the host is silent this long (20 ms units).
 WATCHDOG_UNITS = 5
+READ_ATTEMPTS = 3  #: sync reads of one cycle before a servo that does not answer is a DriveFault
 ENCODER_COUNTS_SETTLED = 4  #: a FINE move has arrived within this many encoder counts (droop plus a count)
 
 
@@ -123,14 +124,15 @@ class BusBackend:
 
     def _read_state(self) -> None:
         address, length = self._block
-        try:
-            replies = self.bus.sync_read(address, length, self.ids)
-        except BusError:
-            # one lost or damaged reply is noise on a desktop wire; the same servo twice running is a fault
+        for attempt in range(READ_ATTEMPTS):
             try:
                 replies = self.bus.sync_read(address, length, self.ids)
+                break
             except BusError as error:
-                self._lost(error)
+                # a lost or damaged reply now and then is noise on a desktop wire (or a busy host); the
+                # same exchange failing READ_ATTEMPTS times running is a fault
+                if attempt == READ_ATTEMPTS - 1:
+                    self._lost(error)
         alarms = [(i, s) for i, s in replies.items() if self.bus.codec.alarm(s.error)]
         model = self.model
         counts = []
