@@ -41,7 +41,7 @@ def test_a_program_moves_the_emulated_arm_to_its_positions(tmp_path: Path, bus: 
     with emulated_bus("--robot", "so101", "--bus", bus) as port:
         code, out, err, summary = orc_run(tmp_path, text, "--port", port, "--bus", bus)
     assert code == 0, err
-    assert out.split() == ["60"], out
+    assert out.split() == ["60"], (out, err)
     tcp = summary["final_tcp"]
     # the servos' own loops droop a count or two under the arm's weight: a millimetre at most
     assert abs(tcp["x_m"] - 0.200) < 1e-3 and abs(tcp["y_m"] - 0.060) < 1e-3 and abs(tcp["z_m"] - 0.030) < 1e-3, tcp
@@ -62,7 +62,7 @@ def test_an_injected_fault_is_a_catchable_drive_fault_at_the_statement(tmp_path:
             # the alarmed servo is limp, the others hold
             assert torque == {i: int(i != servo) for i in range(1, 6)}, torque
     assert code == 0, err
-    assert out.split() == ["caught", "after"], out
+    assert out.split() == ["caught", "after"], (out, err)
 
 
 def test_an_uncaught_drive_fault_names_the_servo_and_the_statement(tmp_path: Path) -> None:
@@ -91,7 +91,7 @@ def test_the_desk_arm_demo_runs_unchanged_on_the_simulated_cell_and_on_the_emula
     with emulated_bus("--robot", "so101") as port:
         code, on_bus, err, bus = orc_run(tmp_path, text, "--port", port)
     assert code == 0, err
-    assert on_bus == simulated
+    assert on_bus == simulated, err
     assert sim["motions"] == bus["motions"]
     for axis in ("x_m", "y_m", "z_m"):
         assert abs(sim["final_tcp"][axis] - bus["final_tcp"][axis]) < 1e-3, (axis, sim["final_tcp"], bus["final_tcp"])
