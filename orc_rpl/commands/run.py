@@ -27,9 +27,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--world", metavar="DIR|FILE", help="folder with the program's simulated-IO script (<name>.sim.yaml), "
                                                            "or the world model (YAML) of an off-line program (.orl)")
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
-    parser.add_argument("--log", metavar="OUT.npz", help="write the recorded signals (q, q_ref, tau, tcp, s) as NPZ")
+    parser.add_argument("--log", metavar="OUT.npz", help="write the recorded signals (q, q_ref, tau, tcp (flange), tool_tcp, s, process.*) as NPZ")
     parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
-    parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints and error as JSON")
+    parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints, error and the process outcomes as JSON")
     parser.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
@@ -110,6 +110,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float) -> int:
+    from orc_rpl.executive.process_report import SIGNAL_UNITS, plotted_signals, submit_process_signals
     from orc_rpl.executive.report import Progress, summary, write_summary_text
     from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.executive import Executive
@@ -130,6 +131,8 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
                           options=Options(speed_override=override))
     machine = executive.machine
     machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
+    # the run's process record; with --log/--plot, the tool's TCP and the process signals beside the flange
+    submit_process_signals(robot.layer.logger if record else None, robot, lambda: machine.last_tool)
     io_script = script_path(args.file, args.world)
     if io_script is not None:
         load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload)
@@ -156,5 +159,6 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         if args.log:
             recording.to_npz(args.log)
         if args.plot:
-            recording.plot_png(args.plot)
+            recording.plot_png(args.plot, signals=plotted_signals(recording), tcp="tool_tcp",
+                               title=f"orc run {Path(args.file).name}", units=SIGNAL_UNITS)
     return 1 if executive.status == "failed" else 0

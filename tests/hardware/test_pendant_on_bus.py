@@ -23,7 +23,7 @@ MOVE jaws TO over
 
 
 def tcp_m(session: PendantSession) -> np.ndarray:
-    pose = session.robot.tcp_pose(session.tool_pose())
+    pose = session.robot.tcp_pose(session.execution.tool_pose())
     return np.array([pose.x, pose.y, pose.z])
 
 
@@ -34,23 +34,23 @@ def test_the_pendant_jogs_teaches_and_caps_manual_speed_on_the_emulated_arm(tmp_
         args = argparse.Namespace(robot="so101", port=port, calibration=None, bus=None, baud=1_000_000)
         session = PendantSession(path, robot=PendantRobot(bus_robot.connect(args, record=False)))
         try:
-            session.execute_text("MOVE jaws TO over")
+            session.execution.execute_text("MOVE jaws TO over")
             np.testing.assert_allclose(tcp_m(session), (0.200, 0.0, 0.040), atol=1e-3)  # a count or two of droop
             before = tcp_m(session)
-            session.jog("world", "z", "-10mm")
+            session.jogger.jog("world", "z", "-10mm")
             np.testing.assert_allclose((tcp_m(session) - before) * 1000, (0, 0, -10), atol=1.0)
             session.teach("low")
-            session.save()
+            session.editor.save()
             assert "POS low = POSE(200" in path.read_text(encoding="utf-8")
-            assert session.mode == "manual"
-            session.synchronous = False
-            session.execute_text("MOVE jaws TO far")
+            assert session.execution.mode == "manual"
+            session.execution.synchronous = False
+            session.execution.execute_text("MOVE jaws TO far")
             # the references sent to the servos each motion cycle (the measured positions come at the wall
             # clock's irregular times on a busy machine: their differences are no speed measurement)
             layer = session.robot.layer
             last, peak, dt = layer.fk(layer.reference_q())[:3, 3], 0.0, session.robot.dt_s
-            while session.busy:
-                session.pump(1)
+            while session.execution.busy:
+                session.execution.pump(1)
                 now = layer.fk(layer.reference_q())[:3, 3]
                 peak, last = max(peak, float(np.linalg.norm(now - last)) / dt), now
             assert peak <= 0.25 * 1.02, f"manual mode TCP speed {peak:.3f} m/s on the bus"
