@@ -102,6 +102,12 @@ class SensorFault(MotionFault):
     rpl_name = "SensorFault"
 
 
+class DriveFault(MotionFault):
+    """A drive failed: a servo stopped answering, or raised an alarm (overload, overheating); the message names it."""
+
+    rpl_name = "DriveFault"
+
+
 class PlanningError(OrcError):
     """The planner could not produce a trajectory within the limits (with the reason)."""
 

@@ -8,7 +8,7 @@ from typing import Any
 from orc_rpl.application.registry import Registry, default_registry
 from orc_rpl.application.runtime import BehaviourError, Fine, FunctionParam, InstallContext, MotionCall, MotionRequest
 from orc_rpl.application.standard_functions import IMPLEMENTATIONS
-from orc_rpl.syntax.units import ACCELERATION, LENGTH, MASS, TIME, VELOCITY, Quantity
+from orc_rpl.syntax.units import ACCELERATION, ANGLE, LENGTH, MASS, TIME, VELOCITY, Quantity
 from orc_rpl.world.pose import Pose
 
 #: Motion kind of each standard keyword.
@@ -108,22 +108,49 @@ def standard_motion(call: MotionCall) -> MotionRequest:
     )
 
 
+def _angle(value: Any, what: str) -> float:
+    if type(value) is Quantity and value.dim == ANGLE:
+        return value.value
+    if value == 0:
+        return 0.0
+    raise BehaviourError(f"{what} must be an angle, got {value}")
+
+
 class Gripper:
-    """A two-state gripper on a digital output: `.Open`, `.Close`, `.Closed`."""
+    """A two-state gripper on a digital output, or on a servo of the arm's bus: `.Open`, `.Close`, `.Closed`."""
 
     def __init__(self, context: InstallContext) -> None:
         self._context = context
-        self._channel = context.attributes.get("CLOSE")
-        if self._channel is None:
-            raise BehaviourError(f"INSTALL {context.name} AS Gripper needs WITH CLOSE = DigOut[n]")
+        attrs = context.attributes
+        self._channel = attrs.get("CLOSE")
+        self._servo = attrs.get("SERVO")
+        if (self._channel is None) == (self._servo is None):
+            raise BehaviourError(f"INSTALL {context.name} AS Gripper needs WITH CLOSE = DigOut[n], "
+                                 "or WITH SERVO = id WITH OPEN = angle WITH CLOSED = angle (one of the two)")
+        if self._servo is not None:
+            if attrs.get("OPEN") is None or attrs.get("CLOSED") is None:
+                raise BehaviourError(f"INSTALL {context.name} AS Gripper WITH SERVO needs WITH OPEN = angle WITH CLOSED = angle")
+            self._angles_rad = {False: _angle(attrs["OPEN"], "OPEN"), True: _angle(attrs["CLOSED"], "CLOSED")}
+            self._current_a = float(attrs.get("GRIP_CURRENT", 0.5))
+        self._closed = False
+
+    def _servo_to(self, closed: bool) -> None:
+        self._context.robot.drive_gripper(int(self._servo), self._angles_rad[closed], self._current_a)
+        self._closed = closed
 
     def Open(self) -> None:  # noqa: N802 - the language's method names
+        if self._servo is not None:
+            return self._servo_to(False)
         self._context.write(self._channel, 0)
 
     def Close(self) -> None:  # noqa: N802
+        if self._servo is not None:
+            return self._servo_to(True)
         self._context.write(self._channel, 1)
 
     def Closed(self) -> bool:  # noqa: N802
+        if self._servo is not None:
+            return self._closed
         return bool(self._context.read(self._channel))
 
 

@@ -7,6 +7,7 @@ import sys
 from collections.abc import Iterable
 from pathlib import Path
 
+from orc_rpl.commands import bus_robot
 from orc_rpl.errors import OrcError, UsageError
 
 
@@ -22,6 +23,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
     parser.add_argument("--backend", choices=("servo", "kinematic"), default="servo",
                         help="servo: MuJoCo cell with servo loops (default); kinematic: fast, no :snapshot")
+    bus_robot.add_options(parser)
     recovery = parser.add_mutually_exclusive_group()
     recovery.add_argument("--recover", action="store_true", help="take unsaved edits from the journal without asking")
     recovery.add_argument("--discard", action="store_true", help="discard unsaved edits in the journal without asking")
@@ -63,6 +65,7 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError(f"'{args.file}': a program file must end in .rpl")
         if args.file is not None and Path(args.file).is_dir():
             raise UsageError(f"'{args.file}' is a directory")
+        bus_robot.check_options(args)
     except UsageError as error:
         return _fail(str(error))
     try:
@@ -78,7 +81,10 @@ def _run(args: argparse.Namespace) -> int:
     from orc_rpl.pendant.session import PendantSession
 
     interactive = sys.stdin.isatty()
-    robot = PendantRobot.virtual(args.robot, backend=args.backend)
+    if args.port is not None:
+        robot = PendantRobot(bus_robot.connect(args, record=False))  # a real (or emulated) arm on a servo bus
+    else:
+        robot = PendantRobot.virtual(args.robot, backend=args.backend)
     session = PendantSession(args.file, robot=robot, synchronous=not interactive)
     try:
         if not interactive and session.editor.pending_recovery() is not None and not (args.recover or args.discard):

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from orc_rpl.commands import bus_robot
 from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError
 
 #: The progress display is refreshed every this many motion cycles.
@@ -38,19 +39,20 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     view.add_argument("--view", action="store_true", help="show the run in a 3D view in the browser (paced to real time)")
     view.add_argument("--fast", action="store_true", help="with --view: do not pace; the view shows the latest state")
     view.add_argument("--host", metavar="ADDRESS", help="with --view: listen on ADDRESS instead of 127.0.0.1")
-    view.add_argument("--port", metavar="PORT", type=int, help="with --view: the first port to try (default 8080)")
+    view.add_argument("--view-port", metavar="PORT", type=int, help="with --view: the first port to try (default 8080)")
     view.add_argument("--video", metavar="OUT.mp4", help="film the run offscreen into an MP4 video")
     parser.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
                         help="replace the value of a top-level CONST, e.g. --set Vmax=1.2mps (repeatable)")
+    bus_robot.add_options(parser)
     return parser
 
 
 def watching(args: argparse.Namespace) -> Any:
     """The view and video options as a Watching (a UsageError for combinations that make no sense)."""
     if not args.view:
-        for option in ("fast", "host", "port"):
+        for option in ("fast", "host", "view_port"):
             if getattr(args, option) not in (None, False):
-                raise UsageError(f"--{option} needs --view")
+                raise UsageError(f"--{option.replace('_', '-')} needs --view")
     if args.fast and args.realtime:
         raise UsageError("--fast and --realtime contradict each other")
     if args.video is not None:
@@ -69,8 +71,9 @@ def watching(args: argparse.Namespace) -> Any:
         from orc_rpl.view.watch import Watching
     except ImportError as error:
         raise UsageError(f"--view and --video need the view extra (pip install 'orc_rpl[view]'): {error}") from None
-    check_port(args.port)
-    return Watching(view=args.view, host=args.host or DEFAULT_HOST, port=DEFAULT_PORT if args.port is None else args.port,
+    check_port(args.view_port)
+    return Watching(view=args.view, host=args.host or DEFAULT_HOST,
+                    port=DEFAULT_PORT if args.view_port is None else args.view_port,
                     video=args.video, interactive=sys.stdin.isatty() and sys.stderr.isatty())
 
 
@@ -106,6 +109,9 @@ def run(args: argparse.Namespace) -> int:
     try:
         watch_how = watching(args)
         override = speed_override(args.speed_override)
+        bus_robot.check_options(args)
+        if args.port is not None and args.realtime:
+            raise UsageError("--realtime: a real arm (--port) always runs in real time")
         if args.robot not in ROBOTS:
             raise UsageError(f"--robot: unknown robot {args.robot!r}; known robots: {', '.join(ROBOTS.names())}")
         if args.world is not None and not Path(args.world).is_dir() and not Path(args.world).is_file():
@@ -127,6 +133,8 @@ def run(args: argparse.Namespace) -> int:
         return _fail_usage(str(error))
     registry = runtime_registry()
     diagnostics = check(program, args.file, registry, attributes)
+    if args.port is not None:
+        diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot)
     if diagnostics:
         for diagnostic in diagnostics:
             sys.stderr.write(diagnostic.format(source) + "\n")
@@ -164,7 +172,10 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
 
     record = bool(args.log or args.plot)
     paced = args.realtime or (args.view and not args.fast)
-    robot = CellRobot.virtual(robot=args.robot, realtime=paced, record=record)
+    if args.port is not None:
+        robot = bus_robot.connect(args, record)
+    else:
+        robot = CellRobot.virtual(robot=args.robot, realtime=paced, record=record)
 
     def out(line: str) -> None:
         sys.stdout.write(line + "\n")
@@ -183,7 +194,13 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
                                                                                        registry, watch_how) as watchers:
         machine.robot = watchers.monitor(progress.monitor(robot)) if watchers is not None else progress.monitor(robot)
         wall_start = time.perf_counter()  # after the view's page connected
-        executive.run()
+        try:
+            executive.run()
+        except KeyboardInterrupt:
+            if args.port is None:
+                raise
+            bus_robot.stop_and_hold(robot)
+            return 130
     machine.robot = robot
     wall_s = time.perf_counter() - wall_start
     result = summary(executive, robot)

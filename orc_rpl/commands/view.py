@@ -20,7 +20,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("program", metavar="PROGRAM", nargs="?", help="a program (.rpl, or .orl of this world) whose positions to show")
     parser.add_argument("--robot", metavar="NAME", help="robot model (default: the world's, else irb2400)")
     parser.add_argument("--host", metavar="ADDRESS", help="listen on ADDRESS instead of 127.0.0.1")
-    parser.add_argument("--port", metavar="PORT", type=int, help="the first port to try (default 8080)")
+    parser.add_argument("--view-port", metavar="PORT", type=int, help="the first port to try (default 8080)")
     return parser
 
 
@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
             source, program = load_program(args.program, args.world)
         from orc_rpl.view.server import DEFAULT_HOST, DEFAULT_PORT, check_port
 
-        check_port(args.port)
+        check_port(args.view_port)
     except SourceError as error:
         sys.stderr.write(error.format() + "\n")
         return 2
@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
             return _fail(f"{len(diagnostics)} check error{'s' if len(diagnostics) != 1 else ''} in {args.program}")
     try:
         return _serve(args, world, program, registry, robot_name, args.host or DEFAULT_HOST,
-                      DEFAULT_PORT if args.port is None else args.port)
+                      DEFAULT_PORT if args.view_port is None else args.view_port)
     except UsageError as error:
         return _fail(str(error))
     except OrcError as error:

@@ -12,6 +12,8 @@ from orc_rpl.motion import ActionSlot, Actions, CartesianMotion, FuncParams, Fun
 from orc_rpl.plant.io import CellIO
 from orc_rpl.world.pose import Joints, Pose
 
+#: A servo gripper that has neither arrived nor stalled by then is left where it is (it squeezes a part).
+GRIPPER_TIMEOUT_S = 2.0
 #: A VIA point of a straight-line motion is passed this close (a blended corner), unless the zone is larger.
 VIA_ZONE_M = 0.01
 
@@ -53,6 +55,7 @@ class CellRobot:
         self.last_tool: Pose | None = None     #: the tool of the last motion submitted (where a sensor looks)
         self.sensors = _sensor_manager(self)
         layer.sensors = self.sensors
+        self.gripper_angles_rad: dict[int, float] = {}  #: servo grippers on the simulated cell (ideal)
 
     @classmethod
     def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False) -> CellRobot:
@@ -93,6 +96,20 @@ class CellRobot:
 
     def thermal_loads(self) -> tuple[float, ...]:
         return tuple(float(x) for x in self.layer.thermal_load())
+
+    def drive_gripper(self, servo_id: int, angle_rad: float, current_limit_a: float) -> None:
+        """A gripper on a servo of the arm's bus: move it and wait until it is there (or squeezes at its current limit).
+
+        On the simulated cell the gripper is ideal: it is where it was sent at once."""
+        backend = self.layer.backend
+        drive = getattr(backend, "drive_servo", None)
+        if drive is None:
+            self.gripper_angles_rad[servo_id] = angle_rad
+            return
+        drive(servo_id, angle_rad, current_limit_a)
+        deadline = self.layer.now_s() + GRIPPER_TIMEOUT_S
+        while not backend.servo_arrived(servo_id) and self.layer.now_s() < deadline:
+            self.tick()
 
     def set_plant_payload(self, mass_kg: float) -> None:
         """Simulation only: a part of `mass_kg` in the gripper, felt by the plant (not told to the controller)."""

@@ -98,6 +98,8 @@ class Kinematics:
         # q and tool come checked from ik_along: one unchecked kinematics pass gives pose and Jacobian.
         # The error is formed in Python floats (the same IEEE operations as numpy's, without a
         # numpy call per element): this loop runs for every sample of every Cartesian path.
+        if self.n < 6:
+            return None  # a square Newton step needs six axes; fewer go through the full (least-squares) IK
         pose_and_jacobian = self.arm.pose_and_jacobian
         target_r = target[:3, :3]
         x, y, z = target[:3, 3].tolist()

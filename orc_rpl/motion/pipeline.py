@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.errors import OrcError, PlanningError
+from orc_rpl.errors import MotionFault, OrcError, PlanningError
 from orc_rpl.motion.actions import Actions, MotionData
 from orc_rpl.motion.backend import Backend
 from orc_rpl.motion.blending import blend
@@ -180,7 +180,11 @@ class MotionPipeline:
                 self._hold_cache = (np.tile(self._q_ref, (self.sub, 1)), np.zeros((self.sub, len(self._q_ref))))
             q_r, qd_r = self._hold_cache
             qdd_r = qd_r
-        self.backend.advance(q_r, qd_r, qdd_r)
+        try:
+            self.backend.advance(q_r, qd_r, qdd_r)
+        except MotionFault as fault:  # a real drive failed (DriveFault): the backend holds, the moves fail
+            self._drive_fault(fault)
+            return
         if self.thermal is not None:
             self.thermal.update(self.backend.torque())
         self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
@@ -256,12 +260,31 @@ class MotionPipeline:
             self._finish(later, MoveStatus.ACT_STOPPED)
         self._queue.clear()
 
+    def _drive_fault(self, fault: MotionFault) -> None:
+        """The drives stopped the arm: every running and queued move fails with the fault, the reference is
+        where the arm is. With no move to carry it, the fault goes to the caller at once."""
+        handles = [h for h in [*self._in_traj, *self._queue] if not h.done]
+        if self._settling is not None:
+            handles.append(self._settling[0])
+        self._traj, self._in_traj, self._settling, self._hold_cache = None, [], None, None
+        self._queue.clear()
+        self._q_ref = np.array(self.backend.q())
+        self._qd_ref, self._qdd_ref = np.zeros_like(self._q_ref), np.zeros_like(self._q_ref)
+        for h in handles:
+            if not h.done:
+                h.error = fault
+                self._finish(h, MoveStatus.FAULT)
+        if not handles:
+            raise fault
+
     def _check_settled(self) -> None:
         h, since = self._settling  # type: ignore[misc]
         err = float(np.max(np.abs(self.backend.q() - self._q_ref)))
         vel = float(np.max(np.abs(self.backend.qd())))
         timed_out = self.now_s() - since > SETTLE_TIMEOUT_S
-        if (err < SETTLE_RAD and vel < SETTLE_RAD_S) or timed_out:
+        # a backend may settle coarser than the default: bus servos see whole encoder counts
+        settle_rad, settle_rad_s = getattr(self.backend, "settle_rad", SETTLE_RAD), getattr(self.backend, "settle_rad_s", SETTLE_RAD_S)
+        if (err < settle_rad and vel < settle_rad_s) or timed_out:
             h.settled = not timed_out
             self._settling = None
             self._finish(h, MoveStatus.READY)

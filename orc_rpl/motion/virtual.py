@@ -88,14 +88,20 @@ def make_virtual_motion_layer(
     # A robot that is set up should move at once: a paced run would start 0.4 s late otherwise.
     preload_planning()
     if record and logger is None:
-        from orc_rpl.signals.logger import Logger
-
-        log = Logger(layer.now_s)
-        log.submit("q_ref", layer.reference_q)
-        log.submit("q", layer.current_q)
-        log.submit("tau", be.torque)
-        # the measured q is a float array of n_joints: fk need not check it every cycle
-        log.submit("tcp", lambda: arm.fk_unchecked(be.q())[:3, 3])
-        log.submit("s", layer.progress_s)
-        layer.logger = log
+        attach_recorder(layer)
     return layer
+
+
+def attach_recorder(layer: MotionLayer) -> None:
+    """A signals Logger on the layer with q_ref, q, tau, tcp and s (`layer.logger`)."""
+    from orc_rpl.signals.logger import Logger
+
+    arm, be = layer.kin.arm, layer.backend
+    log = Logger(layer.now_s)
+    log.submit("q_ref", layer.reference_q)
+    log.submit("q", layer.current_q)
+    log.submit("tau", be.torque)
+    # the measured q is a float array of n_joints: fk need not check it every cycle
+    log.submit("tcp", lambda: arm.fk_unchecked(be.q())[:3, 3])
+    log.submit("s", layer.progress_s)
+    layer.logger = log

@@ -23,6 +23,11 @@ class IkSettings:
     max_step_rad: float = 0.4          #: largest joint change per iteration (keeps DLS on one branch)
     restarts: int = 10                 #: deterministic extra starts when the seed's answer is not near it
     near_seed_rad: float = 0.6         #: a seed answer within this (max-norm) distance is taken at once
+    #: Arms with fewer than six axes: the orientation the target asks may be one the arm cannot take.
+    #: The position is reached exactly and the orientation as near as the arm can (least squares);
+    #: a remaining angle error up to this is accepted, a larger one makes the target Unreachable.
+    reduced_angle_tolerance_rad: float = math.radians(0.5)
+    reduced_rotation_weight_m: float = 0.05  #: weight of a radian against a metre in the reduced fit
 
 
 def rotation_error(r_target: np.ndarray, r: np.ndarray) -> np.ndarray:
@@ -51,6 +56,8 @@ def _pose_error(target: np.ndarray, t: np.ndarray) -> np.ndarray:
 def _descend(model: ArmModel, target: np.ndarray, q0: np.ndarray, tool: np.ndarray | None,
              settings: IkSettings) -> tuple[np.ndarray, np.ndarray]:
     """Levenberg-Marquardt steps from q0, clamped to the joint ranges; returns (q, final error 6-vector)."""
+    if model.n_joints < 6:
+        return _descend_reduced(model, target, q0, tool, settings)
     lo, hi = model.q_min, model.q_max
     q = np.clip(q0, lo, hi)
     t, jac = model._fk_jacobian(q, tool)
@@ -89,6 +96,56 @@ def _descend(model: ArmModel, target: np.ndarray, q0: np.ndarray, tool: np.ndarr
             if damping > 1e3:
                 break
     return q, err
+
+
+def _descend_reduced(model: ArmModel, target: np.ndarray, q0: np.ndarray, tool: np.ndarray | None,
+                     settings: IkSettings) -> tuple[np.ndarray, np.ndarray]:
+    """Fewer than six axes: a weighted least-squares fit of the pose, then the position alone made exact.
+
+    The fit finds the orientation nearest to the target's that the arm can take; the second stage
+    moves the joints the least that closes the position error (minimum-norm Gauss-Newton steps on the
+    three position rows), so a target's position is never traded for its orientation.
+    """
+    lo, hi = model.q_min, model.q_max
+    weights = np.array([1.0, 1.0, 1.0] + [settings.reduced_rotation_weight_m] * 3)
+    q = np.clip(q0, lo, hi)
+    damping = 1e-6
+    t, jac = model._fk_jacobian(q, tool)
+    err = _pose_error(target, t) * weights
+    cost = float(err @ err)
+    for _ in range(settings.max_iterations):
+        j = jac * weights[:, None]
+        dq = np.linalg.solve(j.T @ j + damping * np.eye(model.n_joints), j.T @ err)
+        largest = abs(dq).max()
+        if largest > settings.max_step_rad:
+            dq *= settings.max_step_rad / largest
+        q_new = np.clip(q + dq, lo, hi)
+        t_new, jac_new = model._fk_jacobian(q_new, tool)
+        err_new = _pose_error(target, t_new) * weights
+        cost_new = float(err_new @ err_new)
+        if cost_new < cost:
+            done = cost - cost_new < 1e-14 * max(cost, 1e-30) or abs(q_new - q).max() < 1e-13
+            q, jac, err, cost = q_new, jac_new, err_new, cost_new
+            damping = max(damping * 0.3, 1e-12)
+            if done:
+                break
+        else:
+            damping *= 10.0
+            if damping > 1e3:
+                break
+    t, jac = model._fk_jacobian(q, tool)
+    e_p = target[:3, 3] - t[:3, 3]
+    for _ in range(20):  # the position made exact from the fit's joint values (steps that help only)
+        if abs(e_p).max() < settings.tolerance:
+            break
+        jp = jac[:3]
+        q_new = np.clip(q + jp.T @ np.linalg.solve(jp @ jp.T + 1e-12 * np.eye(3), e_p), lo, hi)
+        t_new, jac_new = model._fk_jacobian(q_new, tool)
+        e_new = target[:3, 3] - t_new[:3, 3]
+        if float(e_new @ e_new) >= float(e_p @ e_p):
+            break
+        q, t, jac, e_p = q_new, t_new, jac_new, e_new
+    return q, _pose_error(target, t)
 
 
 def _nearest_turn(model: ArmModel, q: np.ndarray, seed: np.ndarray) -> np.ndarray:
@@ -137,20 +194,28 @@ def solve_ik(model: ArmModel, target: Any, q_seed: Any, tool: Any = None,
     t_tool = None if tool is None else model.transform(tool)
 
     best_miss: tuple[float, float] = (math.inf, math.inf)
+    rot_tolerance = settings.tolerance * 10 if model.n_joints >= 6 else settings.reduced_angle_tolerance_rad
     solutions: list[np.ndarray] = []
+    #: fewer than six axes: how far each solution's orientation is from the target's (exact ones are preferred)
+    rot_misses: dict[int, float] = {}
 
     def attempt(start: np.ndarray) -> np.ndarray | None:
         nonlocal best_miss
         q, err = _descend(model, target, start, t_tool, settings)
         pos_miss, rot_miss = float(np.linalg.norm(err[:3])), float(np.linalg.norm(err[3:]))
-        if pos_miss < settings.tolerance * 10 and rot_miss < settings.tolerance * 10:
-            return _nearest_turn(model, q, seed)
+        if pos_miss < settings.tolerance * 10 and rot_miss < rot_tolerance:
+            q = _nearest_turn(model, q, seed)
+            rot_misses[id(q)] = rot_miss
+            return q
         if pos_miss + rot_miss < sum(best_miss):
             best_miss = (pos_miss, rot_miss)
         return None
 
+    def exact(q: np.ndarray) -> bool:
+        return model.n_joints >= 6 or rot_misses[id(q)] < settings.tolerance * 10
+
     first = attempt(seed)
-    if first is not None and abs(first - seed).max() <= settings.near_seed_rad:
+    if first is not None and abs(first - seed).max() <= settings.near_seed_rad and exact(first):
         return first
     if first is not None:
         solutions.append(first)
@@ -159,7 +224,8 @@ def solve_ik(model: ArmModel, target: Any, q_seed: Any, tool: Any = None,
         if q is not None:
             solutions.append(q)
     if solutions:
-        return min(solutions, key=lambda s: float(np.sum((s - seed) ** 2)))
+        # (with six axes every solution is exact: nearest to the seed, as always)
+        return min(solutions, key=lambda s: (not exact(s), float(np.sum((s - seed) ** 2))))
 
     p = target[:3, 3]
     tool_text = "" if t_tool is None else f" with a tool {1000 * np.linalg.norm(t_tool[:3, 3]):.0f} mm long"

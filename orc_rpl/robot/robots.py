@@ -113,3 +113,17 @@ ROBOTS.register(
     )
 )
 
+ROBOTS.register(
+    RobotSpec(
+        name="so101",
+        mjcf_file="so101.xml",
+        # the published model's joint ranges (joint zero in the middle of each range)
+        q_min_rad=(-1.9198621771937616, -1.7453292519943224, -1.69, -1.6580628494556928, -2.7438472969992493),
+        q_max_rad=(1.9198621771937634, 1.7453292519943366, 1.69, 1.6580627293335335, 2.841206309382605),
+        qd_max_rad_s=_deg(180, 180, 180, 180, 180),
+        qdd_max_rad_s2=(15.0, 15.0, 15.0, 20.0, 20.0),
+        tau_max_nm=(2.94, 2.94, 2.94, 2.94, 2.94),
+        home_q_rad=(0.0, -0.6, 0.6, 1.5707963267948966, 0.0),
+        description="SO-101-class desktop arm, 5 axes and a gripper on STS3215 bus servos, reach 0.4 m",
+    )
+)

@@ -17,9 +17,9 @@ DEFAULT_PORT = 8080
 
 
 def check_port(port: int | None) -> None:
-    """`--port`: a port number (0: the system chooses one)."""
+    """`--view-port`: a port number (0: the system chooses one)."""
     if port is not None and not 0 <= port <= 65535:
-        raise UsageError(f"--port: expected a port number 0..65535, got {port}")
+        raise UsageError(f"--view-port: expected a port number 0..65535, got {port}")
 
 
 def _no_share_links(*_: Any, **__: Any) -> None:

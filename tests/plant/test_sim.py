@@ -33,7 +33,7 @@ def test_default_cell_has_the_table_in_front_below_the_workspace() -> None:
 
 
 def test_unknown_robot_is_a_usage_error() -> None:
-    with pytest.raises(UsageError, match="known robots: irb2400, ur5e"):
+    with pytest.raises(UsageError, match="known robots: irb2400, so101, ur5e"):
         SimCell("puma")
 
 

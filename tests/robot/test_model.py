@@ -11,7 +11,7 @@ from orc_rpl.robot import ROBOTS, RobotRegistry, load_robot
 from orc_rpl.errors import JointLimit, UsageError
 from orc_rpl.world.pose import matrix
 
-ROBOT_NAMES = ["irb2400", "ur5e"]
+ROBOT_NAMES = ["irb2400", "ur5e", "so101"]
 
 
 @pytest.fixture(scope="module", params=ROBOT_NAMES)
@@ -25,7 +25,7 @@ def test_both_robots_are_registered_and_irb2400_is_the_default() -> None:
 
 
 def test_unknown_robot_names_the_known_ones() -> None:
-    with pytest.raises(UsageError, match="unknown robot 'kuka'.*irb2400, ur5e"):
+    with pytest.raises(UsageError, match="unknown robot 'kuka'.*irb2400, so101, ur5e"):
         load_robot("kuka")
 
 
@@ -87,7 +87,7 @@ def test_inverse_dynamics_agrees_with_mujoco(arm) -> None:
     rng = np.random.default_rng(7)
     for _ in range(5):
         q = rng.uniform(arm.q_min, arm.q_max)
-        qd, qdd = rng.uniform(-2, 2, 6), rng.uniform(-5, 5, 6)
+        qd, qdd = rng.uniform(-2, 2, arm.n_joints), rng.uniform(-5, 5, arm.n_joints)
         d.qpos[:], d.qvel[:], d.qacc[:] = q, qd, qdd
         mujoco.mj_inverse(m, d)
         np.testing.assert_allclose(arm.inverse_dynamics(q, qd, qdd), d.qfrc_inverse, atol=1e-8,

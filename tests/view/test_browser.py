@@ -104,7 +104,7 @@ def test_browser_shows_the_run_where_the_recording_says() -> None:
 
 
 def test_orc_run_view_serves_the_page_on_this_machine_only() -> None:
-    proc = orc("run", str(PROGRAM), "--view", "--port", "0")
+    proc = orc("run", str(PROGRAM), "--view", "--view-port", "0")
     try:
         url = read_url(proc.stderr)
         assert url.startswith("http://127.0.0.1:")
@@ -125,7 +125,7 @@ def test_at_a_terminal_the_run_waits_for_the_browser_and_the_page_stays_open_unt
 
     master, slave = pty.openpty()
     proc = subprocess.Popen([sys.executable, "-m", "orc_rpl", "run", str(ROOT / "programs" / "online" / "thesis_4_1_move_via.rpl"),
-                             "--view", "--port", "0"], cwd=ROOT, stdin=slave, stdout=slave, stderr=slave, close_fds=True)
+                             "--view", "--view-port", "0"], cwd=ROOT, stdin=slave, stdout=slave, stderr=slave, close_fds=True)
     os.close(slave)
     seen = bytearray()
 

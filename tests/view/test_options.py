@@ -15,9 +15,9 @@ PROGRAM = str(ROOT / "programs" / "online" / "thesis_4_1_move_via.rpl")
 @pytest.mark.parametrize(("args", "message"), [
     (["--fast"], "--fast needs --view"),
     (["--host", "0.0.0.0"], "--host needs --view"),
-    (["--port", "9000"], "--port needs --view"),
+    (["--view-port", "9000"], "--view-port needs --view"),
     (["--view", "--fast", "--realtime"], "--fast and --realtime contradict each other"),
-    (["--view", "--port", "70000"], "--port: expected a port number 0..65535"),
+    (["--view", "--view-port", "70000"], "--view-port: expected a port number 0..65535"),
     (["--view", "--host", "203.0.113.9"], "--host 203.0.113.9: cannot listen on that address"),
 ], ids=["fast-alone", "host-alone", "port-alone", "fast-realtime", "port-range", "foreign-address"])
 def test_view_options_that_make_no_sense_exit_2(args: list[str], message: str) -> None:
@@ -33,7 +33,7 @@ def test_view_options_that_make_no_sense_exit_2(args: list[str], message: str) -
 def test_orc_view_serves_a_world_until_interrupted() -> None:
     pytest.importorskip("viser", reason="the 3D view is the [view] extra")
     proc = orc("view", str(ROOT / "worlds" / "cell_thesis.yaml"), str(ROOT / "programs" / "offline" / "thesis_7_3.orl"),
-               "--port", "0")
+               "--view-port", "0")
     try:
         url = read_url(proc.stderr)
         assert url.startswith("http://127.0.0.1:")

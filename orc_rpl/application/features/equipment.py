@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from orc_rpl.application.declarations import AttributeSpec, InstallKindSpec, MethodSpec
 from orc_rpl.application.registry import Registry
-from orc_rpl.syntax.units import DIMENSIONLESS, FORCE, LENGTH
+from orc_rpl.syntax.units import ANGLE, DIMENSIONLESS, FORCE, LENGTH
 
 ORIGIN = "equipment"
 
@@ -17,8 +17,15 @@ PORT = AttributeSpec("PORT", ("string",), "sim", "\"sim\" for the simulated cell
 def register(registry: Registry) -> None:
     """Declare the general equipment kinds."""
     kinds = [
-        InstallKindSpec("Gripper", "a two-state gripper driven by a digital output",
-                        (AttributeSpec("CLOSE", IO_CHANNEL, None, "digital output that closes the gripper", function_ok=False),),
+        InstallKindSpec("Gripper", "a two-state gripper driven by a digital output or by a servo on the arm's bus",
+                        (AttributeSpec("CLOSE", IO_CHANNEL, None, "digital output that closes the gripper", function_ok=False),
+                         AttributeSpec("SERVO", (DIMENSIONLESS,), None, "id of the gripper's servo on the arm's bus",
+                                       function_ok=False),
+                         AttributeSpec("OPEN", (ANGLE,), None, "the servo's angle when open (with SERVO)", function_ok=False),
+                         AttributeSpec("CLOSED", (ANGLE,), None, "the servo's angle when closed (with SERVO)",
+                                       function_ok=False),
+                         AttributeSpec("GRIP_CURRENT", (DIMENSIONLESS,), 0.5,
+                                       "current (A) at which the servo stops squeezing (with SERVO)", function_ok=False)),
                         (MethodSpec("Open", "open the gripper"), MethodSpec("Close", "close the gripper"),
                          MethodSpec("Closed", "TRUE while the gripper is closed", returns="bool"))),
         InstallKindSpec("Grinder", "a grinding spindle driven by a digital output",
