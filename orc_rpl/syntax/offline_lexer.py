@@ -76,13 +76,14 @@ def _continues(lines: list[str], number: int) -> bool:
     return False
 
 
-def _middle_follows(lines: list[str], number: int) -> bool:
-    """True when the next line with code after line `number` is `else:`, `elif`, `except` or `end`."""
+def _middle_width(lines: list[str], number: int) -> int | None:
+    """The indentation of the next line with code after line `number` when it is `else:`, `elif`, `except` or
+    `end`; None otherwise."""
     for text in lines[number:]:
         stripped = text.strip(" \t\r")
         if stripped and not stripped.startswith("#"):
-            return bool(_MIDDLE.match(text))
-    return False
+            return _width(text) if _MIDDLE.match(text) else None
+    return None
 
 
 def plan_indentation(lines: list[str]) -> IndentPlan:
@@ -121,8 +122,11 @@ def plan_indentation(lines: list[str]) -> IndentPlan:
         previous_blank = False
         width = _width(text)
         comment_only = stripped.startswith("#")
-        if comment_only and width < stack[-1] and _middle_follows(lines, number):
-            continue  # `# ...` just before `else:`/`elif`/`except` at the header's indentation stays in the block above
+        middle = _middle_width(lines, number) if comment_only and width < stack[-1] else None
+        if middle is not None and width <= middle:
+            # `# ...` just before `else:`/`elif`/`except` at (or left of) the header's indentation stays in the
+            # block above; one indented deeper than that keyword belongs where its indentation reaches
+            continue
         if _MIDDLE.match(text) and pending:
             # Blank lines before `else:`, `elif`, `except` or `end` belong to the block above it: the header's
             # own block when the header is right above, else the block the keyword continues.

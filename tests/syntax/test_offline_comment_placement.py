@@ -34,3 +34,13 @@ def test_comment_lines_between_a_motion_and_its_continuation_are_kept(text, pars
     clause = motion.clauses[-1]
     assert clause.new_line and clause.line_comment == " first" and clause.comments_before[0] == " between"
     assert printer(program) == text
+
+
+def test_a_comment_indented_deeper_than_the_closing_keyword_stays_where_its_indentation_reaches() -> None:
+    # found by the generated round trip: a comment at the else-body's indentation after a nested block
+    text = "case 0:\n    else:\n        frame a:\n            tool b = []\n        #\nend\n"
+    program = parse_offline(text, "p.orl")
+    (case,) = program.body
+    body = case.else_arm.body
+    assert isinstance(body[0], n.FrameBlock) and body[-1] == n.Comment("")
+    assert print_offline(program) == text
