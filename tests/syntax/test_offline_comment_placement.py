@@ -38,7 +38,7 @@ def test_comment_lines_between_a_motion_and_its_continuation_are_kept(text, pars
 
 def test_a_comment_indented_deeper_than_the_closing_keyword_stays_where_its_indentation_reaches() -> None:
     # found by the generated round trip: a comment at the else-body's indentation after a nested block
-    text = "case 0:\n    else:\n        frame a:\n            tool b = []\n        #\nend\n"
+    text = "case 0:\n    else:\n        frame a:\n            tool b = []\n        #\nend  # done\n"
     program = parse_offline(text, "p.orl")
     (case,) = program.body
     body = case.else_arm.body
