@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from orc_rpl.commands.outputs import check_outputs, quiet_stdout
 from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError
 
 #: The progress display is refreshed every this many motion cycles.
@@ -69,10 +70,8 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError(f"--robot: unknown robot {args.robot!r}; known robots: {', '.join(ROBOTS.names())}")
         if args.world is not None and not Path(args.world).is_dir() and not Path(args.world).is_file():
             raise UsageError(f"--world: '{args.world}' is neither a directory nor a world model file")
-        for option in ("log", "plot", "summary_json"):
-            target = getattr(args, option)
-            if target is not None and not Path(target).resolve().parent.is_dir():
-                raise UsageError(f"--{option.replace('_', '-')}: the folder of '{target}' does not exist")
+        check_outputs({"FILE": args.file, "--world": args.world},
+                      {"--log": args.log, "--plot": args.plot, "--summary-json": args.summary_json})
         # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
         source, program = load_program(args.file, world_file)
@@ -113,8 +112,11 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     robot = CellRobot.virtual(robot=args.robot, realtime=args.realtime, record=record)
 
     def out(line: str) -> None:
-        sys.stdout.write(line + "\n")
-        sys.stdout.flush()
+        try:
+            sys.stdout.write(line + "\n")
+            sys.stdout.flush()
+        except BrokenPipeError:  # `orc run F | head`: the reader went away; the run goes on, its output is dropped
+            quiet_stdout()
 
     executive = Executive(program, robot, registry, path=args.file, source=source, output=out,
                           options=Options(speed_override=override))

@@ -9,6 +9,7 @@ from lark import Token, Transformer
 
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.lexicon import is_reserved
+from orc_rpl.syntax.limits import literal_problem
 
 
 class BuildError(Exception):
@@ -103,6 +104,9 @@ def expr(child: Any) -> n.Expression:
         if kind == "NAME":
             return name(child)
         if kind == "NUMBER":
+            problem = literal_problem(str(child))
+            if problem is not None:
+                raise BuildError(problem, span)
             return n.Number(str(child), span=span)
         if kind == "STRING":
             return n.String(unescape(str(child)), span=span)

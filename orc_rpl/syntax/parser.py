@@ -15,6 +15,7 @@ from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.blocks import NEUTRAL_HEADERS, block_keyword, check_blocks
 from orc_rpl.syntax.builder import BuildError, TreeBuilder
 from orc_rpl.syntax.grammar_files import grammar_path
+from orc_rpl.syntax.limits import check_nesting
 
 T = TypeVar("T")
 
@@ -183,6 +184,16 @@ def parse_recovering(
     raise SourceError(diagnostics, "\n".join(lines))
 
 
+def capped(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    """At most MAX_ERRORS diagnostics, the last one saying how many more were found (16,000 stray ENDIFs print 50)."""
+    if len(diagnostics) <= MAX_ERRORS:
+        return diagnostics
+    rest = len(diagnostics) - MAX_ERRORS
+    last = diagnostics[MAX_ERRORS - 1]
+    note = Diagnostic(last.location, f"{rest} more error{'s' if rest != 1 else ''} not shown (at most {MAX_ERRORS} per file)")
+    return diagnostics[:MAX_ERRORS] + [note]
+
+
 def parse(text: str, path: str = "<input>") -> n.Program:
     """Parse on-line RPL text; raise SourceError with every syntax error found (up to MAX_ERRORS)."""
     lines = source_lines(text)
@@ -193,7 +204,9 @@ def parse(text: str, path: str = "<input>") -> n.Program:
     work = list(lines)
     for number in to_blank:
         work[number - 1] = ""
-    return parse_recovering(path, lines, work, diagnostics, _lark().parse, _diagnostic, _neutralize)
+    program = parse_recovering(path, lines, work, capped(diagnostics), _lark().parse, _diagnostic, _neutralize)
+    check_nesting(program, path, lines)
+    return program
 
 
 def parse_statement(text: str, path: str = "<input>") -> n.Statement:
