@@ -28,10 +28,10 @@ def check_file(path: str, registry=None, world: str | None = None) -> tuple[str 
     if is_offline(path):
         from orc_rpl.transform.checks import check_offline, load_world_file
 
-        world_path = world if world is not None else declared_world(path, text)
-        if world_path is None:
-            return text, []  # without a world model only the syntax can be checked
         try:
+            world_path = world if world is not None else declared_world(path, text)
+            if world_path is None:
+                return text, []  # without a world model only the syntax can be checked
             model = load_world_file(world_path)
         except SourceError as error:
             return error.source, error.diagnostics

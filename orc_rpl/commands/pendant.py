@@ -20,6 +20,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
     parser.add_argument("--backend", choices=("servo", "kinematic"), default="servo",
                         help="servo: MuJoCo cell with servo loops (default); kinematic: fast, no :snapshot")
+    parser.add_argument("--allow-devices", action="store_true",
+                        help="let the program open the serial devices its PORT attributes name (default: none is opened)")
     recovery = parser.add_mutually_exclusive_group()
     recovery.add_argument("--recover", action="store_true", help="take unsaved edits from the journal without asking")
     recovery.add_argument("--discard", action="store_true", help="discard unsaved edits in the journal without asking")
@@ -71,11 +73,14 @@ def run(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     from orc_rpl.executive.sim_io import load_script, script_path
+    from orc_rpl.motion.sensors import SensorManager
     from orc_rpl.pendant.app import PendantApp
     from orc_rpl.pendant.robot import PendantRobot
     from orc_rpl.pendant.session import PendantSession
 
     robot = PendantRobot.virtual(args.robot, backend=args.backend)
+    # A simulated session touches no device unless asked (the manager INSTALL would otherwise make for this robot).
+    robot.sensors = SensorManager(allow_devices=args.allow_devices)  # type: ignore[attr-defined]
     session = PendantSession(args.file, robot=robot, synchronous=False)
     try:
         message = _ask_recovery(session, args)

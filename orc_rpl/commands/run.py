@@ -31,6 +31,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
     parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints and error as JSON")
     parser.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
+    parser.add_argument("--allow-devices", action="store_true",
+                        help="let the program open the serial devices its PORT attributes name (default: none is opened)")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
     return parser
@@ -110,6 +112,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
 
     record = bool(args.log or args.plot)
     robot = CellRobot.virtual(robot=args.robot, realtime=args.realtime, record=record)
+    robot.sensors.allow_devices = args.allow_devices  # a simulated run touches no device unless asked
 
     def out(line: str) -> None:
         try:
