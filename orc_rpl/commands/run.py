@@ -10,6 +10,8 @@ import time
 from pathlib import Path
 from typing import Any
 
+from orc_rpl.atomic import write_text_atomic
+from orc_rpl.commands.interrupt import TimeLimit, positive_seconds, statement_budget, stop_on_path
 from orc_rpl.commands.outputs import check_outputs, quiet_stdout
 from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError
 
@@ -31,6 +33,11 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
     parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints and error as JSON")
     parser.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
+    parser.add_argument("--timeout", metavar="SECONDS", type=positive_seconds,
+                        help="stop the robot on its path after this much simulated time (status: interrupted)")
+    parser.add_argument("--statement-budget", metavar="N", type=statement_budget, default=1_000_000,
+                        help="stop a program that runs N statements without the robot moving or time passing "
+                             "(default 1000000; 0: no budget)")
     parser.add_argument("--allow-devices", action="store_true",
                         help="let the program open the serial devices its PORT attributes name (default: none is opened)")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
@@ -122,7 +129,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
             quiet_stdout()
 
     executive = Executive(program, robot, registry, path=args.file, source=source, output=out,
-                          options=Options(speed_override=override))
+                          options=Options(speed_override=override, statement_budget=args.statement_budget or None))
     machine = executive.machine
     machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
     io_script = script_path(args.file, args.world)
@@ -131,19 +138,40 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     wall_start = time.perf_counter()
     with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress:
         machine.robot = progress.monitor(robot)
-        executive.run()
+        interrupted = _run_until_done(executive, args.timeout)
     machine.robot = robot
+    if interrupted:
+        stop_on_path(robot)
     wall_s = time.perf_counter() - wall_start
     result = summary(executive, robot)
     if executive.status == "failed":
         sys.stderr.write(executive.report() + "\n")
+    if interrupted:
+        result["status"], result["interrupted_by"] = "interrupted", interrupted
+        sys.stderr.write(f"orc run: interrupted by {interrupted}; the robot stopped on its path\n")
     write_summary_text(result, wall_s, sys.stderr)
     if args.summary_json:
-        Path(args.summary_json).write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
+        write_text_atomic(args.summary_json, json.dumps(result, indent=2) + "\n")
     if record and robot.layer.logger is not None:
         recording = robot.layer.logger.recording()
         if args.log:
             recording.to_npz(args.log)
         if args.plot:
             recording.plot_png(args.plot)
-    return 1 if executive.status == "failed" else 0
+    if interrupted == "Ctrl-C":
+        return 130
+    return 1 if executive.status == "failed" or interrupted else 0
+
+
+def _run_until_done(executive: Any, timeout_s: float | None) -> str:
+    """Run the program; what interrupted it ("Ctrl-C", the timeout) or "" when it ended by itself."""
+    limit = TimeLimit(executive.machine.robot, timeout_s, executive) if timeout_s is not None else None
+    if limit is not None:
+        executive.machine.robot = limit
+    try:
+        executive.run()
+    except KeyboardInterrupt:
+        return "Ctrl-C"
+    if limit is not None and limit.reached and executive.status == "paused":
+        return f"--timeout {timeout_s:g} s (simulated)"
+    return ""

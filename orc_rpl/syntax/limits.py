@@ -16,6 +16,12 @@ from orc_rpl.syntax import nodes as n
 #: Deepest nesting of blocks and expressions (syntax-tree levels) a program may have.
 MAX_NESTING = 100
 
+#: Longest duration a WAIT, a TIMEOUT or a motion's `WITH TIME` may ask for (s): one day of simulated time.
+MAX_DURATION_S = 86400.0
+
+#: Most iterations a FOR over numbers may have: a loop that would need more cannot advance sensibly.
+MAX_FOR_ITERATIONS = 1_000_000_000
+
 #: Python refuses to convert integer strings longer than this (sys.get_int_max_str_digits()).
 MAX_INTEGER_DIGITS = 4300
 
