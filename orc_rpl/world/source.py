@@ -5,6 +5,7 @@ from __future__ import annotations
 import bisect
 import difflib
 import re
+import warnings
 from dataclasses import dataclass, field
 
 from ruamel.yaml import YAML
@@ -108,7 +109,9 @@ class SourceText:
                                           f"nested too deeply (more than {MAX_YAML_NESTING} levels)")],
                               self.text if self.looks_like_world() else None)
         try:
-            return YAML(typ="rt").compose(self.text)
+            with warnings.catch_warnings():  # anchors are reported as errors of their own (loader.check_no_anchors)
+                warnings.simplefilter("ignore")
+                return YAML(typ="rt").compose(self.text)
         except ReaderError as exc:  # a control character or a byte YAML does not allow
             line0, col0 = self.position(exc.position)
             where = Location(self.path, line0 + 1, col0 + 1)
