@@ -14,7 +14,7 @@ from orc_rpl.errors import Diagnostic, Location, SourceError
 from orc_rpl.syntax import nodes as n
 
 #: Deepest nesting of blocks and expressions (syntax-tree levels) a program may have.
-MAX_NESTING = 100
+MAX_NESTING = 200
 
 #: Longest duration a WAIT, a TIMEOUT or a motion's `WITH TIME` may ask for (s): one day of simulated time.
 MAX_DURATION_S = 86400.0

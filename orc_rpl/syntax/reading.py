@@ -51,8 +51,15 @@ def read_text(path: str | Path, what: str = "") -> str:
         raise UsageError(f"cannot read {name}: too large (at most {MAX_TEXT_BYTES} bytes)")
     nul = data.find(b"\x00")
     if nul >= 0:
-        raise UsageError(f"cannot read {name}: a binary file, not text (NUL byte at {nul})")
+        raise UsageError(f"cannot read {name}: a binary file, not text (a NUL byte at {_where(data, nul)})")
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as error:
-        raise UsageError(f"cannot read {name}: not UTF-8 text (byte {error.start})") from None
+        raise UsageError(f"cannot read {name}: not UTF-8 text (at {_where(data, error.start)})") from None
+
+
+def _where(data: bytes, offset: int) -> str:
+    """`line L, column C` (1-based, columns in bytes) of a byte offset."""
+    line = data.count(b"\n", 0, offset) + 1
+    column = offset - (data.rfind(b"\n", 0, offset) + 1) + 1
+    return f"line {line}, column {column}"
