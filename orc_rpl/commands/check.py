@@ -9,6 +9,7 @@ from orc_rpl.application.registry import default_registry
 from orc_rpl.checking.checker import check_program
 from orc_rpl.errors import Diagnostic, SourceError, UsageError
 from orc_rpl.syntax.files import declared_world, is_offline, parse_file
+from orc_rpl.syntax.parser import capped
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -51,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
             sys.stderr.write(f"orc check: error: {error}\n")
             unreadable += 1
             continue
-        for diagnostic in diagnostics:
+        for diagnostic in capped(diagnostics):  # 16,000 errors in one file print 50 and a count
             sys.stdout.write(diagnostic.format(source) + "\n")
         if diagnostics:
             failed += 1

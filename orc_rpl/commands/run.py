@@ -14,6 +14,7 @@ from orc_rpl.atomic import write_text_atomic
 from orc_rpl.commands.interrupt import TimeLimit, positive_seconds, statement_budget, stop_on_path
 from orc_rpl.commands.outputs import check_outputs, quiet_stdout
 from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError
+from orc_rpl.syntax.parser import capped
 
 #: The progress display is refreshed every this many motion cycles.
 PROGRESS_EVERY_TICKS = 125
@@ -94,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
     registry = runtime_registry()
     diagnostics = check(program, args.file, registry)
     if diagnostics:
-        for diagnostic in diagnostics:
+        for diagnostic in capped(diagnostics):
             sys.stderr.write(diagnostic.format(source) + "\n")
         sys.stderr.write(f"orc run: {len(diagnostics)} check error{'s' if len(diagnostics) != 1 else ''}; nothing moved\n")
         return 2
