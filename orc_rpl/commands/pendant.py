@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from orc_rpl.errors import OrcError, UsageError
+from orc_rpl.syntax.reading import read_text
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -63,6 +64,10 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError(f"'{args.file}': a program file must end in .rpl")
         if args.file is not None and Path(args.file).is_dir():
             raise UsageError(f"'{args.file}' is a directory")
+        if args.file is not None and not Path(args.file).resolve().parent.is_dir():
+            raise UsageError(f"the folder of '{args.file}' does not exist (:save and the journal write there)")
+        if args.file is not None and Path(args.file).exists():
+            read_text(args.file)  # a FIFO, a device or a binary file is refused before the screen starts
     except UsageError as error:
         return _fail(str(error))
     try:

@@ -335,3 +335,14 @@ def test_no_backend_names_the_packages_and_the_values_to_try(monkeypatch) -> Non
         gl.request_rendering()
     message = str(error.value)
     assert "libegl1" in message and "libosmesa6" in message and "MUJOCO_GL=egl" in message and "MUJOCO_GL=osmesa" in message
+
+
+def test_the_pendant_refuses_missing_folders_and_unreadable_programs_before_the_screen(tmp_path, capsys) -> None:
+    fifo = tmp_path / "fifo.rpl"
+    os.mkfifo(fifo)
+    binary = tmp_path / "bin.rpl"
+    binary.write_bytes(b"PRINT 1\x00")
+    for path, message in ((tmp_path / "none" / "p.rpl", "does not exist"), (fifo, "it is a pipe (FIFO)"),
+                          (binary, "a binary file")):
+        code, text = orc(capsys, "pendant", str(path))
+        assert code == 2 and message in text
