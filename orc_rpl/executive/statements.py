@@ -39,6 +39,12 @@ class StatementCompiler(ControlFlow):
         items = [self.statement(stmt, scope) for stmt in body if not isinstance(stmt, (n.Comment, n.Blank, n.Routine))]
         return make_block(self.m, items)
 
+    def _blank(self, stmt: n.Statement, scope: Scope) -> tuple[Any, Any]:
+        """A blank or comment line run on its own (the pendant's :exec on it) does nothing."""
+        return (lambda L: None), None
+
+    _comment = _blank
+
     def statement(self, stmt: n.Statement, scope: Scope) -> Compiled:
         method = getattr(self, "_" + type(stmt).__name__.lower(), None)
         if method is None:
