@@ -30,12 +30,17 @@ def prepare_atomic(path: str | Path, text: str) -> str:
             os.fsync(handle.fileno())
         os.chmod(temporary, mode)
     except BaseException:
-        try:
-            os.unlink(temporary)
-        except FileNotFoundError:
-            pass
+        discard(temporary)
         raise
     return temporary
+
+
+def discard(temporary: str) -> None:
+    """Remove a temporary that will not be renamed (already gone is fine)."""
+    try:
+        os.unlink(temporary)
+    except FileNotFoundError:
+        pass
 
 
 def write_text_atomic(path: str | Path, text: str) -> None:
@@ -47,8 +52,5 @@ def write_text_atomic(path: str | Path, text: str) -> None:
     try:
         os.replace(temporary, os.path.realpath(path))
     except BaseException:
-        try:
-            os.unlink(temporary)
-        except FileNotFoundError:
-            pass
+        discard(temporary)
         raise

@@ -132,22 +132,22 @@ def _yaml_mutation(rng: random.Random, lines: list[str]) -> list[str]:
     return _mutate_lines(rng, lines, YAML_VALUES)
 
 
-def world(rng: random.Random) -> str:
-    """The text of one generated world file."""
-    _, text = rng.choice(WORLDS)
+def _mutated_yaml(rng: random.Random, corpus: list[tuple[str, str]]) -> str:
+    _, text = rng.choice(corpus)
     lines = text.split("\n")
     for _ in range(rng.randint(1, 4)):
         lines = _yaml_mutation(rng, lines)
     return "\n".join(lines)
+
+
+def world(rng: random.Random) -> str:
+    """The text of one generated world file."""
+    return _mutated_yaml(rng, WORLDS)
 
 
 def sidecar(rng: random.Random) -> str:
     """The text of one generated `.sim.yaml` sidecar."""
-    _, text = rng.choice(SIDECARS)
-    lines = text.split("\n")
-    for _ in range(rng.randint(1, 4)):
-        lines = _yaml_mutation(rng, lines)
-    return "\n".join(lines)
+    return _mutated_yaml(rng, SIDECARS)
 
 
 def pendant_line(rng: random.Random) -> str:

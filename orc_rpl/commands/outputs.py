@@ -13,6 +13,7 @@ import os
 import sys
 from pathlib import Path
 
+from orc_rpl.atomic import discard, prepare_atomic
 from orc_rpl.errors import UsageError
 
 
@@ -84,8 +85,6 @@ def write_all_atomic(texts: dict[str, str]) -> None:
 
     Only a kill between two renames (microseconds) can still leave a new file beside an old one.
     """
-    from orc_rpl.atomic import prepare_atomic
-
     prepared: list[tuple[str, str]] = []
     try:
         for path, text in texts.items():
@@ -94,9 +93,6 @@ def write_all_atomic(texts: dict[str, str]) -> None:
             os.replace(temporary, target)
     except BaseException:
         for temporary, _ in prepared:
-            try:
-                os.unlink(temporary)
-            except FileNotFoundError:
-                pass
+            discard(temporary)
         raise
 

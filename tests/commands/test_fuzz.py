@@ -122,24 +122,13 @@ def test_generated_pendant_lines_get_answers(tmp_path, monkeypatch) -> None:
 
 
 @pytest.mark.slow
-@LONG
-@given(SEEDS)
-def test_many_generated_programs(cell, capsys, seed) -> None:
-    _programs(cell, capsys, seed)
-
-
-@pytest.mark.slow
-@LONG
-@given(SEEDS)
-def test_many_generated_worlds(cell, capsys, seed) -> None:
-    _worlds(cell, capsys, seed)
-
-
-@pytest.mark.slow
-@LONG
-@given(SEEDS)
-def test_many_generated_sidecars(cell, capsys, seed) -> None:
-    _sidecars(cell, capsys, seed)
+@pytest.mark.parametrize("job", [_programs, _worlds, _sidecars], ids=["programs", "worlds", "sidecars"])
+def test_many_generated_inputs(cell, capsys, job) -> None:
+    @LONG
+    @given(SEEDS)
+    def many(seed: int) -> None:
+        job(cell, capsys, seed)
+    many()
 
 
 @pytest.mark.slow
