@@ -69,10 +69,13 @@ def check_outputs(inputs: dict[str, str | None], outputs: dict[str, str | None],
 
 
 def check_writable(label: str, path: str) -> None:
-    """UsageError unless `path` can be created or replaced (its folder exists and is writable; it is no folder)."""
+    """UsageError unless `path` can be created or replaced: its folder exists and is writable, and it is no folder,
+    device or FIFO."""
     target = Path(path)
     if target.is_dir():
         raise UsageError(f"{label}: '{path}' is a directory")
+    if target.exists() and not target.is_file():  # a device or a FIFO: a rename would replace it with a file
+        raise UsageError(f"{label}: '{path}' is not a regular file")
     folder = Path(os.path.realpath(target)).parent
     if not folder.is_dir():
         raise UsageError(f"{label}: the folder of '{path}' does not exist")

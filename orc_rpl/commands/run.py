@@ -151,14 +151,18 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         result["status"], result["interrupted_by"] = "interrupted", interrupted
         sys.stderr.write(f"orc run: interrupted by {interrupted}; the robot stopped on its path\n")
     write_summary_text(result, wall_s, sys.stderr)
-    if args.summary_json:
-        write_text_atomic(args.summary_json, json.dumps(result, indent=2) + "\n")
-    if record and robot.layer.logger is not None:
-        recording = robot.layer.logger.recording()
-        if args.log:
-            recording.to_npz(args.log)
-        if args.plot:
-            recording.plot_png(args.plot)
+    try:
+        if args.summary_json:
+            write_text_atomic(args.summary_json, json.dumps(result, indent=2) + "\n")
+        if record and robot.layer.logger is not None:
+            recording = robot.layer.logger.recording()
+            if args.log:
+                recording.to_npz(args.log)
+            if args.plot:
+                recording.plot_png(args.plot)
+    except OSError as error:  # the folders were checked before the run; a full disk still fails here
+        sys.stderr.write(f"orc run: error: cannot write '{error.filename}': {error.strerror}\n")
+        return 1
     if interrupted == "Ctrl-C":
         return 130
     return 1 if executive.status == "failed" or interrupted else 0

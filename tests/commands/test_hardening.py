@@ -346,3 +346,9 @@ def test_the_pendant_refuses_missing_folders_and_unreadable_programs_before_the_
                           (binary, "a binary file")):
         code, text = orc(capsys, "pendant", str(path))
         assert code == 2 and message in text
+
+
+def test_an_output_that_is_a_device_is_refused(tmp_path, capsys) -> None:
+    program = write(tmp_path / "p.rpl", "PRINT 1\n")
+    code, text = orc(capsys, "run", str(program), "--summary-json", "/dev/null")
+    assert code == 2 and "'/dev/null' is not a regular file" in text and os.path.exists("/dev/null")
