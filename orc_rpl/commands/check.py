@@ -7,9 +7,8 @@ import sys
 
 from orc_rpl.application.registry import default_registry
 from orc_rpl.checking.checker import check_program
-from orc_rpl.errors import Diagnostic, SourceError, UsageError
+from orc_rpl.errors import Diagnostic, SourceError, UsageError, capped
 from orc_rpl.syntax.files import declared_world, is_offline, parse_file
-from orc_rpl.syntax.parser import capped
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:

@@ -13,8 +13,7 @@ from typing import Any
 from orc_rpl.atomic import write_text_atomic
 from orc_rpl.commands.interrupt import TimeLimit, positive_seconds, statement_budget, stop_on_path
 from orc_rpl.commands.outputs import check_outputs, quiet_stdout
-from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError
-from orc_rpl.syntax.parser import capped
+from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError, capped
 
 #: The progress display is refreshed every this many motion cycles.
 PROGRESS_EVERY_TICKS = 125

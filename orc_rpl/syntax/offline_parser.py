@@ -14,7 +14,7 @@ from orc_rpl.syntax.grammar_files import grammar_path
 from orc_rpl.syntax.limits import check_nesting
 from orc_rpl.syntax.offline_builder import OfflineTreeBuilder, check_names
 from orc_rpl.syntax.offline_lexer import OfflinePostLexer, code_part, plan_indentation
-from orc_rpl.syntax.parser import _diagnostic, capped, parse_recovering, source_lines
+from orc_rpl.syntax.parser import _diagnostic, parse_recovering, source_lines
 
 _HEADER_WORD = re.compile(r"([ \t]*)(elif|else|except)(?![A-Za-z0-9_])")
 _CONTINUATION = re.compile(r"[ \t]*(with|via|until)(?![A-Za-z0-9_])")
@@ -90,7 +90,7 @@ def parse_offline(text: str, path: str = "<input>") -> n.Program:
     plan = plan_indentation(lines)
     diagnostics = [Diagnostic(Location(path, p.line, p.column, p.line, p.column + 1), p.message, p.hint) for p in plan.problems]
     if diagnostics:
-        raise SourceError(capped(diagnostics), "\n".join(lines))
+        raise SourceError(diagnostics, "\n".join(lines))
     lark, postlexer = _lark()
 
     def parse_once(source: str) -> n.Program:

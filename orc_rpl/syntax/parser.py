@@ -184,16 +184,6 @@ def parse_recovering(
     raise SourceError(diagnostics, "\n".join(lines))
 
 
-def capped(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
-    """At most MAX_ERRORS diagnostics, the last one saying how many more were found (16,000 stray ENDIFs print 50)."""
-    if len(diagnostics) <= MAX_ERRORS:
-        return diagnostics
-    rest = len(diagnostics) - MAX_ERRORS
-    last = diagnostics[MAX_ERRORS - 1]
-    note = Diagnostic(last.location, f"{rest} more error{'s' if rest != 1 else ''} not shown (at most {MAX_ERRORS} per file)")
-    return diagnostics[:MAX_ERRORS] + [note]
-
-
 def parse(text: str, path: str = "<input>") -> n.Program:
     """Parse on-line RPL text; raise SourceError with every syntax error found (up to MAX_ERRORS)."""
     lines = source_lines(text)
@@ -204,7 +194,7 @@ def parse(text: str, path: str = "<input>") -> n.Program:
     work = list(lines)
     for number in to_blank:
         work[number - 1] = ""
-    program = parse_recovering(path, lines, work, capped(diagnostics), _lark().parse, _diagnostic, _neutralize)
+    program = parse_recovering(path, lines, work, diagnostics, _lark().parse, _diagnostic, _neutralize)
     check_nesting(program, path, lines)
     return program
 
