@@ -165,9 +165,12 @@ def main() -> None:
     cwd = os.getcwd()
     os.chdir(scratch)  # pendant lines such as `:save copy.rpl` write here
     wall_start = time.perf_counter()
+    tallies: list[Tally] = []
     try:
-        tallies = [fuzz_programs(args.programs, args.seed, scratch), fuzz_worlds(args.worlds, args.seed, scratch),
-                   fuzz_pendant(args.pendant_lines, args.seed, scratch)]
+        for run, count in ((fuzz_programs, args.programs), (fuzz_worlds, args.worlds), (fuzz_pendant, args.pendant_lines)):
+            tallies.append(run(count, args.seed, scratch))
+            done = tallies[-1]
+            print(f"{done.kind}s done: {done.inputs} inputs, {time.perf_counter() - wall_start:.0f} s so far", flush=True)
     finally:
         os.chdir(cwd)
         shutil.rmtree(scratch, ignore_errors=True)
