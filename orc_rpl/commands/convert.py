@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
         return 2
     files = {path: text for path, text in outputs.items() if path != "-"}
     try:
-        write_all_atomic(files)
+        write_all_atomic(files, args.output)
     except OSError as error:
         sys.stderr.write(f"orc convert: error: cannot write '{error.filename or ', '.join(files)}': {error.strerror}\n")
         return 2

@@ -13,8 +13,9 @@ import os
 import sys
 from pathlib import Path
 
-from orc_rpl.atomic import discard, prepare_atomic
+from orc_rpl.atomic import discard, prepare_atomic, write_text_atomic
 from orc_rpl.errors import UsageError
+from orc_rpl.syntax.files import interrupted_mark
 
 
 def quiet_stdout() -> None:
@@ -83,19 +84,32 @@ def check_writable(label: str, path: str) -> None:
         raise UsageError(f"{label}: the folder of '{path}' is not writable")
 
 
-def write_all_atomic(texts: dict[str, str]) -> None:
+def write_all_atomic(texts: dict[str, str], program: str | None = None) -> None:
     """Write several files as one set: every temporary first, then the renames; temporaries removed on failure.
 
-    Only a kill between two renames (microseconds) can still leave a new file beside an old one.
+    With several files, `interrupted_mark(program)` lists them from before the first rename until after the
+    last, so a kill between two renames leaves it behind and the next command that reads the program says so.
     """
     prepared: list[tuple[str, str]] = []
+    mark = interrupted_mark(program) if program is not None and len(texts) > 1 else None
     try:
         for path, text in texts.items():
             prepared.append((prepare_atomic(path, text), os.path.realpath(path)))
-        for temporary, target in prepared:
-            os.replace(temporary, target)
+        if mark is not None:
+            write_text_atomic(mark, "".join(f"{path}\n" for path in texts))
     except BaseException:
         for temporary, _ in prepared:
             discard(temporary)
         raise
+    renamed = 0
+    try:
+        for temporary, target in prepared:
+            os.replace(temporary, target)
+            renamed += 1
+    except BaseException:  # Ctrl-C or a failure between renames: the mark stays, the rest is not left lying about
+        for temporary, _ in prepared[renamed:]:
+            discard(temporary)
+        raise
+    if mark is not None:
+        mark.unlink()
 

@@ -40,11 +40,24 @@ def parse_text(text: str, path: str | Path) -> n.Program:
     return parse(text, str(path))
 
 
+def interrupted_mark(path: str | Path) -> Path:
+    """The file a command writing `path` with other outputs keeps beside it until every output is in place."""
+    program = Path(path)
+    return program.with_name(f".{program.name}.converting")
+
+
 def parse_file(path: str | Path) -> tuple[str, n.Program]:
-    """Read and parse a program file as written (`.rpl` on-line, `.orl` off-line); SourceError for syntax errors."""
+    """Read and parse a program file as written (`.rpl` on-line, `.orl` off-line); SourceError for syntax errors.
+
+    A UsageError when a conversion that wrote this program and its world was interrupted between the two.
+    """
     suffix = Path(path).suffix
     if suffix not in ONLINE_SUFFIXES + OFFLINE_SUFFIXES:
         raise UsageError(f"'{path}': unknown program suffix '{suffix}' (expected .rpl or .orl)")
+    mark = interrupted_mark(path)
+    if mark.exists():
+        raise UsageError(f"'{path}' may be out of step with the files written with it: the conversion that wrote them "
+                         f"was interrupted ('{mark}' lists them); convert again, or delete '{mark.name}' if they are right")
     text = read_source(path)
     return text, parse_text(text, path)
 

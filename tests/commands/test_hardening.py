@@ -352,3 +352,28 @@ def test_an_output_that_is_a_device_is_refused(tmp_path, capsys) -> None:
     program = write(tmp_path / "p.rpl", "PRINT 1\n")
     code, text = orc(capsys, "run", str(program), "--summary-json", "/dev/null")
     assert code == 2 and "'/dev/null' is not a regular file" in text and os.path.exists("/dev/null")
+
+
+def test_a_conversion_killed_between_its_renames_is_detected_by_the_next_command(tmp_path, capsys, monkeypatch) -> None:
+    from orc_rpl.commands import outputs
+
+    program = _offline_copy(tmp_path)
+    online, world = tmp_path / "out.rpl", tmp_path / "online.yaml"
+    argv = ["convert", str(program), "-o", str(online), "--online-world", str(world)]
+    real_replace, calls = os.replace, []
+
+    def killed_after_first(source, target):  # type: ignore[no-untyped-def]
+        calls.append(target)
+        if len(calls) == 3:  # the list of outputs, the program, then the kill before the world
+            raise KeyboardInterrupt
+        real_replace(source, target)
+    monkeypatch.setattr(outputs.os, "replace", killed_after_first)
+    assert main(argv) == 130 and online.exists() and not world.exists()
+    monkeypatch.setattr(outputs.os, "replace", real_replace)
+    capsys.readouterr()
+    code, text = orc(capsys, "check", str(online))
+    assert code == 2 and "may be out of step with the files written with it" in text and ".out.rpl.converting" in text
+    code, _ = orc(capsys, *argv)
+    assert code == 0 and world.exists() and not (tmp_path / ".out.rpl.converting").exists()
+    assert orc(capsys, "check", str(online))[0] == 0
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")) == []
