@@ -7,7 +7,7 @@ import importlib
 import sys
 
 #: Subcommand modules under orc_rpl.commands, in the order `orc --help` lists them.
-COMMANDS: tuple[str, ...] = ("check", "fmt", "run", "convert", "diff", "pendant")
+COMMANDS: tuple[str, ...] = ("check", "fmt", "run", "convert", "diff", "pendant", "lsp")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-import math
 from typing import Any, TextIO
 
 from orc_rpl.executive.executive import Executive
+from orc_rpl.world.pose import Pose, shown_pose
 
 
 def summary(executive: Executive, robot: Any) -> dict[str, Any]:
@@ -39,8 +39,7 @@ def write_summary_text(result: dict[str, Any], wall_s: float, stream: TextIO) ->
     tcp = result["final_tcp"]
     cycle = result["cycle_time_s"]
     ratio = f", {cycle / wall_s:.0f}x real time" if wall_s > 0 and cycle > 0 else ""
-    pose = (f"({1000 * tcp['x_m']:.1f}, {1000 * tcp['y_m']:.1f}, {1000 * tcp['z_m']:.1f}) mm, "
-            f"({math.degrees(tcp['a_rad']):.1f}, {math.degrees(tcp['b_rad']):.1f}, {math.degrees(tcp['c_rad']):.1f}) deg")
+    pose = shown_pose(Pose(tcp["x_m"], tcp["y_m"], tcp["z_m"], tcp["a_rad"], tcp["b_rad"], tcp["c_rad"])).text()
     stream.write(f"status: {result['status']}\n"
                  f"cycle time: {cycle:.3f} s (simulated; {wall_s:.2f} s wall{ratio})\n"
                  f"motions: {result['motions']}\n"

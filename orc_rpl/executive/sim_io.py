@@ -176,25 +176,14 @@ def simulated_sensors(io: Any, tcp: Callable[[], Any]) -> dict[str, Any]:
     `tcp()` gives the TCP position (x, y, z) in m of the tool last moved; the seam is the cell's SeamProcess
     (from the script's `seam:`), or a default one added to the cell when a simulated laser is first read."""
     from orc_rpl.motion.sensors import LaserValue
-    from orc_rpl.plant.processes.seam import SeamProcess
+    from orc_rpl.plant.processes.seam import cell_seam
 
     def laser(name: str) -> Any:
         def sample(sensor: Any) -> LaserValue:
-            seam = find_seam(io)
-            if seam is None:
-                seam = SeamProcess()
-                io.add_process(seam)
-            found, offset, edge = seam.measure(tcp())
+            found, offset, edge = cell_seam(io).measure(tcp())
             return LaserValue(found, offset, edge)
         return sample
     return {"LaserDistance": laser}
-
-
-def find_seam(io: Any) -> Any:
-    """The cell's SeamProcess, if it has one."""
-    from orc_rpl.plant.processes.seam import SeamProcess
-
-    return next((p for p in getattr(io, "processes", ()) if isinstance(p, SeamProcess)), None)
 
 
 def _length(text: Any) -> float:

@@ -9,7 +9,7 @@ from orc_rpl.executive import operators as ops
 from orc_rpl.executive.blocks import Block, Compiled, Locals, make_block
 from orc_rpl.executive.control import ControlFlow
 from orc_rpl.executive.declarations import DeclarationCompiler
-from orc_rpl.executive.expressions import ExpressionCompiler, invoke_method
+from orc_rpl.executive.expressions import ExpressionCompiler, invoke_method, merge_named
 from orc_rpl.executive.machine import TICK, Machine
 from orc_rpl.executive.motions import MotionCompiler
 from orc_rpl.executive.scope import ProgramScopes, Scope
@@ -20,9 +20,6 @@ from orc_rpl.syntax.limits import MAX_DURATION_S
 from orc_rpl.syntax.units import TIME, Quantity
 
 #: Names whose value the cell changes: a WHILE polling them lets one motion cycle pass per iteration.
-_CELL_NAMES = frozenset({*IO_BANKS, "HERE", "ROBOT"})
-
-
 class StatementCompiler(ControlFlow):
     """Compiles statements and blocks for one Machine."""
 
@@ -239,9 +236,7 @@ class StatementCompiler(ControlFlow):
             routine = m.routines[name]
             args = [f(L) for f in positional]
             if named:
-                from orc_rpl.executive.expressions import _merge_named
-
-                args = _merge_named(name, order, args, {k: f(L) for k, f in named.items()})
+                args = merge_named(name, order, args, {k: f(L) for k, f in named.items()})
             local_values = routine.bind(args)
             m.push(name, span, local_values)
             try:
@@ -279,7 +274,3 @@ def _seconds(value: Any, what: str) -> float:
         raise RunError(f"{what} of {format_value(value)} is longer than the longest allowed, {MAX_DURATION_S:g} s")
     return seconds
 
-
-def reads_cell(expr: n.Expression, scopes: ProgramScopes) -> bool:
-    """True when an expression reads something the cell changes (IO, HERE, ROBOT, installed sensors)."""
-    return any(isinstance(node, n.Name) and (node.id in _CELL_NAMES or node.id in scopes.installed) for node in expr.walk())

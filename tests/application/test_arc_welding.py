@@ -11,7 +11,8 @@ import pytest
 from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
 from orc_rpl.executive.recording_robot import RecordingRobot
-from orc_rpl.executive.sim_io import find_seam, load_script
+from orc_rpl.executive.sim_io import load_script
+from orc_rpl.plant.processes.seam import cell_seam
 from orc_rpl.plant.processes.seam import SeamProcess
 from orc_rpl.syntax.parser import parse
 from orc_rpl.syntax.units import Quantity
@@ -190,7 +191,7 @@ def test_the_seam_section_of_a_sim_script(tmp_path: Path) -> None:
                       "raggedness: 0.1mm, missing: [50mm, 60mm], seed: 7}\n")
     robot = RecordingRobot()
     load_script(script, robot.io, lambda: robot.tcp_pose(None))
-    seam = find_seam(robot.io)
+    seam = cell_seam(robot.io)  # the script's seam (a default one would be neither anchored nor 2 mm)
     assert seam is not None and seam.anchored and seam.amplitude == pytest.approx(0.002) and seam.missing == (0.05, 0.06)
     assert not seam.present(0.055) and seam.present(0.07)
     script.write_text("seam: {amplitude: 2}\n")

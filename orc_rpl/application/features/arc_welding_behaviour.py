@@ -34,7 +34,9 @@ from orc_rpl.application.runtime import (
     BehaviourError, InstallContext, MotionCall, MotionRequest, MotionView, run_to_end,
 )
 from orc_rpl.application.standard_behaviour import standard_motion
+from orc_rpl.application.values import Record
 from orc_rpl.errors import MotionFault, SensorFault
+from orc_rpl.plant.processes.seam import cell_seam
 from orc_rpl.syntax.units import LENGTH, TIME, VELOCITY, Quantity
 from orc_rpl.world.pose import Joints, Pose
 
@@ -135,13 +137,7 @@ def _anchor_seam(robot: Any, sensor: Any, start: Any, end: Any) -> None:
     """In simulation, lay the cell's seam along the first path the laser is used along (unless configured)."""
     if sensor.behaviour != "simulated":
         return
-    from orc_rpl.executive.sim_io import find_seam
-    from orc_rpl.plant.processes.seam import SeamProcess
-
-    seam = find_seam(robot.io)
-    if seam is None:
-        seam = SeamProcess()
-        robot.io.add_process(seam)
+    seam = cell_seam(robot.io)
     if not seam.anchored:
         seam.anchor(start, end)
 
@@ -151,7 +147,6 @@ def _anchor_seam(robot: Any, sensor: Any, start: Any, end: Any) -> None:
 
 def record_seam(path: Any, *, robot: Any, tool: Pose, to_world: Callable[[Pose], Pose] = lambda p: p) -> Any:
     """RecordSeam(path): to the path's start, then slowly along it with standard tracking; the recorded seam."""
-    from orc_rpl.executive.values import Record
 
     points = path if type(path) is tuple else (path,)
     if len(points) < 2 or any(type(p) is not Pose for p in points):
@@ -241,7 +236,6 @@ def simulated_rms(u: np.ndarray, o: np.ndarray, speed: float, gain: float, dt_s:
 
 def tracking(seam: Any, speed: Any) -> Any:
     """Tracking(seam, speed): the low-pass gain of the correction for this seam at this speed."""
-    from orc_rpl.executive.values import Record
 
     u, o = _seam_arrays(seam)
     v = speed.value if type(speed) is Quantity else float(speed)

@@ -44,6 +44,7 @@ import numpy as np
 
 from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, MotionRequest
 from orc_rpl.application.standard_behaviour import standard_motion
+from orc_rpl.application.values import Record
 from orc_rpl.syntax.units import DIMENSIONLESS, FORCE, LENGTH, Quantity
 from orc_rpl.world.pose import Pose
 
@@ -66,7 +67,6 @@ SETTLED_FRACTION = 0.2
 
 def grinding_pars(tolerance: Any = None, max_passes: Any = None) -> Any:
     """GrindingPars(tolerance = 0.2mm, max_passes = 4): a record usable as GRINDING / DEBURRING."""
-    from orc_rpl.executive.values import Record
 
     tol = Quantity(DEFAULT_TOLERANCE_M, LENGTH) if tolerance is None else tolerance
     if not (type(tol) is Quantity and tol.dim == LENGTH and tol.value > 0):

@@ -20,6 +20,7 @@ from typing import Any
 
 from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, Sample
 from orc_rpl.application.standard_behaviour import standard_motion
+from orc_rpl.application.values import Record
 from orc_rpl.syntax.units import MASS, TIME, TORQUE, Quantity
 
 #: How long torques are recorded after the start of the motion (thesis 2.5: "0.2 s of torques").
@@ -71,7 +72,6 @@ def estimate_payload(samples: list[Sample], inverse_dynamics: Any) -> float:
 
 def recording_value(samples: list[Sample], payload_kg: float) -> Any:
     """The recording as the user's FUNC sees it: payload, Torque[j] (samples of joint j), Time."""
-    from orc_rpl.executive.values import Record  # the language's record value
 
     joints = len(samples[0].torque) if samples else 0
     torque = tuple(tuple(Quantity(s.torque[j], TORQUE) for s in samples) for j in range(joints))

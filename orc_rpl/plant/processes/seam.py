@@ -127,3 +127,12 @@ class SeamProcess:
 
     def __call__(self, io: Any, time_s: float) -> None:
         """As a process of the cell's IO (so the sensors find it): nothing to do per plant step."""
+
+
+def cell_seam(io: Any) -> SeamProcess:
+    """The cell's SeamProcess (from a script's `seam:`), or a default one added to the cell's IO now."""
+    seam = next((p for p in getattr(io, "processes", ()) if isinstance(p, SeamProcess)), None)
+    if seam is None:
+        seam = SeamProcess()
+        io.add_process(seam)
+    return seam
