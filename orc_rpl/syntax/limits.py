@@ -36,8 +36,9 @@ def literal_problem(text: str) -> str | None:
     digits = match.group(1)
     if digits.isdigit() and len(digits) > MAX_INTEGER_DIGITS:
         return f"integer literal with {len(digits)} digits is too long (at most {MAX_INTEGER_DIGITS})"
-    if not digits.isdigit() and not math.isfinite(float(digits)):
-        return f"number literal '{digits}' is too large (not a finite number)"
+    with_unit = len(text) > match.end(1)  # a unit converts the number to a float (`1e400mm`, 400 digits and `mm`)
+    if (with_unit or not digits.isdigit()) and not math.isfinite(float(digits)):
+        return f"number literal '{text}' is too large (not a finite number)"
     return None
 
 

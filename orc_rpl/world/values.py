@@ -45,7 +45,7 @@ def read_number(node: Node, what: str) -> Scalar:
     except KeyError:
         unit = re.sub(r"^[\d.eE+-]+", "", body)
         raise BadValue(node, f"unknown unit '{unit}' in '{text}'", "units: mm cm m deg rad (a plain number is m or rad)") from None
-    except ValueError:
+    except (ValueError, OverflowError):  # OverflowError: 400 digits with a unit
         raise BadValue(node, f"'{text}' is not a number", f"{what} is a number with an optional unit") from None
     if not math.isfinite(magnitude(value)):
         raise BadValue(node, f"'{text}' is not a finite number", f"{what} is a number with an optional unit")

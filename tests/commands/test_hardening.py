@@ -176,6 +176,13 @@ def test_an_integer_literal_over_4300_digits_is_a_syntax_error(tmp_path, capsys)
     assert code == 2 and "big.rpl:1:7: integer literal with 5000 digits is too long (at most 4300)" in text
 
 
+@pytest.mark.parametrize("literal", ["9" * 400 + "mm", "1e400mm", "1e999"])
+def test_a_number_literal_that_is_not_finite_is_a_syntax_error(tmp_path, capsys, literal) -> None:
+    program = write(tmp_path / "big.rpl", f"PRINT {literal}\n")
+    code, text = orc(capsys, "check", str(program))
+    assert code == 2 and "big.rpl:1:7: number literal" in text and "is too large (not a finite number)" in text
+
+
 def test_sixteen_thousand_stray_endifs_print_fifty_errors_and_a_count(tmp_path, capsys) -> None:
     program = write(tmp_path / "endif.rpl", "ENDIF\n" * 16000)
     code, text = orc(capsys, "check", str(program))
