@@ -18,7 +18,7 @@ PROGRAM_TOKENS = (
     "ENDCASE", "TRY", "ON", "ENDTRY", "PROC", "ENDPROC", "FUNC", "ENDFUNC", "RETURN", "FRAME", "ENDFRAME", "MOVE",
     "LMOVE", "WITH", "TIME", "SPEED", "VIA", "UNTIL", "WAIT", "PRINT", "INSTALL", "AS", "PORT", "VAR", "CONST", "POS",
     "TOOL", "HERE", "ARM", "AND", "OR", "NOT", "=", "==", "<>", "+", "-", "*", "/", "(", ")", "[", "]", ",", ".", ":",
-    "1e999", "1e308", "1e-300", "1e300", "9" * 4400, "0.5mm", "100mm/s", "1e9s", "90deg", "50%", "-0", "0x1F", ".nan",
+    "1e999", "1e308", "1e-300", "1e300", "9" * 4400, "9" * 400 + "mm", "1e400mm", "0.5mm", "100mm/s", "1e9s", "90deg", "50%", "-0", "0x1F", ".nan",
     '"spy://loop://?file=/tmp/x"', '"socket://127.0.0.1:9"', '"/dev/zero"', '"/etc/shadow"', '"sim"', '"\\x07"',
     '"unterminated', "\t", "\r", "\x00", "\x07", "\u202e", "é", "__class__", "__import__", "DigOut[3]", "DigIn[99]",
     "POSE(1, 2, 3, 0, 0, 0)", "# world: /etc/passwd", "move", "to", "for", "in", "1..5", "print(", "install",
