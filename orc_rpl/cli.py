@@ -48,3 +48,25 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("orc: interrupted\n")
         return 130
+    except BrokenPipeError:
+        return _closed_reader()
+    except (RecursionError, MemoryError) as error:
+        return _internal(args.command, f"{type(error).__name__} (an input too large or too deeply nested)")
+    except Exception as error:  # the one boundary: a bug of ours says so, without a traceback
+        return _internal(args.command, f"{type(error).__name__}: {error}")
+
+
+def _closed_reader() -> int:
+    """The reader of our output went away (`orc fmt F | head`): stop quietly, as `cat` does."""
+    from orc_rpl.commands.outputs import quiet_stdout
+
+    quiet_stdout()  # else Python complains again when it flushes stdout at exit
+    return 141  # 128 + SIGPIPE, what a shell reports for a command its reader closed
+
+
+def _internal(command: str, what: str) -> int:
+    try:
+        sys.stderr.write(f"orc {command}: internal error (a bug in orc_rpl, please report it): {what}\n")
+    except OSError:
+        pass
+    return 1

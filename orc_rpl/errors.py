@@ -34,6 +34,8 @@ class Diagnostic:
         """The message as the user reads it, with the source line and a caret when known."""
         loc = self.location
         head = f"{loc.path}:{loc.line}:{loc.column}: {self.message}"
+        if self.severity == "note":
+            return head
         line_text = self.source_line
         if line_text is None and source is not None:
             lines = source.splitlines()
@@ -53,6 +55,21 @@ class Diagnostic:
         return "\n".join(parts)
 
 
+#: Diagnostics printed per file; the rest are counted in one last line (16,000 stray ENDIFs print 50).
+MAX_SHOWN = 50
+
+
+def capped(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    """At most MAX_SHOWN diagnostics, then a note at the last one saying how many more were found."""
+    if len(diagnostics) <= MAX_SHOWN:
+        return diagnostics
+    rest = len(diagnostics) - MAX_SHOWN
+    last = diagnostics[MAX_SHOWN - 1]
+    note = Diagnostic(last.location, f"{rest} more error{'s' if rest != 1 else ''} not shown (at most {MAX_SHOWN} per file)",
+                      severity="note")
+    return diagnostics[:MAX_SHOWN] + [note]
+
+
 class SourceError(OrcError):
     """One or more diagnostics about a source file (syntax, check or world-model errors)."""
 
@@ -63,7 +80,7 @@ class SourceError(OrcError):
 
     def format(self) -> str:
         """All diagnostics, each with its line and caret, in file order."""
-        return "\n".join(d.format(self.source) for d in self.diagnostics)
+        return "\n".join(d.format(self.source) for d in capped(self.diagnostics))
 
 
 class MotionFault(OrcError):

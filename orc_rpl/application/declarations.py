@@ -40,6 +40,7 @@ class AttributeSpec:
     doc: str = ""                              #: one line for `:help` and the docs
     aliases: tuple[str, ...] = ()              #: other spellings (V, VELOCITY for SPEED)
     function_ok: bool = True                   #: a FUNC name may be given (a function of s or t)
+    literal_check: Callable[[str], str | None] | None = None  #: why a string literal is refused (PORT), or None
 
     @property
     def names(self) -> tuple[str, ...]:

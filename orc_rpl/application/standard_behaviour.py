@@ -8,6 +8,7 @@ from typing import Any
 from orc_rpl.application.registry import Registry, default_registry
 from orc_rpl.application.runtime import BehaviourError, Fine, FunctionParam, InstallContext, MotionCall, MotionRequest
 from orc_rpl.application.standard_functions import IMPLEMENTATIONS
+from orc_rpl.syntax.limits import MAX_DURATION_S
 from orc_rpl.syntax.units import ACCELERATION, ANGLE, LENGTH, MASS, TIME, VELOCITY, Quantity
 from orc_rpl.world.pose import Pose
 
@@ -67,6 +68,8 @@ def _quantity(value: Any, dim: Any, what: str) -> float | None:
     if isinstance(value, FunctionParam):
         raise BehaviourError(f"{what} cannot be a function")
     if type(value) is Quantity and value.dim == dim and value.value >= 0:
+        if dim == TIME and not value.value <= MAX_DURATION_S:
+            raise BehaviourError(f"{what} of {value} is longer than the longest allowed, {MAX_DURATION_S:g} s")
         return value.value
     if value == 0:
         return 0.0

@@ -143,6 +143,10 @@ class Checker:
             self.check_duplicate_attribute(seen, spec.name, attribute)
             if not accepts(spec.types, value):
                 self.report(attribute.value, f"attribute {spec.name} of {kind.name} expects {describe_types(spec.types)}, got {value}")
+            elif spec.literal_check is not None and isinstance(attribute.value, n.String):
+                problem = spec.literal_check(attribute.value.value)
+                if problem is not None:
+                    self.report(attribute.value, f"attribute {spec.name} of {kind.name}: {problem}")
 
     def check_duplicate_attribute(self, seen: dict[str, n.With], canonical: str, attribute: n.With) -> None:
         if canonical in seen:

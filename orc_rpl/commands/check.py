@@ -7,7 +7,7 @@ import sys
 
 from orc_rpl.application.registry import default_registry
 from orc_rpl.checking.checker import check_program
-from orc_rpl.errors import Diagnostic, SourceError, UsageError
+from orc_rpl.errors import Diagnostic, SourceError, UsageError, capped
 from orc_rpl.syntax.files import declared_world, is_offline, parse_file
 
 
@@ -29,10 +29,10 @@ def check_file(path: str, registry=None, world: str | None = None) -> tuple[str 
     if is_offline(path):
         from orc_rpl.transform.checks import check_offline, load_world_file
 
-        world_path = world if world is not None else declared_world(path, text)
-        if world_path is None:
-            return text, []  # without a world model only the syntax can be checked
         try:
+            world_path = world if world is not None else declared_world(path, text)
+            if world_path is None:
+                return text, []  # without a world model only the syntax can be checked
             model = load_world_file(world_path)
         except SourceError as error:
             return error.source, error.diagnostics
@@ -61,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
             sys.stderr.write(f"orc check: error: {error}\n")
             unreadable += 1
             continue
-        for diagnostic in diagnostics:
+        for diagnostic in capped(diagnostics):  # 16,000 errors in one file print 50 and a count
             sys.stdout.write(diagnostic.format(source) + "\n")
         if diagnostics:
             failed += 1

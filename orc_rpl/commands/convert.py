@@ -9,7 +9,7 @@ import re
 import sys
 from pathlib import Path
 
-from orc_rpl.atomic import write_text_atomic
+from orc_rpl.commands.outputs import check_outputs, quiet_stdout, write_all_atomic
 from orc_rpl.errors import OrcError, SourceError, UsageError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.files import declared_world, is_offline, parse_file
@@ -60,6 +60,7 @@ def convert(args: argparse.Namespace) -> dict[str, str]:
         world_path = args.world or declared_world(args.file, text)
         if world_path is None:
             raise UsageError(f"--world: '{args.file}' is an off-line program; give its world model")
+        check_outputs({"the world model": str(world_path)}, {"-o": args.output, "--online-world": args.online_world})
         world = load_world_file(world_path)
         _refuse_check_errors(program, text, args.file, world)
         job = to_online(program, world, args.file, text, reduce=bool(args.online_world))
@@ -117,12 +118,18 @@ def _with_world_line(program: n.Program, world: str, output: str) -> n.Program:
     return dataclasses.replace(program, body=(n.Comment(f" world: {relative}"),) + body)
 
 
+def _check_paths(args: argparse.Namespace) -> None:
+    """Outputs that are inputs or each other are refused before anything is read; --world may be updated in place."""
+    to_offline = (args.to or ("online" if is_offline(args.file) else "offline")) == "offline"
+    check_outputs({"FILE": args.file, "--world": args.world},
+                  {"-o": args.output, "--online-world": args.online_world, "--world": args.world if to_offline else None},
+                  in_place=(("--world", "--world"),))
+
+
 def run(args: argparse.Namespace) -> int:
     try:
+        _check_paths(args)
         outputs = convert(args)
-        for path in outputs:
-            if path != "-" and not Path(path).resolve().parent.is_dir():
-                raise UsageError(f"the folder of '{path}' does not exist")
     except UsageError as error:
         sys.stderr.write(f"orc convert: error: {error}\n")
         return 2
@@ -133,20 +140,18 @@ def run(args: argparse.Namespace) -> int:
     except OrcError as error:
         sys.stderr.write(f"orc convert: error: {error}\nnothing was written\n")
         return 2
-    for path, text in outputs.items():
-        if path == "-":
-            try:
-                sys.stdout.write(text)
-                sys.stdout.flush()
-            except BrokenPipeError:
-                from orc_rpl.commands.diff import quiet_stdout
-
-                quiet_stdout()
-            continue
-        try:
-            write_text_atomic(path, text)
-        except OSError as error:
-            sys.stderr.write(f"orc convert: error: cannot write '{path}': {error.strerror}\n")
-            return 2
+    files = {path: text for path, text in outputs.items() if path != "-"}
+    try:
+        write_all_atomic(files, args.output)
+    except OSError as error:
+        sys.stderr.write(f"orc convert: error: cannot write '{error.filename or ', '.join(files)}': {error.strerror}\n")
+        return 2
+    for path in files:
         sys.stderr.write(f"wrote {path}\n")
+    if "-" in outputs:
+        try:
+            sys.stdout.write(outputs["-"])
+            sys.stdout.flush()
+        except BrokenPipeError:
+            quiet_stdout()
     return 0

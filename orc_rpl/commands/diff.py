@@ -6,6 +6,7 @@ import argparse
 import difflib
 import sys
 
+from orc_rpl.commands.outputs import quiet_stdout
 from orc_rpl.errors import OrcError, SourceError, UsageError
 from orc_rpl.syntax import nodes as n
 
@@ -129,10 +130,3 @@ def run(args: argparse.Namespace) -> int:
         quiet_stdout()
     return 1 if report else 0
 
-
-def quiet_stdout() -> None:
-    """The reader went away (`orc diff A B | head`): drop the rest of the output without a traceback."""
-    import os
-
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(devnull, sys.stdout.fileno())

@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from orc_rpl.atomic import write_text_atomic
+from orc_rpl.commands.outputs import quiet_stdout
 from orc_rpl.errors import SourceError, UsageError
 from orc_rpl.syntax.files import canonical_text, is_offline, parse_file
 
@@ -58,5 +59,10 @@ def run(args: argparse.Namespace) -> int:
                 write_text_atomic(path, canonical)
                 sys.stderr.write(f"reformatted {path}\n")
         else:
-            sys.stdout.write(canonical)
+            try:
+                sys.stdout.write(canonical)
+                sys.stdout.flush()
+            except BrokenPipeError:  # `orc fmt F | head`
+                quiet_stdout()
+                return status
     return status

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from orc_rpl.commands import bus_robot
 from orc_rpl.errors import OrcError, UsageError
+from orc_rpl.syntax.files import interrupted_mark
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -24,6 +25,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--backend", choices=("servo", "kinematic"), default="servo",
                         help="servo: MuJoCo cell with servo loops (default); kinematic: fast, no :snapshot")
     bus_robot.add_options(parser)
+    parser.add_argument("--allow-devices", action="store_true",
+                        help="let the program open the serial devices its PORT attributes name (default: none is opened)")
     recovery = parser.add_mutually_exclusive_group()
     recovery.add_argument("--recover", action="store_true", help="take unsaved edits from the journal without asking")
     recovery.add_argument("--discard", action="store_true", help="discard unsaved edits in the journal without asking")
@@ -66,6 +69,12 @@ def run(args: argparse.Namespace) -> int:
         if args.file is not None and Path(args.file).is_dir():
             raise UsageError(f"'{args.file}' is a directory")
         bus_robot.check_options(args)
+        if args.file is not None and not Path(args.file).resolve().parent.is_dir():
+            raise UsageError(f"the folder of '{args.file}' does not exist (:save and the journal write there)")
+        if args.file is not None and Path(args.file).exists():
+            if interrupted_mark(args.file).exists():
+                raise UsageError(f"'{args.file}' may be out of step with its world: the conversion that wrote them was "
+                                 f"interrupted; convert again, or delete '{interrupted_mark(args.file).name}'")
     except UsageError as error:
         return _fail(str(error))
     try:
@@ -76,6 +85,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     from orc_rpl.executive.sim_io import load_script, script_path
+    from orc_rpl.motion.sensors import SensorManager
     from orc_rpl.pendant.app import PendantApp
     from orc_rpl.pendant.robot import PendantRobot
     from orc_rpl.pendant.session import PendantSession
@@ -85,6 +95,8 @@ def _run(args: argparse.Namespace) -> int:
         robot = PendantRobot(bus_robot.connect(args, record=False))  # a real (or emulated) arm on a servo bus
     else:
         robot = PendantRobot.virtual(args.robot, backend=args.backend)
+        # A simulated session touches no device unless asked (the manager INSTALL would otherwise make for this robot).
+        robot.sensors = SensorManager(allow_devices=args.allow_devices)  # type: ignore[attr-defined]
     session = PendantSession(args.file, robot=robot, synchronous=not interactive)
     try:
         if not interactive and session.editor.pending_recovery() is not None and not (args.recover or args.discard):

@@ -11,8 +11,11 @@ import time
 from pathlib import Path
 from typing import Any
 
+from orc_rpl.atomic import write_text_atomic
 from orc_rpl.commands import bus_robot
-from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError
+from orc_rpl.commands.interrupt import TimeLimit, positive_seconds, statement_budget, stop_on_path
+from orc_rpl.commands.outputs import check_outputs, quiet_stdout
+from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError, capped
 
 #: The progress display is refreshed every this many motion cycles.
 PROGRESS_EVERY_TICKS = 125
@@ -33,6 +36,13 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
     parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints, error and the process outcomes as JSON")
     parser.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
+    parser.add_argument("--timeout", metavar="SECONDS", type=positive_seconds,
+                        help="stop the robot on its path after this much simulated time (status: interrupted)")
+    parser.add_argument("--statement-budget", metavar="N", type=statement_budget, default=1_000_000,
+                        help="stop a program that runs N statements without the robot moving or time passing "
+                             "(default 1000000; 0: no budget)")
+    parser.add_argument("--allow-devices", action="store_true",
+                        help="let the program open the serial devices its PORT attributes name (default: none is opened)")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
     view = parser.add_argument_group("3D view and video (the [view] extra)")
@@ -116,10 +126,8 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError(f"--robot: unknown robot {args.robot!r}; known robots: {', '.join(ROBOTS.names())}")
         if args.world is not None and not Path(args.world).is_dir() and not Path(args.world).is_file():
             raise UsageError(f"--world: '{args.world}' is neither a directory nor a world model file")
-        for option in ("log", "plot", "summary_json"):
-            target = getattr(args, option)
-            if target is not None and not Path(target).resolve().parent.is_dir():
-                raise UsageError(f"--{option.replace('_', '-')}: the folder of '{target}' does not exist")
+        check_outputs({"FILE": args.file, "--world": args.world},
+                      {"--log": args.log, "--plot": args.plot, "--summary-json": args.summary_json})
         # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
         source, program, attributes = load_program_and_attributes(args.file, world_file)
@@ -136,7 +144,7 @@ def run(args: argparse.Namespace) -> int:
     if args.port is not None:
         diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot)
     if diagnostics:
-        for diagnostic in diagnostics:
+        for diagnostic in capped(diagnostics):
             sys.stderr.write(diagnostic.format(source) + "\n")
         sys.stderr.write(f"orc run: {len(diagnostics)} check error{'s' if len(diagnostics) != 1 else ''}; nothing moved\n")
         return 2
@@ -176,13 +184,18 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         robot = bus_robot.connect(args, record)
     else:
         robot = CellRobot.virtual(robot=args.robot, realtime=paced, record=record)
+        robot.sensors.allow_devices = args.allow_devices  # a simulated run touches no device unless asked
 
     def out(line: str) -> None:
-        sys.stdout.write(line + "\n")
-        sys.stdout.flush()
+        try:
+            sys.stdout.write(line + "\n")
+            sys.stdout.flush()
+        except BrokenPipeError:  # `orc run F | head`: the reader went away; the run goes on, its output is dropped
+            quiet_stdout()
 
     executive = Executive(program, robot, registry, path=args.file, source=source, output=out,
-                          options=Options(speed_override=override, world_attributes=attributes))
+                          options=Options(speed_override=override, world_attributes=attributes,
+                                          statement_budget=args.statement_budget or None))
     machine = executive.machine
     machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
     # the run's process record; with --log/--plot, the tool's TCP and the process signals beside the flange
@@ -194,28 +207,49 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
                                                                                        registry, watch_how) as watchers:
         machine.robot = watchers.monitor(progress.monitor(robot)) if watchers is not None else progress.monitor(robot)
         wall_start = time.perf_counter()  # after the view's page connected
-        try:
-            executive.run()
-        except KeyboardInterrupt:
-            if args.port is None:
-                raise
-            bus_robot.stop_and_hold(robot)
-            return 130
+        interrupted = _run_until_done(executive, args.timeout)
     machine.robot = robot
+    if interrupted and args.port is not None:
+        bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
+    elif interrupted:
+        stop_on_path(robot)
     wall_s = time.perf_counter() - wall_start
     result = summary(executive, robot)
     if executive.status == "failed":
         sys.stderr.write(executive.report() + "\n")
+    if interrupted:
+        result["status"], result["interrupted_by"] = "interrupted", interrupted
+        sys.stderr.write(f"orc run: interrupted by {interrupted}; the robot stopped on its path\n")
     write_summary_text(result, wall_s, sys.stderr)
-    if args.summary_json:
-        Path(args.summary_json).write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
-    if record and robot.layer.logger is not None:
-        recording = robot.layer.logger.recording()
-        if args.log:
-            recording.to_npz(args.log)
-        if args.plot:
-            recording.plot_png(args.plot, signals=plotted_signals(recording), tcp="tool_tcp",
-                               title=f"orc run {Path(args.file).name}", units=SIGNAL_UNITS)
+    try:
+        if args.summary_json:
+            write_text_atomic(args.summary_json, json.dumps(result, indent=2) + "\n")
+        if record and robot.layer.logger is not None:
+            recording = robot.layer.logger.recording()
+            if args.log:
+                recording.to_npz(args.log)
+            if args.plot:
+                recording.plot_png(args.plot, signals=plotted_signals(recording), tcp="tool_tcp",
+                                   title=f"orc run {Path(args.file).name}", units=SIGNAL_UNITS)
+    except OSError as error:  # the folders were checked before the run; a full disk still fails here
+        sys.stderr.write(f"orc run: error: cannot write '{error.filename}': {error.strerror}\n")
+        return 1
     if watchers is not None:
         watchers.linger()  # at a terminal, the 3D view stays open until Enter
-    return 1 if executive.status == "failed" else 0
+    if interrupted == "Ctrl-C":
+        return 130
+    return 1 if executive.status == "failed" or interrupted else 0
+
+
+def _run_until_done(executive: Any, timeout_s: float | None) -> str:
+    """Run the program; what interrupted it ("Ctrl-C", the timeout) or "" when it ended by itself."""
+    limit = TimeLimit(executive.machine.robot, timeout_s, executive) if timeout_s is not None else None
+    if limit is not None:
+        executive.machine.robot = limit
+    try:
+        executive.run()
+    except KeyboardInterrupt:
+        return "Ctrl-C"
+    if limit is not None and limit.reached and executive.status == "paused":
+        return f"--timeout {timeout_s:g} s (simulated)"
+    return ""

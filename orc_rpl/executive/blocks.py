@@ -53,9 +53,12 @@ def make_block(m: Machine, items: list[Compiled]) -> Block:
     triples = [(c.node, c.fast, c.gen) for c in items]
     translate = m.translate
 
+    count = m.count
+
     def gen(L: Locals) -> Iterator[object]:
         for node, fast, sub in triples:
             try:
+                count()
                 if m.trace:
                     yield node
                     if sub is not None:
@@ -77,6 +80,7 @@ def make_block(m: Machine, items: list[Compiled]) -> Block:
 
         def fast_one(L: Locals) -> None:
             try:
+                count()
                 fast0(L)  # type: ignore[misc]
             except _PASS_THROUGH:
                 raise
@@ -87,6 +91,7 @@ def make_block(m: Machine, items: list[Compiled]) -> Block:
     def fast(L: Locals) -> None:
         for node, fn, _ in triples:
             try:
+                count()
                 fn(L)  # type: ignore[misc]
             except _PASS_THROUGH:
                 raise

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from typing import Any
 
@@ -12,6 +13,7 @@ from orc_rpl.executive.scope import ProgramScopes, Scope
 from orc_rpl.executive.signals import RunError
 from orc_rpl.executive.values import IO_BANKS, type_name
 from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.limits import MAX_FOR_ITERATIONS
 from orc_rpl.syntax.units import Quantity
 
 
@@ -71,6 +73,7 @@ class ControlFlow:
         def gen(L: Locals) -> Iterator[object]:
             robot = m.robot
             while cond(L):
+                m.count()
                 yield from run(L)
                 if polling:  # the cell only changes while time passes: one motion cycle per poll
                     robot.tick()
@@ -82,6 +85,7 @@ class ControlFlow:
 
         def fast(L: Locals) -> None:
             while cond(L):
+                m.count()
                 body_fast(L)
         return fast, gen
 
@@ -104,6 +108,7 @@ class ControlFlow:
 
         def gen(L: Locals) -> Iterator[object]:
             for value in values(L):
+                m.count()
                 store(L, value)
                 yield from run(L)
 
@@ -113,6 +118,7 @@ class ControlFlow:
 
         def fast(L: Locals) -> None:
             for value in values(L):
+                m.count()
                 store(L, value)
                 body_fast(L)
         return fast, gen
@@ -223,6 +229,7 @@ def _stepped(a: Any, b: Any, c: Any) -> Iterator[Any]:
     step = magnitude(c)
     if step == 0:
         raise RunError("FOR ... STEP 0 would never end")
+    _check_advances(a, b, c)
     k = 0
     while True:
         value = ops.add(a, ops.multiply(k, c))
@@ -230,6 +237,20 @@ def _stepped(a: Any, b: Any, c: Any) -> Iterator[Any]:
             return
         yield value
         k += 1
+
+
+def _check_advances(a: Any, b: Any, c: Any) -> None:
+    """A FOR whose counter cannot advance in floating point (`FROM 1e300`, `STEP 1e-300`) is an error, not a hang."""
+    from orc_rpl.syntax.units import magnitude
+
+    start, stop, step = float(magnitude(a)), float(magnitude(b)), float(magnitude(c))
+    if not (math.isfinite(start) and math.isfinite(stop) and math.isfinite(step)):
+        raise RunError("FOR needs finite bounds and step")
+    if start + step == start:
+        raise RunError(f"FOR cannot advance: {start:g} + STEP {step:g} is {start:g} again in floating point")
+    iterations = (stop - start) / step
+    if iterations > MAX_FOR_ITERATIONS:
+        raise RunError(f"FOR would run about {iterations:.3g} times (at most {MAX_FOR_ITERATIONS:g}); use a larger STEP")
 
 
 #: names whose value the cell changes while a program waits (a WHILE on them polls once per motion cycle)

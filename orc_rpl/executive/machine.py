@@ -50,6 +50,7 @@ class Options:
     idle_wait_limit_s: float | None = 3600.0   #: a WAIT UNTIL without TIMEOUT gives up after this (None: never)
     #: the world's soft and spatial attributes, object -> name -> value (`pallet.next_row`), read by programs
     world_attributes: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    statement_budget: int | None = 1_000_000   #: statements in a row without simulated time passing (None: no limit)
 
 
 class Machine:
@@ -69,6 +70,9 @@ class Machine:
         self.trace = False                             #: yield a program-pointer event before each statement
         self.last_tool: Pose | None = None             #: the tool last moved (HERE's TCP)
         self.motions = 0                               #: motion statements executed
+        self.executed = 0                              #: statements (and loop iterations) executed
+        self._budget_at = (self.options.statement_budget or 0) or None  #: `executed` at the next budget check
+        self._budget_time_s = -1.0                     #: simulated time at the last budget check
         self.outstanding: list[Outstanding] = []
         self.prints: list[str] = []
         self.warnings: list[tuple[Span, str]] = []    #: each (place, message) once
@@ -115,6 +119,23 @@ class Machine:
         return None
 
     # -- errors --------------------------------------------------------------------------
+
+    def count(self) -> None:
+        """One more statement or loop iteration; past the budget with no simulated time passed, a RunError."""
+        self.executed += 1
+        if self._budget_at is not None and self.executed >= self._budget_at:
+            self._check_budget()
+
+    def _check_budget(self) -> None:
+        # Simulated time only passes while the robot is asked to move or wait: a loop that does neither never ends.
+        budget = self.options.statement_budget or 0
+        now_s = self.robot.time_s()
+        if now_s > self._budget_time_s:
+            self._budget_time_s = now_s
+            self._budget_at = self.executed + budget
+            return
+        raise RunError(f"{budget} statements ran without the robot moving or time passing (an endless loop?); "
+                       "`orc run --statement-budget N` changes the limit")
 
     def translate(self, error: BaseException, span: Span) -> RunError:
         """Any failure inside a statement as a located RunError (a bug of ours says so)."""

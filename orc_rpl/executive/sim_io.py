@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,7 +15,9 @@ from orc_rpl.executive.signals import RunError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.parser import parse_statement
 from orc_rpl.syntax.units import LENGTH, MASS, TIME, Quantity, parse_literal
+from orc_rpl.syntax.reading import read_text
 from orc_rpl.world.pose import Pose
+from orc_rpl.world.source import MAX_YAML_NESTING, too_deep
 
 _KEYS = {"at", "when", "after", "set", "value", "repeat"}
 
@@ -83,9 +86,15 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
     from ruamel.yaml import YAML
     from ruamel.yaml.error import YAMLError
 
+    text = read_text(path, "IO script")
+    deep = too_deep(text)
+    if deep is not None:
+        raise UsageError(f"IO script '{path}', line {deep[0]}: nested too deeply (more than {MAX_YAML_NESTING} levels)")
     try:
-        data = YAML(typ="safe", pure=True).load(Path(path).read_text(encoding="utf-8")) or {}
-    except (OSError, YAMLError) as error:
+        with warnings.catch_warnings():  # ruamel's warnings (a reused anchor) are not for the user's terminal
+            warnings.simplefilter("ignore")
+            data = YAML(typ="safe", pure=True).load(text) or {}
+    except (YAMLError, ValueError, OverflowError) as error:  # also an integer too long for Python
         raise UsageError(f"cannot read the IO script '{path}': {error}") from None
     unknown = set(data) - {"events", "weld_guns", "parts", "castings", "seam"} if isinstance(data, dict) else set()
     if unknown:
@@ -100,8 +109,8 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
     for i, entry in enumerate(entries, 1):
         try:
             events.append(_event(entry, io, tcp))
-        except (UsageError, RunError, SourceError, ValueError, KeyError) as error:
-            raise UsageError(f"IO script '{path}', event {i}: {error}") from None
+        except (UsageError, RunError, SourceError, ValueError, KeyError, TypeError, AttributeError, OverflowError) as error:
+            raise UsageError(f"IO script '{path}', event {i}: {_reason(error)}") from None
     script = IOScript(events)
     io.add_process(script)
     where = "weld_guns"
@@ -117,16 +126,25 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
         for i, entry in enumerate(_entries(data, "castings"), 1):
             where = f"casting {i}"
             script.castings.append(_casting(entry, tcp))
-    except (UsageError, RunError, SourceError, ValueError, KeyError, TypeError) as error:
-        raise UsageError(f"IO script '{path}', {where}: {error}") from None
+    except (UsageError, RunError, SourceError, ValueError, KeyError, TypeError, AttributeError, OverflowError) as error:
+        raise UsageError(f"IO script '{path}', {where}: {_reason(error)}") from None
     for process in (*script.weld_guns, *script.parts, *script.castings):
         io.add_process(process)
     if isinstance(data, dict) and "seam" in data:
         try:
             io.add_process(seam_process(data["seam"] or {}))
-        except (UsageError, ValueError, TypeError) as error:
-            raise UsageError(f"IO script '{path}', seam: {error}") from None
+        except (UsageError, ValueError, TypeError, KeyError, AttributeError, OverflowError) as error:
+            raise UsageError(f"IO script '{path}', seam: {_reason(error)}") from None
     return script
+
+
+def _reason(error: Exception) -> str:
+    """The message of an error about a script entry; a mistyped value (a list where a number belongs) says so."""
+    if isinstance(error, OverflowError):
+        return f"a number is too large ({error})"
+    if isinstance(error, (TypeError, AttributeError)):
+        return f"a value has the wrong type ({error})"
+    return str(error)
 
 
 #: `seam:` keys that are lengths, and the other ones

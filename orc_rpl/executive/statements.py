@@ -16,6 +16,7 @@ from orc_rpl.executive.scope import ProgramScopes, Scope
 from orc_rpl.executive.signals import ReturnSignal, RunError, StopSignal
 from orc_rpl.executive.values import IO_BANKS, Installed, IOBank, format_value, type_name
 from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.limits import MAX_DURATION_S
 from orc_rpl.syntax.units import TIME, Quantity
 
 #: Names whose value the cell changes: a WHILE polling them lets one motion cycle pass per iteration.
@@ -34,6 +35,12 @@ class StatementCompiler(ControlFlow):
     def block(self, body: n.Body, scope: Scope) -> Block:
         items = [self.statement(stmt, scope) for stmt in body if not isinstance(stmt, (n.Comment, n.Blank, n.Routine))]
         return make_block(self.m, items)
+
+    def _blank(self, stmt: n.Statement, scope: Scope) -> tuple[Any, Any]:
+        """A blank or comment line run on its own (the pendant's :exec on it) does nothing."""
+        return (lambda L: None), None
+
+    _comment = _blank
 
     def statement(self, stmt: n.Statement, scope: Scope) -> Compiled:
         method = getattr(self, "_" + type(stmt).__name__.lower(), None)
@@ -263,5 +270,7 @@ def _seconds(value: Any, what: str) -> float:
         raise RunError(f"{what} needs a time such as 0.5s, got {type_name(value)}")
     if seconds < 0:
         raise RunError(f"{what} needs a time >= 0, got {format_value(value)}")
+    if not seconds <= MAX_DURATION_S:  # also not finite: a wait that never ends
+        raise RunError(f"{what} of {format_value(value)} is longer than the longest allowed, {MAX_DURATION_S:g} s")
     return seconds
 

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from orc_rpl.errors import SensorFault, UsageError
+from orc_rpl.motion.ports import LOOPBACK, device_problem, is_device, port_problem
 
 __all__ = ["SENSOR_KINDS", "LaserDistanceSensor", "LaserValue", "Sensor", "SensorFault", "SensorManager", "SensorPair",
            "SerialLineSensor",
@@ -151,8 +152,11 @@ class SensorManager:
     installed with PORT "sim" is simulated with it (or answers its dummy value when the cell has none).
     """
 
-    def __init__(self, simulations: dict[str, Callable[[str], SimFunction | None]] | None = None) -> None:
+    def __init__(self, simulations: dict[str, Callable[[str], SimFunction | None]] | None = None,
+                 allow_devices: bool = True) -> None:
         self.pairs: dict[str, SensorPair] = {}
+        #: False on a simulated run unless its command line allows real devices (`orc run --allow-devices`)
+        self.allow_devices = allow_devices
         self.simulations = dict(simulations or {})
         self.readings = SensorReadings(self)
 
@@ -164,6 +168,12 @@ class SensorManager:
         old = self.pairs.pop(name, None)
         if old is not None:
             old.sensor.close()
+        problem = port_problem(port)
+        if problem is not None:
+            raise SensorFault(f"{name}: {problem}")
+        if is_device(port) and not self.allow_devices:
+            raise SensorFault(f"{name}: this run opens no real device, and PORT names {port} "
+                              "(the command line allows devices with --allow-devices)")
         if port == "sim":
             factory = self.simulations.get(kind)
             sensor = cls(name, "simulated", None, factory(name) if factory is not None else None, **options)
@@ -215,8 +225,14 @@ class SerialLineSensor(Sensor):
         if behaviour == "real" and link is None:
             import serial
 
+            problem = port_problem(port or "") or device_problem(port or "")
+            if problem is not None:  # never a URL scheme that reaches files or the network
+                raise SensorFault(f"{name}: {problem}")
             try:
-                self._link = serial.serial_for_url(port, baudrate=self.BAUD, timeout=timeout_s)
+                if port == LOOPBACK:
+                    self._link = serial.serial_for_url(port, baudrate=self.BAUD, timeout=timeout_s)
+                else:
+                    self._link = serial.Serial(port, baudrate=self.BAUD, timeout=timeout_s)
             except (serial.SerialException, ValueError, OSError) as error:
                 raise SensorFault(f"{name}: cannot open {self.what} on {port}: {error}") from None
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import time
 from pathlib import Path
 from typing import Any
@@ -11,18 +10,16 @@ import numpy as np
 
 from orc_rpl.errors import UsageError
 from orc_rpl.plant.cell import ROBOT_PREFIX, CellDescription, build_spec, default_cell
+from orc_rpl.plant.gl import before_import, render_error, request_rendering
 from orc_rpl.plant.io import CellIO
 
-# Headless offscreen rendering: EGL unless the user chose otherwise (read when mujoco is first imported).
-os.environ.setdefault("MUJOCO_GL", "egl")
+# No OpenGL unless a picture is requested (plant.gl); MuJoCo reads MUJOCO_GL when it is first imported.
+before_import()
 
 try:
     import mujoco  # noqa: E402  (after MUJOCO_GL)
 except Exception as error:  # a MUJOCO_GL backend that is not installed makes the import itself fail
-    raise UsageError(
-        f"MuJoCo could not start with MUJOCO_GL={os.environ.get('MUJOCO_GL')!r} ({type(error).__name__}: {error}); "
-        "unset MUJOCO_GL or set MUJOCO_GL=egl"
-    ) from None
+    raise render_error(error) from None
 
 mj_step = mujoco.mj_step  # looked up once: step() runs a thousand times per simulated second
 
@@ -160,16 +157,14 @@ class SimCell:
 
     def render_png(self, path: str | Path, width: int = 640, height: int = 480, camera: str = "overview") -> Path:
         """Write an offscreen picture of the cell; a clear UsageError when no OpenGL is available."""
+        request_rendering()
         try:
             if self._renderer is None or (self._renderer.width, self._renderer.height) != (width, height):
                 self._renderer = mujoco.Renderer(self._model, height, width)
             self._renderer.update_scene(self._data, camera=camera)
             pixels = self._renderer.render()
         except Exception as exc:  # no GL context, too large an image...
-            raise UsageError(
-                f"cannot render the cell offscreen ({type(exc).__name__}: {exc}); "
-                f"set MUJOCO_GL=egl or MUJOCO_GL=osmesa (apt-get install libosmesa6) before starting"
-            ) from None
+            raise render_error(exc) from None
         import matplotlib
 
         matplotlib.use("Agg")

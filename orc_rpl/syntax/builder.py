@@ -9,6 +9,7 @@ from lark import Token, Transformer
 
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.lexicon import is_reserved
+from orc_rpl.syntax.limits import MAX_NESTING, literal_problem
 
 
 class BuildError(Exception):
@@ -117,6 +118,9 @@ def expr(child: Any) -> n.Expression:
         if kind == "NAME":
             return name(child)
         if kind == "NUMBER":
+            problem = literal_problem(str(child))
+            if problem is not None:
+                raise BuildError(problem, span)
             return n.Number(str(child), span=span)
         if kind == "STRING":
             return n.String(unescape(str(child)), span=span)
@@ -170,13 +174,19 @@ _COMPARISON = 4
 def arrange(items: list[Any]) -> n.Expression:
     """Operands and operators parsed flat, arranged by precedence (left-associative, comparisons not chained)."""
     position = 0
+    nots = 0  # NOTs in a row recurse here, before the tree exists to be measured
 
     def operand() -> n.Expression:
-        nonlocal position
+        nonlocal position, nots
         item = items[position]
         position += 1
         if isinstance(item, Token) and item.type == "NOT":
+            nots += 1
+            if nots > MAX_NESTING:
+                raise BuildError(f"nested too deeply (more than {MAX_NESTING} levels of blocks and expressions)",
+                                 token_span(item))
             inner = climb(_COMPARISON)  # NOT a = b means NOT (a = b)
+            nots -= 1
             return n.Unary("NOT", inner, span=_join(token_span(item), inner.span))
         return expr(item)
 

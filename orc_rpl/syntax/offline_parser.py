@@ -12,6 +12,7 @@ from orc_rpl.errors import Diagnostic, Location, SourceError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.grammar_files import grammar_path
 from orc_rpl.syntax.fast_lexer import speed_up
+from orc_rpl.syntax.limits import check_nesting
 from orc_rpl.syntax.offline_builder import OFFLINE_KEYWORDS, OfflineTreeBuilder, check_names
 from orc_rpl.syntax.offline_lexer import OfflinePostLexer, code_part, plan_indentation
 from orc_rpl.syntax.parser import _diagnostic, parse_recovering, source_lines
@@ -102,5 +103,7 @@ def parse_offline(text: str, path: str = "<input>") -> n.Program:
             check_names(tree)
         return tree
 
-    return parse_recovering(path, lines, list(lines), diagnostics, parse_once, _offline_diagnostic, _neutralize)
+    program = parse_recovering(path, lines, list(lines), diagnostics, parse_once, _offline_diagnostic, _neutralize)
+    check_nesting(program, path, lines)
+    return program
 

@@ -18,6 +18,7 @@ from orc_rpl.syntax.builder import BuildError, TreeBuilder
 from orc_rpl.syntax.fast_lexer import speed_up
 from orc_rpl.syntax.grammar_files import grammar_path
 from orc_rpl.syntax.lexicon import RESERVED, is_reserved
+from orc_rpl.syntax.limits import check_nesting
 
 T = TypeVar("T")
 
@@ -226,7 +227,9 @@ def parse(text: str, path: str = "<input>") -> n.Program:
     work = list(lines)
     for number in to_blank:
         work[number - 1] = ""
-    return parse_recovering(path, lines, work, diagnostics, _lark().parse, _diagnostic, _neutralize)
+    program = parse_recovering(path, lines, work, diagnostics, _lark().parse, _diagnostic, _neutralize)
+    check_nesting(program, path, lines)
+    return program
 
 
 def parse_statement(text: str, path: str = "<input>") -> n.Statement:

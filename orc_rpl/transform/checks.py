@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from orc_rpl.errors import Diagnostic, Location, SourceError
+from orc_rpl.errors import Diagnostic, Location, SourceError, UsageError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.transform.job import TransformError
 from orc_rpl.transform.loading import world_attributes
@@ -14,13 +14,13 @@ from orc_rpl.world import World, load_world
 
 
 def load_world_file(path: str | Path) -> World:
-    """A world model file; a missing file is a SourceError at line 1 so every command reports it the same way."""
+    """A world model file; a missing or unreadable file is a SourceError at line 1 so every command reports it the same way."""
+    if not Path(path).exists():
+        raise SourceError([Diagnostic(Location(str(path), 1, 1), f"world model '{path}' does not exist")])
     try:
         return load_world(path)
-    except FileNotFoundError:
-        raise SourceError([Diagnostic(Location(str(path), 1, 1), f"world model '{path}' does not exist")]) from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as error:
-        raise SourceError([Diagnostic(Location(str(path), 1, 1), f"cannot read world model '{path}': {error}")]) from None
+    except UsageError as error:  # not a regular text file: said without its content
+        raise SourceError([Diagnostic(Location(str(path), 1, 1), str(error))]) from None
 
 
 def check_offline(program: n.Program, world: World, path: str, source: str, registry=None) -> list[Diagnostic]:  # type: ignore[no-untyped-def]

@@ -8,7 +8,7 @@ from orc_rpl.errors import Diagnostic, SourceError
 from orc_rpl.world.objects import FLANGE, NAME_RE, PREDEFINED, ModelAttributes, PathAttribute, Position, RobotEntry, WorldObject
 from orc_rpl.world.pose import WORLD, Pose
 from orc_rpl.world.source import MappingNode, Node, ScalarNode, SequenceNode, SourceText, did_you_mean
-from orc_rpl.world.values import BadValue, read_lengths, read_number, read_pose, read_soft
+from orc_rpl.world.values import BadValue, read_colour, read_lengths, read_pose, read_soft
 
 TOP_KEYS = ("robot", "world")
 ROBOT_KEYS = ("model", "pose")
@@ -49,7 +49,9 @@ class _Reader:
         root = self.src.compose()
         robot, objects, nodes = None, [], {}
         if root is not None and not isinstance(root, MappingNode):
-            raise self.src.error(root, "a world file is a mapping with the keys 'robot' and 'world'")
+            raise self.src.not_a_world()
+        if root is not None and not any(getattr(key, "value", None) in TOP_KEYS for key, _ in root.value):
+            raise self.src.not_a_world()  # a mapping, but of something else: its lines are not ours to print
         if root is not None:
             if "&" in self.src.text:  # an anchor needs an '&': without one there is nothing to look for
                 self.check_no_anchors(root)
@@ -263,7 +265,7 @@ class _Reader:
         if "colour" in keys:
             cnode = keys["colour"][1]
             try:
-                colour = cnode.value if isinstance(cnode, ScalarNode) else tuple(float(read_number(c, "colour")) for c in cnode.value)
+                colour = cnode.value if isinstance(cnode, ScalarNode) else read_colour(cnode)
             except BadValue as exc:
                 self.diags.append(exc.diagnostic(self.src))
         mesh = keys["mesh"][1].value if "mesh" in keys and isinstance(keys["mesh"][1], ScalarNode) else None

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import bisect
 import difflib
 import re
+import warnings
 from dataclasses import dataclass, field
 
 from ruamel.yaml import YAML
 from ruamel.yaml import nodes as _rt_nodes
 from ruamel.yaml.error import MarkedYAMLError
+from ruamel.yaml.reader import ReaderError
 from ruamel.yaml.resolver import BaseResolver as _RtResolver, implicit_resolvers as _RT_IMPLICIT
 
 from orc_rpl.errors import Diagnostic, Location, SourceError
@@ -23,7 +26,41 @@ except (ImportError, AttributeError):  # PyYAML without libyaml: ruamel alone
 #: has none (a `*` inside a word, as in a comment `ARM*holder`, is not one).
 _MAYBE_ANCHOR = re.compile(r"(?:^|[\s\[\]{},:-])[&*][^\s,\[\]{}]", re.MULTILINE)
 
-__all__ = ["MappingNode", "Node", "ScalarNode", "SequenceNode", "SourceText", "did_you_mean", "find"]
+#: A top-level `robot:` or `world:` key at the start of a line.
+_WORLD_KEY = re.compile(r"^(robot|world)\s*:", re.MULTILINE)
+
+#: Deepest nesting of flow collections (`[[[...]]]`) or indentation levels a world or sidecar may have;
+#: ruamel composes recursively and would exhaust Python's stack long before a real file gets near this.
+MAX_YAML_NESTING = 50
+
+
+def too_deep(text: str) -> tuple[int, int] | None:
+    """1-based (line, column) where flow brackets or indentation nest deeper than MAX_YAML_NESTING, or None."""
+    for line_number, line in enumerate(text.splitlines(), start=1):
+        indent = len(line) - len(line.lstrip(" -"))
+        if indent > 2 * MAX_YAML_NESTING:
+            return line_number, indent + 1
+    depth, line_number, column, quote = 0, 1, 0, ""
+    for char in text:
+        column += 1
+        if char == "\n":
+            line_number, column, quote = line_number + 1, 0, ""
+        elif quote:
+            quote = "" if char == quote else quote
+        elif char in "'\"":
+            quote = char
+        elif char == "#":
+            quote = "\n"  # a comment runs to the end of the line
+        elif char in "[{":
+            depth += 1
+            if depth > MAX_YAML_NESTING:
+                return line_number, column
+        elif char in "]}":
+            depth = max(0, depth - 1)
+    return None
+
+
+__all__ = ["MAX_YAML_NESTING", "MappingNode", "too_deep", "Node", "ScalarNode", "SequenceNode", "SourceText", "did_you_mean", "find"]
 
 
 class _NodeKind(type):
@@ -157,6 +194,11 @@ class SourceText:
         libyaml composes when it can: a text without anchors or aliases (refused with ruamel's positions)
         that it parses without error (errors are reported with ruamel's words, as always).
         """
+        deep = too_deep(self.text)
+        if deep is not None:
+            raise SourceError([Diagnostic(Location(self.path, deep[0], deep[1]),
+                                          f"nested too deeply (more than {MAX_YAML_NESTING} levels)")],
+                              self.text if self.looks_like_world() else None)
         if _libyaml is not None and _MAYBE_ANCHOR.search(self.text) is None:
             loader = _Yaml12Loader(self.text)
             try:
@@ -166,14 +208,40 @@ class SourceText:
             finally:
                 loader.dispose()
         try:
-            return YAML(typ="rt").compose(self.text)
+            with warnings.catch_warnings():  # anchors are reported as errors of their own (loader.check_no_anchors)
+                warnings.simplefilter("ignore")
+                return YAML(typ="rt").compose(self.text)
+        except ReaderError as exc:  # a control character or a byte YAML does not allow
+            line0, col0 = self.position(exc.position)
+            where = Location(self.path, line0 + 1, col0 + 1)
+            message = f"character #x{exc.character:04x} is not allowed in a YAML file" if isinstance(exc.character, int) else "unreadable YAML text"
+            raise SourceError([Diagnostic(where, message, "write it as an escape in a quoted string (\"\\x07\")")],
+                              self.text if self.looks_like_world() else None) from None
+        except RecursionError:
+            raise SourceError([Diagnostic(Location(self.path, 1, 1), "nested too deeply")]) from None
         except MarkedYAMLError as exc:
             mark = exc.problem_mark or exc.context_mark
             line0, col0 = (mark.line, mark.column) if mark is not None else (0, 0)
             message = f"YAML syntax error: {exc.problem or exc.context}"
             loc = Location(self.path, line0 + 1, col0 + 1)
             hint = f"{exc.context} (line {exc.context_mark.line + 1})" if exc.context and exc.context_mark and exc.problem else ""
+            if not self.looks_like_world():  # never show the lines of a file that is not a world (`# world: /etc/shadow`)
+                raise self.not_a_world() from None
             raise SourceError([Diagnostic(loc, message, hint, source_line=self.line(line0))], self.text) from None
+
+    def position(self, offset: int) -> tuple[int, int]:
+        """0-based line and column of a character offset."""
+        line0 = max(0, bisect.bisect_right(self._starts, offset) - 1)
+        return line0, offset - self._starts[line0]
+
+    def looks_like_world(self) -> bool:
+        """True when a line starts with the key `robot:` or `world:` (what every world file has)."""
+        return _WORLD_KEY.search(self.text) is not None
+
+    def not_a_world(self) -> SourceError:
+        """The error for a file that is not a world model; it quotes nothing of the file."""
+        return SourceError([Diagnostic(Location(self.path, 1, 1), "not a world model: a world file is a YAML mapping "
+                                       "with the keys 'robot' and 'world'")], None)
 
     def last_line(self, node: Node) -> int:
         """The 0-based last line that holds text of the node (a block collection ends where the next token starts)."""

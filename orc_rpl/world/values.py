@@ -40,13 +40,16 @@ def read_number(node: Node, what: str) -> Scalar:
         raise BadValue(node, f"{what} must be a number with an optional unit")
     text = node.value.strip()
     try:
-        return _signed_literal(text)
+        value = _signed_literal(text)
     except KeyError:
         body = text[1:] if text[:1] in "+-" else text
         unit = re.sub(r"^[\d.eE+-]+", "", body)
         raise BadValue(node, f"unknown unit '{unit}' in '{text}'", "units: mm cm m deg rad (a plain number is m or rad)") from None
-    except ValueError:
+    except (ValueError, OverflowError):  # OverflowError: 400 digits with a unit
         raise BadValue(node, f"'{text}' is not a number", f"{what} is a number with an optional unit") from None
+    if not math.isfinite(magnitude(value)):
+        raise BadValue(node, f"'{text}' is not a finite number", f"{what} is a number with an optional unit")
+    return value
 
 
 @lru_cache(maxsize=8192)
@@ -87,6 +90,19 @@ def read_lengths(node: Node, what: str) -> tuple[float, ...]:
     return tuple(out)
 
 
+def read_colour(node: Node) -> tuple[float, ...]:
+    """`[0.8, 0.2, 0.2]` or with alpha: plain numbers from 0 to 1 (a colour name is read by the caller)."""
+    if not isinstance(node, SequenceNode) or len(node.value) not in (3, 4):
+        raise BadValue(node, "a colour is a name or a list [r, g, b] or [r, g, b, a] of numbers from 0 to 1")
+    out = []
+    for item in node.value:
+        value = read_number(item, "colour")
+        if isinstance(value, Quantity) or not 0.0 <= float(value) <= 1.0:
+            raise BadValue(item, f"a colour value is a plain number from 0 to 1, got '{item.value}'")
+        out.append(float(value))
+    return tuple(out)
+
+
 def read_soft(node: Node) -> SoftValue:
     """A soft attribute: true/false, a number (with a unit, kept as a Quantity), a string, or null."""
     if not isinstance(node, ScalarNode):
@@ -96,13 +112,23 @@ def read_soft(node: Node) -> SoftValue:
         return node.value.lower() in ("true", "yes", "on")
     if tag == "null":
         return None
-    if tag == "int":
-        return int(node.value)
-    if tag == "float":
-        return float(node.value)
+    if tag in ("int", "float"):
+        return _yaml_number(node, tag)
     if node.style in (None, "") and re.fullmatch(r"[+-]?(\d|\.\d)\S*", node.value):
         return read_number(node, "a soft attribute")
     return node.value
+
+
+def _yaml_number(node: ScalarNode, tag: str) -> int | float:
+    """A YAML int (`12`, `0x1F`) or float (`0.5`); `.nan`, `.inf` and what Python cannot read are BadValue."""
+    text = node.value.replace("_", "")
+    try:
+        value: int | float = int(text, 0) if tag == "int" else float(text)
+    except ValueError:
+        raise BadValue(node, f"'{node.value}' is not a number this file can use", "write a decimal number") from None
+    if isinstance(value, float) and not math.isfinite(value):
+        raise BadValue(node, f"'{node.value}' is not a finite number")
+    return value
 
 
 def _fixed(value: float, digits: int) -> str:

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from dataclasses import dataclass, field
 from typing import Mapping
 
 import numpy as np
 
+from orc_rpl.atomic import write_text_atomic
+from orc_rpl.syntax.reading import read_text
 from orc_rpl.world import changes
 from orc_rpl.world.loader import Parsed, parse_world
 from orc_rpl.world.objects import (DOTTED_RE, FLANGE, PREDEFINED, ROBOT, ModelAttributes, OnlineFrame, PathAttribute,
@@ -21,9 +22,7 @@ Lookup = WorldObject | Position | PathAttribute | Pose | object
 
 def load_world(path: str | os.PathLike[str]) -> World:
     """Read and check a world file; a mistake raises SourceError with file:line:col, the line and a caret."""
-    with open(path, encoding="utf-8", newline="") as f:
-        text = f.read()
-    return World(parse_world(text, os.fspath(path)))
+    return World(parse_world(read_text(path, "world model"), os.fspath(path)))
 
 
 def loads_world(text: str, path: str = "<world>") -> World:
@@ -49,20 +48,7 @@ class World:
 
     def save(self, path: str | os.PathLike[str] | None = None) -> None:
         """Write the file atomically: a temporary file in the same folder, then os.replace."""
-        target = os.fspath(path if path is not None else self.path)
-        folder = os.path.dirname(os.path.abspath(target))
-        fd, tmp = tempfile.mkstemp(prefix=".world-", suffix=".tmp", dir=folder)
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
-                f.write(self.dump())
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, target)
-        except BaseException:
-            # Never leave a partial file behind: the old file stays as it was.
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        write_text_atomic(os.fspath(path if path is not None else self.path), self.dump())
 
     def _reloaded(self, text: str) -> World:
         return World(parse_world(text, self.path), self.flange_pose)

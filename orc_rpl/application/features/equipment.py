@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from orc_rpl.application.declarations import AttributeSpec, InstallKindSpec, MethodSpec
 from orc_rpl.application.registry import Registry
+from orc_rpl.motion.ports import port_problem
 from orc_rpl.syntax.units import ANGLE, DIMENSIONLESS, FORCE, LENGTH
 
 ORIGIN = "equipment"
@@ -11,7 +12,7 @@ ORIGIN = "equipment"
 #: An IO channel such as `DigOut[3]` is written as an indexed name; the checker sees "any".
 IO_CHANNEL = ("any",)
 PORT = AttributeSpec("PORT", ("string",), "sim", "\"sim\" for the simulated cell, or a serial device such as \"/dev/ttyUSB0\"",
-                     function_ok=False)
+                     function_ok=False, literal_check=port_problem)
 
 
 def register(registry: Registry) -> None:
