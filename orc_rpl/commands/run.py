@@ -72,7 +72,7 @@ def watching(args: argparse.Namespace) -> Any:
             raise UsageError(f"--video: the folder of '{args.video}' does not exist")
     if not (args.view or args.video):
         return None
-    from orc_rpl.view.rendering import request_rendering
+    from orc_rpl.plant.gl import request_rendering
 
     if args.video:
         request_rendering()  # before MuJoCo is first imported: it picks its GL backend then

@@ -7,13 +7,8 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.errors import UsageError
+from orc_rpl.plant.gl import render_error, request_rendering
 from orc_rpl.plant.sim import SimCell, mujoco
-
-
-def _no_gl(error: Exception) -> UsageError:
-    return UsageError(
-        f"cannot render the cell offscreen ({type(error).__name__}: {error}); "
-        "set MUJOCO_GL=egl or MUJOCO_GL=osmesa (apt-get install libosmesa6) before starting")
 
 
 class OffscreenCamera:
@@ -26,10 +21,11 @@ class OffscreenCamera:
         if width > limit[0] or height > limit[1]:
             raise UsageError(f"a picture of {width}x{height} is larger than the cell's offscreen buffer {limit[0]}x{limit[1]}")
         self._cell = cell
+        request_rendering()  # a GL backend now, whether MuJoCo was imported with one or not
         try:
             self._renderer: Any = mujoco.Renderer(model, height, width)
         except Exception as error:  # no GL context
-            raise _no_gl(error) from None
+            raise render_error(error) from None
         self._camera = mujoco.MjvCamera()
         self._camera.type = mujoco.mjtCamera.mjCAMERA_FREE
 
@@ -49,7 +45,7 @@ class OffscreenCamera:
             flags[mujoco.mjtRndFlag.mjRND_SHADOW] = flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = False
             return self._renderer.render()
         except Exception as error:
-            raise _no_gl(error) from None
+            raise render_error(error) from None
 
     def close(self) -> None:
         """Free the GL context."""

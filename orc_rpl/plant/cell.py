@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.plant.gl import before_import
+from orc_rpl.plant.gl import import_mujoco
 from orc_rpl.robot.robots import ROBOTS, RobotSpec
 from orc_rpl.world.pose import rotation_zyx
 
@@ -82,8 +82,7 @@ def _camera_axes(cell: CellDescription) -> tuple[float, ...]:
 
 def build_spec(cell: CellDescription) -> Any:
     """The MuJoCo scene of a cell as an MjSpec: floor, light, boxes, the robot MJCF attached at its base."""
-    before_import()  # no OpenGL backend unless a picture was requested
-    import mujoco  # the plant room wraps MuJoCo
+    mujoco = import_mujoco()  # the plant room wraps MuJoCo; no OpenGL backend unless a picture was requested
 
     spec = mujoco.MjSpec()
     spec.modelname = f"cell_{cell.robot}"

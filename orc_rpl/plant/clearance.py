@@ -5,10 +5,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Sequence
 
-import mujoco
 import numpy as np
 
 from orc_rpl.plant.cell import ROBOT_PREFIX, build_spec, default_cell
+from orc_rpl.plant.gl import import_mujoco
+
+mujoco = import_mujoco()
 
 #: Pairs farther apart than this are not measured exactly (their clearance is "more than this").
 DISTMAX_M = 0.5

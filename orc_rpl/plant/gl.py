@@ -13,6 +13,7 @@ import ctypes.util
 import importlib
 import os
 import sys
+from typing import Any
 
 from orc_rpl.errors import UsageError
 
@@ -32,6 +33,23 @@ def before_import() -> None:
     if "MUJOCO_GL" not in os.environ:
         os.environ["MUJOCO_GL"] = "disable"
         _state["chosen_by_us"] = True
+
+
+def import_mujoco() -> Any:
+    """The `mujoco` module, imported the one way: without a GL backend unless one was requested or chosen.
+
+    The `MUJOCO_GL=disable` set for the import is taken out of the environment again, so that programs this
+    process starts (an `orc run` of `orc verify`, a test's subprocess) choose for themselves.
+    """
+    before_import()
+    try:
+        import mujoco
+    except Exception as error:  # a MUJOCO_GL backend that is not installed makes the import itself fail
+        raise render_error(error) from None
+    finally:
+        if _state["chosen_by_us"] and os.environ.get("MUJOCO_GL") == "disable":
+            del os.environ["MUJOCO_GL"]
+    return mujoco
 
 
 def _advice() -> str:

@@ -10,16 +10,11 @@ import numpy as np
 
 from orc_rpl.errors import UsageError
 from orc_rpl.plant.cell import ROBOT_PREFIX, CellDescription, build_spec, default_cell
-from orc_rpl.plant.gl import before_import, render_error, request_rendering
+from orc_rpl.plant.gl import import_mujoco, render_error, request_rendering
 from orc_rpl.plant.io import CellIO
 
 # No OpenGL unless a picture is requested (plant.gl); MuJoCo reads MUJOCO_GL when it is first imported.
-before_import()
-
-try:
-    import mujoco  # noqa: E402  (after MUJOCO_GL)
-except Exception as error:  # a MUJOCO_GL backend that is not installed makes the import itself fail
-    raise render_error(error) from None
+mujoco = import_mujoco()
 
 mj_step = mujoco.mj_step  # looked up once: step() runs a thousand times per simulated second
 

@@ -62,7 +62,7 @@ def test_same_outcome_for_odd_input(text: str) -> None:
     except (UnexpectedInput, BuildError) as error:
         with pytest.raises(type(error)) as raised:
             FAST.parse(text)
-        assert str(raised.value) == str(error)
+        assert _described(raised.value) == _described(error)
         if isinstance(error, UnexpectedInput):
             assert (raised.value.line, raised.value.column) == (error.line, error.column)  # type: ignore[union-attr]
         return
