@@ -20,6 +20,10 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
     parser.add_argument("--backend", choices=("servo", "kinematic"), default="servo",
                         help="servo: MuJoCo cell with servo loops (default); kinematic: fast, no :snapshot")
+    parser.add_argument("--plant", choices=("realistic", "ideal"), default="realistic",
+                        help="realistic: friction, motor heat, encoders, masses off the model (default); "
+                             "ideal: the controller's own model, exactly")
+    parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
     recovery = parser.add_mutually_exclusive_group()
     recovery.add_argument("--recover", action="store_true", help="take unsaved edits from the journal without asking")
     recovery.add_argument("--discard", action="store_true", help="discard unsaved edits in the journal without asking")
@@ -70,12 +74,13 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.sim_io import load_script, script_path
     from orc_rpl.pendant.app import PendantApp
     from orc_rpl.pendant.robot import PendantRobot
     from orc_rpl.pendant.session import PendantSession
 
-    robot = PendantRobot.virtual(args.robot, backend=args.backend)
+    robot = PendantRobot(CellRobot.virtual(args.robot, backend=args.backend, plant=args.plant, seed=args.seed))
     session = PendantSession(args.file, robot=robot, synchronous=False)
     try:
         message = _ask_recovery(session, args)

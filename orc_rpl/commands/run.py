@@ -30,6 +30,10 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
     parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints and error as JSON")
     parser.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
+    parser.add_argument("--plant", choices=("realistic", "ideal"), default="realistic",
+                        help="realistic: friction, motor heat, encoders, masses off the model (default); "
+                             "ideal: the controller's own model, exactly")
+    parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
     return parser
@@ -110,7 +114,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     from orc_rpl.executive.sim_io import load_script, script_path
 
     record = bool(args.log or args.plot)
-    robot = CellRobot.virtual(robot=args.robot, realtime=args.realtime, record=record)
+    robot = CellRobot.virtual(robot=args.robot, realtime=args.realtime, record=record, plant=args.plant, seed=args.seed)
 
     def out(line: str) -> None:
         sys.stdout.write(line + "\n")

@@ -55,11 +55,13 @@ class CellRobot:
         layer.sensors = self.sensors
 
     @classmethod
-    def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False) -> CellRobot:
-        """The default simulated cell with `robot`, ready at its home position."""
+    def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False,
+                plant: str = "realistic", seed: int = 0) -> CellRobot:
+        """The default simulated cell with `robot`, ready at its home position (`plant`: "realistic" or "ideal")."""
         from orc_rpl.motion import make_virtual_motion_layer
 
-        return cls(make_virtual_motion_layer(robot=robot, realtime=realtime, backend=backend, record=record))
+        return cls(make_virtual_motion_layer(robot=robot, realtime=realtime, backend=backend, record=record,
+                                             plant=plant, seed=seed))
 
     # -- RobotInterface ------------------------------------------------------------------
 

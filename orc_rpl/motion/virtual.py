@@ -51,6 +51,21 @@ class ServoBackend:
         self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)
 
 
+#: The virtual robots: "realistic" is not the controller's model (docs/robots.md), "ideal" is its exact twin.
+PLANTS = ("realistic", "ideal")
+
+
+def _make_cell(robot: str, plant: str, seed: int) -> Any:
+    """The MuJoCo cell of a virtual robot."""
+    if plant == "ideal":
+        from orc_rpl.plant.sim import SimCell
+
+        return SimCell(robot)
+    from orc_rpl.plant.realistic import RealisticCell
+
+    return RealisticCell(robot, seed=seed)
+
+
 def make_virtual_motion_layer(
     robot: str = "irb2400",
     motion_period_s: float = 0.004,
@@ -59,13 +74,19 @@ def make_virtual_motion_layer(
     backend: str = "servo",
     q0: np.ndarray | None = None,
     record: bool = False,
+    plant: str = "realistic",
+    seed: int = 0,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
-    backend "servo": ServoLoop + MuJoCo SimCell (1 ms steps); "kinematic": the reference is followed
-    perfectly (fast; no plant). `record=True` makes a signals Logger with q_ref, q, qd_ref, tau, tcp
-    and s (available as `layer.logger`); pass your own `logger` to choose the signals yourself.
+    backend "servo": ServoLoop + MuJoCo cell (1 ms steps); "kinematic": the reference is followed
+    perfectly (fast; no plant). `plant` "realistic" (friction, hot motors, encoders, masses off the
+    model's; deterministic for `seed`) or "ideal" (the controller's own model, exactly). `record=True`
+    makes a signals Logger with q_ref, q, qd_ref, tau, tcp and s (available as `layer.logger`); pass
+    your own `logger` to choose the signals yourself.
     """
+    if plant not in PLANTS:
+        raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
     from orc_rpl.robot import load_robot, solve_ik
 
     arm = load_robot(robot)
@@ -77,7 +98,12 @@ def make_virtual_motion_layer(
 
         # The servo gets its own model: a payload is state of an ArmModel, and the planner's
         # what-if torque computations must not change the servo's feed-forward.
-        loop = ServoLoop(load_robot(robot))
+        loop = ServoLoop(load_robot(robot), _make_cell(robot, plant, seed))
+        if plant == "realistic":
+            from orc_rpl.robot.plants import plant_spec
+
+            nominal = plant_spec(robot)
+            loop.servo.set_friction(nominal.coulomb_nm, nominal.viscous_nm_s)  # the model knows nominal friction
         loop.reset(start)
         be: Any = ServoBackend(loop)
     elif backend == "kinematic":

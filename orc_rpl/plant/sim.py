@@ -135,9 +135,13 @@ class SimCell:
         if self.io.processes:
             self.io.update(data.time)
         if self.realtime:
-            ahead_s = data.time - (time.perf_counter() - self._wall_start_s)
-            if ahead_s > 0.002:
-                time.sleep(ahead_s)
+            self._pace(data.time)
+
+    def _pace(self, time_s: float) -> None:
+        """Wait until the wall clock catches up with simulated time (realtime=True)."""
+        ahead_s = time_s - (time.perf_counter() - self._wall_start_s)
+        if ahead_s > 0.002:
+            time.sleep(ahead_s)
 
     def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0)) -> None:
         """Put a point-like mass on the flange (com in the flange frame); the plant feels it from the next step."""
