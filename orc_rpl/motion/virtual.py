@@ -46,6 +46,18 @@ class ServoBackend:
         """The servo tuning of the motion now starting (a `ServoTuning`, or None for the default gains)."""
         self.loop.set_tuning(tuning)
 
+    def path_dynamics(self, q: np.ndarray, d1: np.ndarray, d2: np.ndarray, sd: float) -> tuple[np.ndarray, np.ndarray]:
+        """The arm controller along a path as tau = b1 s'' + b2 (thesis 5.3), for the path velocity controller.
+
+        q, d1, d2: the path and its derivatives by s at one point, sd = ds/dt. b2 includes the servo's
+        integral torque: what the model does not know (an undeclared payload, friction) as the servo sees it.
+        """
+        servo = self.loop.servo
+        zero = np.zeros_like(q)
+        b2 = servo.model_torque(q, d1 * sd, d2 * (sd * sd)) + servo.integral
+        b1 = servo.model_torque(q, zero, d1) - servo.model_torque(q, zero, zero)
+        return b1, b2
+
     def set_control_payload(self, mass_kg: float) -> None:
         """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
         self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)
@@ -104,6 +116,7 @@ def make_virtual_motion_layer(
 
             nominal = plant_spec(robot)
             loop.servo.set_friction(nominal.coulomb_nm, nominal.viscous_nm_s)  # the model knows nominal friction
+            reserve_nm = np.array(nominal.coulomb_nm) + np.array(nominal.viscous_nm_s) * arm.qd_max
         loop.reset(start)
         be: Any = ServoBackend(loop)
     elif backend == "kinematic":
@@ -111,6 +124,10 @@ def make_virtual_motion_layer(
     else:
         raise UsageError(f"backend must be 'servo' or 'kinematic', not {backend!r}")
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
+    if backend == "servo" and plant == "realistic":
+        layer.planner.friction_reserve_nm = reserve_nm
+    # thesis 5.3: torque-limited path following is on where torques can run short of the plan
+    layer.path_velocity_control = backend == "servo" and plant == "realistic"
     # A robot that is set up should move at once: a paced run would start 0.4 s late otherwise.
     preload_planning()
     if record and logger is None:

@@ -180,6 +180,13 @@ class JointServo:
             self._coulomb, self._viscous = fc, fv
         self._choose_law()
 
+    def model_torque(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+        """The model's torque for a motion state: rigid-body dynamics with the control payload, plus nominal friction."""
+        tau = np.array(self._inverse_dynamics(q, qd, qdd))
+        if self._coulomb is not None:
+            tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
+        return tau
+
     def _choose_law(self) -> None:
         """The plain law unless a tuning or friction adds feed-forward terms."""
         if self.tuning is None and self._coulomb is None:
