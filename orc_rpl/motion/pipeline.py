@@ -57,6 +57,8 @@ class MotionPipeline:
     _control_load_kg: float
     _wall_start: float | None
     thermal: Any
+    #: the winding temperature estimate (motion.thermal.WindingTemperature), None when the motors' data is unknown
+    winding: Any = None
     _tuning: Any
     #: the installed sensors (motion.sensors.SensorManager), read by actions through MotionData.sensors
     sensors: Any = None
@@ -206,7 +208,10 @@ class MotionPipeline:
             qdd_r = qd_r
         self.backend.advance(q_r, qd_r, qdd_r)
         if self.thermal is not None:
-            self.thermal.update(self.backend.torque())
+            tau = self.backend.torque()
+            self.thermal.update(tau)
+            if self.winding is not None:
+                self.winding.update(tau)
         self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
         self.cycles += 1
         stop = False

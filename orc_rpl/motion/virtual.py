@@ -10,6 +10,7 @@ from orc_rpl.errors import UsageError
 from orc_rpl.motion.backend import KinematicBackend
 from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.layer import MotionLayer
+from orc_rpl.motion.thermal import WindingTemperature
 from orc_rpl.motion.timing import preload as preload_planning
 
 
@@ -112,7 +113,7 @@ def make_virtual_motion_layer(
         # what-if torque computations must not change the servo's feed-forward.
         loop = ServoLoop(load_robot(robot), _make_cell(robot, plant, seed))
         if plant == "realistic":
-            from orc_rpl.robot.plants import plant_spec
+            from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, plant_spec
 
             nominal = plant_spec(robot)
             loop.servo.set_friction(nominal.coulomb_nm, nominal.viscous_nm_s)  # the model knows nominal friction
@@ -126,6 +127,9 @@ def make_virtual_motion_layer(
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
     if backend == "servo" and plant == "realistic":
         layer.planner.friction_reserve_nm = reserve_nm
+        layer.winding = WindingTemperature(nominal.torque_per_amp_nm_a, nominal.winding_resistance_ohm,
+                                           nominal.winding_rth_k_w, nominal.winding_time_constant_s, nominal.ambient_c,
+                                           motion_period_s, COPPER_TEMPCO_1_K)
     # thesis 5.3: torque-limited path following is on where torques can run short of the plan
     layer.path_velocity_control = backend == "servo" and plant == "realistic"
     # A robot that is set up should move at once: a paced run would start 0.4 s late otherwise.

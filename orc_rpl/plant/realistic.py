@@ -51,10 +51,10 @@ class RealisticCell(SimCell):
         self._coulomb = np.array(p.coulomb_nm) * p.plant_coulomb_factor
         self._viscous = np.array(p.viscous_nm_s) * p.plant_viscous_factor
         self._k_amp = np.array(p.torque_per_amp_nm_a)
-        self._r_ohm = np.array(p.winding_resistance_ohm)
-        self._w_rth = np.array(p.winding_rth_k_w)
+        self._r_ohm = np.array(p.winding_resistance_ohm) * p.plant_resistance_factor
+        self._w_rth = np.array(p.winding_rth_k_w) * p.plant_winding_rth_factor
         dt = THERMAL_EVERY_STEPS * self.timestep_s
-        self._w_decay = np.exp(-dt / np.array(p.winding_time_constant_s))
+        self._w_decay = np.exp(-dt / (np.array(p.winding_time_constant_s) * p.plant_winding_time_factor))
         self._g_rth = np.array(p.gear_rth_k_w)
         self._g_decay = float(np.exp(-dt / p.gear_time_constant_s))
         self._rad_per_count = 2.0 * np.pi / p.encoder_counts_per_rev

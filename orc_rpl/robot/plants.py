@@ -24,7 +24,8 @@ class PlantSpec:
 
     Motors: a torque tau at the joint needs a current i = tau / torque_per_amp; the winding loses
     R (1 + 0.00393 (T - 20 C)) i^2 and heats by the same first-order law with its own Rth and time
-    constant. The encoder sees the motor-side angle quantised to `encoder_counts_per_rev` per joint
+    constant. The winding figures are the data sheet's (what the controller's estimate uses); the
+    plant's own are those times the `plant_*_factor`s. The encoder sees the motor-side angle quantised to `encoder_counts_per_rev` per joint
     revolution (motor encoder counts times the gear ratio); the velocity the servo reads carries
     seeded Gaussian noise of `velocity_noise_rad_s` (1 sigma).
     """
@@ -33,9 +34,9 @@ class PlantSpec:
     coulomb_nm: tuple[float, ...]              #: nominal warm Coulomb friction (the controller's model)
     viscous_nm_s: tuple[float, ...]            #: nominal warm viscous friction (the controller's model)
     torque_per_amp_nm_a: tuple[float, ...]     #: motor torque constant times gear ratio (joint side)
-    winding_resistance_ohm: tuple[float, ...]  #: at 20 C
-    winding_rth_k_w: tuple[float, ...]         #: winding to ambient thermal resistance
-    winding_time_constant_s: tuple[float, ...]
+    winding_resistance_ohm: tuple[float, ...]  #: at 20 C (data sheet: the controller's estimate uses it)
+    winding_rth_k_w: tuple[float, ...]         #: winding to ambient thermal resistance (data sheet)
+    winding_time_constant_s: tuple[float, ...] #: (data sheet)
     gear_rth_k_w: tuple[float, ...]            #: gearbox to ambient thermal resistance
     encoder_counts_per_rev: float              #: per joint revolution
     velocity_noise_rad_s: float                #: 1 sigma on the measured joint speed
@@ -43,6 +44,9 @@ class PlantSpec:
     unmodelled_flange_mass_kg: float           #: dress pack and cables the controller's model does not have
     plant_coulomb_factor: float = 1.10         #: plant warm Coulomb friction / nominal
     plant_viscous_factor: float = 0.92         #: plant warm viscous friction / nominal
+    plant_resistance_factor: float = 1.02      #: plant winding resistance / data sheet
+    plant_winding_rth_factor: float = 1.02     #: plant winding thermal resistance / data sheet
+    plant_winding_time_factor: float = 0.97    #: plant winding time constant / data sheet
     cold_friction_factor: float = 2.0          #: friction at ambient / warm friction
     warm_rise_k: float = 6.0                   #: gearbox rise over which the cold excess falls to 1/e
     gear_time_constant_s: float = 1200.0       #: gearbox warm-up time constant (20 min)

@@ -64,8 +64,9 @@ def test_a_held_torque_heats_the_winding_with_its_time_constant() -> None:
     _hold_gravity(cell, 4000)
     # j2 carries the arm: copper loss R i^2, first order towards Rth * P
     tau2 = float(np.mean(np.abs(cell.tau[1])))
-    power = spec.winding_resistance_ohm[1] * (tau2 / spec.torque_per_amp_nm_a[1]) ** 2
-    expected = spec.winding_rth_k_w[1] * power * (1 - np.exp(-4.0 / spec.winding_time_constant_s[1]))
+    power = spec.winding_resistance_ohm[1] * spec.plant_resistance_factor * (tau2 / spec.torque_per_amp_nm_a[1]) ** 2
+    time_constant = spec.winding_time_constant_s[1] * spec.plant_winding_time_factor
+    expected = spec.winding_rth_k_w[1] * spec.plant_winding_rth_factor * power * (1 - np.exp(-4.0 / time_constant))
     assert cell.winding_rise_k[1] == pytest.approx(expected, rel=0.05)
     assert cell.winding_temperature_c[1] == pytest.approx(spec.ambient_c + cell.winding_rise_k[1])
     assert THERMAL_EVERY_STEPS * cell.timestep_s <= 0.01
