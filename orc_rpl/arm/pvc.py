@@ -62,6 +62,10 @@ class PathVelocityController:
         self._t_mono = np.nonzero(rising)[0] * servo_period_s
         self.last_row = len(x_f) - 1
         self.end_x = float(x_f[-1])
+        # the path at the nominal trajectory's motion-cycle rows, evaluated once: the in-step check of
+        # every cycle then costs the model's torques only
+        cycle_rows = np.arange(0, self.last_row + 1, sub)
+        self._q_rows, self._d1_rows, self._d2_rows = (path(x_f[cycle_rows], order) for order in (0, 1, 2))
         self.x, self.sd = float(x_f[0]), float(sd_f[0])   #: the commanded path parameter and speed
         self.in_sync = True
         self.done = False
@@ -77,10 +81,14 @@ class PathVelocityController:
         t_nominal = float(np.interp(self.x, self._x_mono, self._t_mono))
         return self.cycles * self.sub * self.h - t_nominal
 
-    def admissible(self, x: float, sd: float) -> tuple[float, float]:
-        """The range of s'' the torque limits allow at (x, sd) (lo > hi when none does)."""
-        path = self.path
-        q, d1, d2 = path(x, 0), path(x, 1), path(x, 2)
+    def admissible(self, x: float, sd: float, cycle: int | None = None) -> tuple[float, float]:
+        """The range of s'' the torque limits allow at (x, sd) (lo > hi when none does); at the nominal
+        trajectory's motion-cycle row `cycle` when given (x is then that row's)."""
+        if cycle is None:
+            path = self.path
+            q, d1, d2 = path(x, 0), path(x, 1), path(x, 2)
+        else:
+            q, d1, d2 = self._q_rows[cycle], self._d1_rows[cycle], self._d2_rows[cycle]
         b1, b2 = self.dynamics(q, d1, d2, sd)
         lo, hi = -math.inf, math.inf
         for a, b, lim in zip(b1.tolist(), b2.tolist(), self.limit.tolist()):
@@ -98,7 +106,7 @@ class PathVelocityController:
         row = min(k * self.sub, self.last_row)
         if self.in_sync and k * self.sub <= self.last_row:
             first = (k - 1) * self.sub  # the state the cycle starts from, and its nominal s''
-            lo, hi = self.admissible(float(self.x_f[row]), float(self.sd_f[row]))
+            lo, hi = self.admissible(float(self.x_f[row]), float(self.sd_f[row]), k)
             sdd = float(self._sdd_f[first]), float(self._sdd_f[row - 1])
             if lo <= min(sdd) and max(sdd) <= hi:
                 self.x, self.sd = float(self.x_f[row]), float(self.sd_f[row])

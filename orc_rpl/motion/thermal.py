@@ -85,13 +85,21 @@ class WindingTemperature:
         self._inv_k2 = 1.0 / (k * k)
         self._decay = np.exp(-period_s / t)
         self._ambient_c, self._tempco = float(ambient_c), float(tempco_1_k)
+        # steady rise per (tau/k)^2 at 20 C and its growth per kelvin, folded with (1 - a): four ufuncs a cycle
+        self._gain = (1.0 - self._decay) * self._rth * self._r20 * self._inv_k2 * (1.0 + self._tempco * (self._ambient_c - 20.0))
+        self._gain_per_k = (1.0 - self._decay) * self._rth * self._r20 * self._inv_k2 * self._tempco
+        self._work, self._heat = np.zeros(len(k)), np.zeros(len(k))
         self.rise_k = np.zeros(len(k))  #: the estimate (K above ambient)
 
     def update(self, tau_nm: np.ndarray) -> None:
-        """One period with the torque tau_nm."""
-        resistance = self._r20 * (1.0 + self._tempco * (self._ambient_c + self.rise_k - 20.0))
-        steady = self._rth * resistance * tau_nm * tau_nm * self._inv_k2
-        self.rise_k = self._decay * self.rise_k + (1.0 - self._decay) * steady
+        """One period with the torque tau_nm (in place, no allocation)."""
+        work, heat, rise = self._work, self._heat, self.rise_k
+        multiply(rise, self._gain_per_k, heat)
+        add(heat, self._gain, heat)
+        multiply(tau_nm, tau_nm, work)
+        multiply(work, heat, work)
+        multiply(rise, self._decay, rise)
+        add(rise, work, rise)
 
     def reset(self) -> None:
         """Windings at ambient."""

@@ -21,6 +21,9 @@ class ServoBackend:
         self.loop = loop
         self.servo_period_s = float(loop.period_s)
         self._state = loop.state()
+        # the servo's own model (its payload is the control payload), as a bare RNEA
+        self._rnea = loop.servo.arm.inverse_dynamics_function()
+        self._zero = np.zeros(loop.servo.arm.n_joints)
 
     def advance(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
         self._state = self.loop.run(q_ref, qd_ref, qdd_ref, len(q_ref))
@@ -53,10 +56,11 @@ class ServoBackend:
         q, d1, d2: the path and its derivatives by s at one point, sd = ds/dt. b2 includes the servo's
         integral torque: what the model does not know (an undeclared payload, friction) as the servo sees it.
         """
-        servo = self.loop.servo
-        zero = np.zeros_like(q)
-        b2 = servo.model_torque(q, d1 * sd, d2 * (sd * sd)) + servo.integral
-        b1 = servo.model_torque(q, zero, d1) - servo.model_torque(q, zero, zero)
+        servo, rnea, zero = self.loop.servo, self._rnea, self._zero
+        b2 = servo.model_torque(q, d1 * sd, d2 * (sd * sd))
+        b2 += servo.integral
+        b1 = rnea(q, zero, d1)
+        b1 -= rnea(q, zero, zero)  # M(q) d1: friction has no part in it
         return b1, b2
 
     def set_control_payload(self, mass_kg: float) -> None:

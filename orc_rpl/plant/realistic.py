@@ -10,9 +10,9 @@ from orc_rpl.plant.cell import CellDescription
 from orc_rpl.plant.sim import SimCell, mj_step
 from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, PlantSpec, plant_spec
 
-#: The slow states (temperatures, friction) are updated every this many steps (10 ms): their time
-#: constants are seconds (windings) to twenty minutes (gearboxes).
-THERMAL_EVERY_STEPS = 10
+#: The slow states (temperatures, friction) are updated every this many steps (50 ms) from the mean
+#: squared torque since the last update: their time constants are 15 s (windings) to 20 min (gearboxes).
+THERMAL_EVERY_STEPS = 50
 
 #: Rows of velocity noise drawn at once from the seeded generator (no repetition: a new block when used up).
 NOISE_BLOCK = 8192
@@ -179,16 +179,20 @@ class RealisticCell(SimCell):
         copper_w = resistance * mean_tau_sq / (self._k_amp * self._k_amp)
         self.winding_rise_k = self._w_decay * self.winding_rise_k + (1.0 - self._w_decay) * self._w_rth * copper_w
         qd = np.abs(self.true_qd)
-        coulomb, viscous = self.friction_nm()
-        friction_w = coulomb * qd + viscous * qd * qd
-        heat_w = friction_w + p.gear_motor_heat_share * copper_w
+        heat_w = self._coulomb_now * qd + self._viscous_now * qd * qd + p.gear_motor_heat_share * copper_w
         self.gear_rise_k = self._g_decay * self.gear_rise_k + (1.0 - self._g_decay) * self._g_rth * heat_w
         self._apply_friction()
 
     def _apply_friction(self) -> None:
-        coulomb, viscous = self.friction_nm()
-        self._model.dof_frictionloss[self._qvel] = coulomb
-        self._model.dof_damping[self._qvel] = viscous
+        """Friction for the gearboxes' temperature, written into the model (no recompile needed)."""
+        self._coulomb_now, self._viscous_now = self.friction_nm()
+        m = self._model
+        if self._contiguous:
+            m.dof_frictionloss[: self.n_joints] = self._coulomb_now
+            m.dof_damping[: self.n_joints] = self._viscous_now
+        else:
+            m.dof_frictionloss[self._qvel] = self._coulomb_now
+            m.dof_damping[self._qvel] = self._viscous_now
 
     def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0)) -> None:
         """The payload on the flange, plus the dress pack the controller's model does not have."""
