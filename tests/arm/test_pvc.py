@@ -94,3 +94,20 @@ def test_an_undeclared_payload_on_a_cold_plant_keeps_the_path_with_the_controlle
         assert h.t_end_s == pytest.approx(reference_end, abs=0.0041), "T_d is when the reference really ends"
     assert errors[True] < errors[False] / 5, errors
     assert saturated[True] < saturated[False] / 10, saturated
+
+
+@pytest.mark.sim
+def test_a_stop_while_time_is_scaled_brakes_from_where_the_command_is() -> None:
+    layer = make_virtual_motion_layer(plant="realistic", seed=2)
+    layer.backend.loop.set_payload(15.0, known=False)
+    h = layer.move(JointMotion(tuple(np.radians((0, -30, -40, 0, 30, 0)))), Params(load_kg=10.0))
+    while layer.pvc is not None and layer.pvc.in_sync:
+        layer.tick()
+    assert layer.pvc is not None and not layer.pvc.in_sync, "the undeclared payload made the controller slow down"
+    before = layer.reference_q()
+    layer.stop_move()
+    layer.tick()
+    step = np.max(np.abs(layer.reference_q() - before))
+    assert step < 0.01, "the brake continues from the commanded state, no jump"
+    layer.run_until_idle()
+    assert h.status.value == "act_stopped" and np.max(np.abs(layer.backend.qd())) < 0.05
