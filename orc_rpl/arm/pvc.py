@@ -21,6 +21,8 @@ PathDynamics = Callable[[np.ndarray, np.ndarray, np.ndarray, float], tuple[np.nd
 RESYNC_X, RESYNC_SD = 1e-7, 1e-5
 #: The least deceleration (rad/s^2 of the path parameter) of the braking profile that finishes a late path.
 STOP_DECEL_MIN = 0.1
+#: Share of the admissible deceleration a late command plans to stop at the path's end with.
+BRAKE_SHARE = 0.8
 
 
 @dataclass(frozen=True, slots=True)
@@ -120,23 +122,30 @@ class PathVelocityController:
         x_n, sd_n = (self.end_x, 0.0) if nominal_ended else (float(self.x_f[row]), float(self.sd_f[row]))
         sdd_n = 0.0 if nominal_ended else float(self._sdd_f[row - 1])
         lo, hi = self.admissible(x, sd)
-        if nominal_ended:  # the rest of the path on a braking profile at half the admissible deceleration
+        remaining = self.end_x - x
+        braking = False
+        if nominal_ended:  # the rest of the path: up to a braking profile at half the admissible deceleration
             a_stop = 0.5 * max(-lo, STOP_DECEL_MIN)
-            wanted = (math.sqrt(2.0 * a_stop * max(self.end_x - x, 0.0)) - sd) / t_cycle
+            braking = sd * sd >= 2.0 * a_stop * remaining
+            # braking: the constant deceleration that stops exactly at the end (the path's end is kept)
+            wanted = -sd * sd / (2.0 * remaining) if braking else (math.sqrt(2.0 * a_stop * remaining) - sd) / t_cycle
         else:  # the time correction
             wanted = sdd_n + self._kv * (sd_n - sd) + self._kp * (x_n - x)
-        sdd = min(max(wanted, lo), hi) if lo <= hi else 0.5 * (lo + hi)
+        sdd = wanted if braking else min(max(wanted, lo), hi) if lo <= hi else 0.5 * (lo + hi)
         if sdd != wanted:
             self.scaled_cycles += 1
         # never faster than (1 + overspeed) times the nominal speed where the cycle ends: keeps the
         # speed and acceleration limits the nominal profile respects, and stops at the path's end
         x_next = min(x + sd * t_cycle + 0.5 * sdd * t_cycle * t_cycle, self.end_x)
-        if nominal_ended and x_next >= self.end_x:
-            bound = math.inf  # the path ends inside this cycle
+        if braking or nominal_ended and x_next >= self.end_x:
+            bound = math.inf  # the braking profile, or the path ends inside this cycle
         elif nominal_ended:
             bound = math.sqrt(2.0 * a_stop * (self.end_x - x_next))
         else:
             bound = (1.0 + self.settings.overspeed) * float(np.interp(x_next, self._x_mono, self._sd_mono))
+            # and slow enough to stop at the end with the deceleration the torques allow here (with a margin):
+            # the nominal brakes harder than a heavier or colder arm can
+            bound = min(bound, math.sqrt(2.0 * BRAKE_SHARE * max(-lo, STOP_DECEL_MIN) * (self.end_x - x_next)))
         if sd + sdd * t_cycle > bound:
             sdd = (bound - sd) / t_cycle
         if sd + sdd * t_cycle <= 0.0 and x_next < self.end_x:
@@ -144,10 +153,12 @@ class PathVelocityController:
             # the wanted rate and let the servo saturate, rather than stand still or back up
             sdd = min(max(wanted, STOP_DECEL_MIN), bound / t_cycle) if sd <= 0.0 else -sd / t_cycle
         taus = np.arange(1, self.sub + 1) * self.h
+        if sdd < 0.0:  # at rest from where the speed reaches zero inside the cycle
+            taus = np.minimum(taus, sd / -sdd)
         xs = np.minimum(x + sd * taus + 0.5 * sdd * taus * taus, self.end_x)
-        sds = sd + sdd * taus
+        sds = np.maximum(sd + sdd * taus, 0.0)
         x_end, sd_end = float(xs[-1]), float(sds[-1])
-        if self.end_x - x_end < RESYNC_X or nominal_ended and self.end_x - x_end <= max(sd_end, 0.0) * t_cycle:
+        if self.end_x - x_end < RESYNC_X and (nominal_ended or sd_end < RESYNC_SD):
             xs[-1], sds[-1], x_end, sd_end = self.end_x, 0.0, self.end_x, 0.0
             self.done = True
         self.x, self.sd = x_end, sd_end
@@ -155,7 +166,7 @@ class PathVelocityController:
             self.in_sync, self.x, self.sd = True, x_n, sd_n  # back in step: the nominal rows from the next cycle
         path = self.path
         d1, d2 = path(xs, 1), path(xs, 2)
-        qdd = d2 * (sds * sds)[:, None] + d1 * sdd
+        qdd = d2 * (sds * sds)[:, None] + d1 * np.where(sds > 0.0, sdd, 0.0)[:, None]
         qd = d1 * sds[:, None]
         if self.done:
             qd[-1], qdd[-1] = 0.0, 0.0
