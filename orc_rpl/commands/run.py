@@ -80,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
         # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
         source, program = load_program(args.file, world_file)
+        cell = _world_cell(world_file, args.robot)
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
@@ -95,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(f"orc run: {len(diagnostics)} check error{'s' if len(diagnostics) != 1 else ''}; nothing moved\n")
         return 2
     try:
-        return _run(args, source, program, registry, override)
+        return _run(args, source, program, registry, override, cell)
     except UsageError as error:
         return _fail_usage(str(error))
     except OrcError as error:
@@ -106,7 +107,21 @@ def run(args: argparse.Namespace) -> int:
         return 1
 
 
-def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float) -> int:
+def _world_cell(world_file: str | None, robot: str) -> Any:
+    """The simulated cell made from the world model `--world FILE` (contacts on), or None for the default cell."""
+    if world_file is None:
+        return None
+    from orc_rpl.plant.world_scene import cell_from_world
+    from orc_rpl.world import load_world
+
+    world = load_world(world_file)
+    model = world.robot.model if world.robot is not None else robot
+    if robot not in ("irb2400", model):  # --robot's default gives way to the world's robot
+        raise UsageError(f"--robot {robot} differs from the robot of the world model '{world_file}' ({model})")
+    return cell_from_world(world, model)
+
+
+def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float, cell: Any = None) -> int:
     from orc_rpl.executive.report import Progress, summary, write_summary_text
     from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.executive import Executive
@@ -114,7 +129,8 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     from orc_rpl.executive.sim_io import load_script, script_path
 
     record = bool(args.log or args.plot)
-    robot = CellRobot.virtual(robot=args.robot, realtime=args.realtime, record=record, plant=args.plant, seed=args.seed)
+    robot = CellRobot.virtual(robot=cell.robot if cell is not None else args.robot, realtime=args.realtime, record=record,
+                              plant=args.plant, seed=args.seed, cell=cell)
 
     def out(line: str) -> None:
         sys.stdout.write(line + "\n")

@@ -56,12 +56,13 @@ class CellRobot:
 
     @classmethod
     def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False,
-                plant: str = "realistic", seed: int = 0) -> CellRobot:
-        """The default simulated cell with `robot`, ready at its home position (`plant`: "realistic" or "ideal")."""
+                plant: str = "realistic", seed: int = 0, cell: Any = None) -> CellRobot:
+        """The default simulated cell with `robot` (or the cell description `cell`), ready at its home position
+        (`plant`: "realistic" or "ideal")."""
         from orc_rpl.motion import make_virtual_motion_layer
 
         return cls(make_virtual_motion_layer(robot=robot, realtime=realtime, backend=backend, record=record,
-                                             plant=plant, seed=seed))
+                                             plant=plant, seed=seed, cell=cell))
 
     # -- RobotInterface ------------------------------------------------------------------
 

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.arm.pvc import PathVelocityController
-from orc_rpl.errors import OrcError, PlanningError
+from orc_rpl.errors import Collision, OrcError, PlanningError
 from orc_rpl.motion.actions import Actions, MotionData
 from orc_rpl.motion.backend import Backend
 from orc_rpl.motion.blending import blend
@@ -207,12 +207,18 @@ class MotionPipeline:
             q_r, qd_r = self._hold_cache
             qdd_r = qd_r
         self.backend.advance(q_r, qd_r, qdd_r)
+        collision = getattr(self.backend, "collision", None)
+        hit = None if collision is None else collision()
+        if hit is not None:
+            self._collision_stop(hit)
+            traj = None
         if self.thermal is not None:
             tau = self.backend.torque()
             self.thermal.update(tau)
             if self.winding is not None:
                 self.winding.update(tau)
-        self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
+        if hit is None:  # a collision stop has set the reference where the robot is
+            self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
         self.cycles += 1
         stop = False
         if traj is not None:
@@ -254,6 +260,20 @@ class MotionPipeline:
         if (self._k >= traj.cycles) if pvc is None else pvc.done:
             self._traj_end(traj)
         return stop
+
+    def _collision_stop(self, bodies: tuple[str, str]) -> None:
+        """A collision stop: the reference jumps to where the robot is (no braking along the path into the
+        obstacle); the running, settling and queued moves fault with Collision naming the two bodies."""
+        error = Collision(f"collision between {bodies[0]} and {bodies[1]}: the robot stopped")
+        moves = [*self._in_traj, *([self._settling[0]] if self._settling is not None else []), *self._queue]
+        self._queue.clear()
+        self._traj, self._in_traj, self._settling, self._hold_cache, self.pvc = None, [], None, None, None
+        self._q_ref = np.array(self.backend.q())
+        self._qd_ref, self._qdd_ref = np.zeros_like(self._q_ref), np.zeros_like(self._q_ref)
+        for h in moves:
+            if not h.done:
+                h.error = error
+                self._finish(h, MoveStatus.FAULT)
 
     def _rescale_end_times(self, lag_s: float) -> None:
         """The moves of a time-scaled trajectory end later by the controller's lag (T_d for actions and blends)."""

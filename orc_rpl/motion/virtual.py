@@ -23,6 +23,8 @@ class ServoBackend:
         self._state = loop.state()
         # the servo's own model (its payload is the control payload), as a bare RNEA
         self._rnea = loop.servo.arm.inverse_dynamics_function()
+        if not loop.cell.description.contacts:
+            self.collision = None  # type: ignore[assignment]  # nothing can collide: the cycle need not ask
         self._zero = np.zeros(loop.servo.arm.n_joints)
 
     def advance(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
@@ -63,6 +65,14 @@ class ServoBackend:
         b1 -= rnea(q, zero, zero)  # M(q) d1: friction has no part in it
         return b1, b2
 
+    def collision(self) -> tuple[str, str] | None:
+        """The two bodies of a collision in the cell since the last call (then forgotten), or None."""
+        cell = self.loop.cell
+        hit = cell.collision
+        if hit is not None:
+            cell.clear_collision()
+        return hit
+
     def set_control_payload(self, mass_kg: float) -> None:
         """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
         self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)
@@ -72,15 +82,15 @@ class ServoBackend:
 PLANTS = ("realistic", "ideal")
 
 
-def _make_cell(robot: str, plant: str, seed: int) -> Any:
-    """The MuJoCo cell of a virtual robot."""
+def _make_cell(robot: str, plant: str, seed: int, cell: Any = None) -> Any:
+    """The MuJoCo cell of a virtual robot (the default cell, or the description `cell`)."""
     if plant == "ideal":
         from orc_rpl.plant.sim import SimCell
 
-        return SimCell(robot)
+        return SimCell(None if cell is not None else robot, cell)
     from orc_rpl.plant.realistic import RealisticCell
 
-    return RealisticCell(robot, seed=seed)
+    return RealisticCell(None if cell is not None else robot, cell, seed=seed)
 
 
 def make_virtual_motion_layer(
@@ -93,6 +103,7 @@ def make_virtual_motion_layer(
     record: bool = False,
     plant: str = "realistic",
     seed: int = 0,
+    cell: Any = None,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
@@ -100,7 +111,8 @@ def make_virtual_motion_layer(
     perfectly (fast; no plant). `plant` "realistic" (friction, hot motors, encoders, masses off the
     model's; deterministic for `seed`) or "ideal" (the controller's own model, exactly). `record=True`
     makes a signals Logger with q_ref, q, qd_ref, tau, tcp and s (available as `layer.logger`); pass
-    your own `logger` to choose the signals yourself.
+    your own `logger` to choose the signals yourself. `cell` (a `plant.CellDescription`, e.g. made from
+    a world model by `plant.world_scene.cell_from_world`) replaces the default cell.
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
@@ -115,7 +127,7 @@ def make_virtual_motion_layer(
 
         # The servo gets its own model: a payload is state of an ArmModel, and the planner's
         # what-if torque computations must not change the servo's feed-forward.
-        loop = ServoLoop(load_robot(robot), _make_cell(robot, plant, seed))
+        loop = ServoLoop(load_robot(robot), _make_cell(robot, plant, seed, cell))
         if plant == "realistic":
             from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, plant_spec
 

@@ -142,6 +142,8 @@ class RealisticCell(SimCell):
         data = self._data
         self._ctrl[:] = tau_nm
         mj_step(self._model, data)
+        if self._watch_contacts and data.ncon:
+            self._check_contacts()
         work, tau = self._work, data.actuator_force
         multiply(tau, tau, work)
         add(self._tau_sq_sum, work, self._tau_sq_sum)

@@ -75,6 +75,10 @@ class SimCell:
         self.realtime = realtime
         self._wall_start_s = time.perf_counter()
         self._renderer: Any = None
+        # Collisions (a cell made from a world model): the first contact of the robot with anything but its work
+        self.collision: tuple[str, str] | None = None  #: the two bodies of the first collision not yet cleared
+        self._watch_contacts = bool(self.description.contacts)
+        self._work_geoms = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, s.name) for s in self.description.solids if s.work}
         self.reset()
 
     # -- state ----------------------------------------------------------------
@@ -125,6 +129,7 @@ class SimCell:
             self._data.qvel[self._qvel] = self._checked(qd, "qd")
         mujoco.mj_forward(self._model, self._data)
         self.io.reset()
+        self.collision = None
         self._wall_start_s = time.perf_counter()
 
     def step(self, tau_nm: np.ndarray) -> None:
@@ -132,10 +137,35 @@ class SimCell:
         data = self._data
         self._ctrl[:] = tau_nm
         mj_step(self._model, data)
+        if self._watch_contacts and data.ncon:
+            self._check_contacts()
         if self.io.processes:
             self.io.update(data.time)
         if self.realtime:
             self._pace(data.time)
+
+    def _check_contacts(self) -> None:
+        """Note the first contact between two bodies where neither is the robot's work (a collision)."""
+        if self.collision is not None:
+            return
+        contact, work = self._data.contact, self._work_geoms
+        for g1, g2, dist in zip(contact.geom1.tolist(), contact.geom2.tolist(), contact.dist.tolist()):
+            if dist <= 0.0 and g1 not in work and g2 not in work:
+                self.collision = (self._body_of_geom(g1), self._body_of_geom(g2))
+                return
+
+    def _body_of_geom(self, geom: int) -> str:
+        """A geom's name for people: a solid's or the floor's own name, else its body's (robot link, without prefix)."""
+        m = self._model
+        name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, geom)
+        if name:
+            return name
+        body = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(m.geom_bodyid[geom])) or "world"
+        return body.removeprefix(ROBOT_PREFIX)
+
+    def clear_collision(self) -> None:
+        """Forget the collision noted (after the controller has stopped the robot); the next contact is noted again."""
+        self.collision = None
 
     def _pace(self, time_s: float) -> None:
         """Wait until the wall clock catches up with simulated time (realtime=True)."""
