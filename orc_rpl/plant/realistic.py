@@ -142,7 +142,7 @@ class RealisticCell(SimCell):
         data = self._data
         self._ctrl[:] = tau_nm
         mj_step(self._model, data)
-        if self._watch_contacts and data.ncon:
+        if self._watch_contacts and (data.ncon or self._noted):
             self._check_contacts()
         work, tau = self._work, data.actuator_force
         multiply(tau, tau, work)

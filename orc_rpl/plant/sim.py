@@ -78,6 +78,7 @@ class SimCell:
         # Collisions (a cell made from a world model): the first contact of the robot with anything but its work
         self.collision: tuple[str, str] | None = None  #: the two bodies of the first collision not yet cleared
         self._watch_contacts = bool(self.description.contacts)
+        self._noted: set[tuple[int, int]] = set()  #: colliding geom pairs already noted, until they come apart
         self._work_geoms = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, s.name) for s in self.description.solids if s.work}
         self.reset()
 
@@ -130,6 +131,7 @@ class SimCell:
         mujoco.mj_forward(self._model, self._data)
         self.io.reset()
         self.collision = None
+        self._noted = set()
         self._wall_start_s = time.perf_counter()
 
     def step(self, tau_nm: np.ndarray) -> None:
@@ -137,7 +139,7 @@ class SimCell:
         data = self._data
         self._ctrl[:] = tau_nm
         mj_step(self._model, data)
-        if self._watch_contacts and data.ncon:
+        if self._watch_contacts and (data.ncon or self._noted):
             self._check_contacts()
         if self.io.processes:
             self.io.update(data.time)
@@ -145,14 +147,21 @@ class SimCell:
             self._pace(data.time)
 
     def _check_contacts(self) -> None:
-        """Note the first contact between two bodies where neither is the robot's work (a collision)."""
-        if self.collision is not None:
-            return
+        """Note the first new contact between two bodies where neither is the robot's work (a collision).
+
+        A pair already noted is not noted again until it has come apart: the robot may back off.
+        """
         contact, work = self._data.contact, self._work_geoms
-        for g1, g2, dist in zip(contact.geom1.tolist(), contact.geom2.tolist(), contact.dist.tolist()):
-            if dist <= 0.0 and g1 not in work and g2 not in work:
-                self.collision = (self._body_of_geom(g1), self._body_of_geom(g2))
-                return
+        touching = {(min(g1, g2), max(g1, g2))
+                    for g1, g2, dist in zip(contact.geom1.tolist(), contact.geom2.tolist(), contact.dist.tolist())
+                    if dist <= 0.0 and g1 not in work and g2 not in work}
+        self._noted &= touching  # pairs that came apart may collide again
+        new = touching - self._noted
+        if new and self.collision is None:
+            pair = min(new)
+            self._noted.add(pair)
+            robot_first = pair if self._model.geom_contype[pair[0]] == 2 else pair[::-1]  # the robot or its tool first
+            self.collision = (self._body_of_geom(robot_first[0]), self._body_of_geom(robot_first[1]))
 
     def _body_of_geom(self, geom: int) -> str:
         """A geom's name for people: a solid's or the floor's own name, else its body's (robot link, without prefix)."""
