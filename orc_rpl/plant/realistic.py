@@ -142,8 +142,6 @@ class RealisticCell(SimCell):
         data = self._data
         self._ctrl[:] = tau_nm
         mj_step(self._model, data)
-        if self._watch_contacts and (data.ncon or self._noted):
-            self._check_contacts()
         work, tau = self._work, data.actuator_force
         multiply(tau, tau, work)
         add(self._tau_sq_sum, work, self._tau_sq_sum)
@@ -151,10 +149,7 @@ class RealisticCell(SimCell):
         if self._steps % THERMAL_EVERY_STEPS == 0:
             self._heat()
         self._measure()
-        if self.io.processes:
-            self.io.update(data.time)
-        if self.realtime:
-            self._pace(data.time)
+        self._after_step(data)
 
     def _measure(self) -> None:
         """Encoder quantisation and velocity noise on the plant's state (no allocation)."""

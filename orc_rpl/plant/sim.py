@@ -139,6 +139,10 @@ class SimCell:
         data = self._data
         self._ctrl[:] = tau_nm
         mj_step(self._model, data)
+        self._after_step(data)
+
+    def _after_step(self, data: Any) -> None:
+        """What follows every step: collisions, the IO's process models, pacing to the wall clock."""
         if self._watch_contacts and (data.ncon or self._noted):
             self._check_contacts()
         if self.io.processes:

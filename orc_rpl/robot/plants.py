@@ -66,6 +66,9 @@ class PlantSpec:
         return len(self.coulomb_nm)
 
 
+#: Plant mass and inertia over the model's, links 1..6: a few percent either way (the same for both arms).
+LINK_MASS_FACTORS = (1.03, 0.97, 1.04, 0.96, 1.05, 0.98)
+
 #: The realistic plants, by robot name. Every figure is an *estimate* of a robot of the class
 #: (docs/robots.md, "The realistic plant"); none is tuned for an application.
 PLANTS: dict[str, PlantSpec] = {
@@ -80,7 +83,7 @@ PLANTS: dict[str, PlantSpec] = {
         gear_rth_k_w=(0.5, 0.4, 0.8, 4.0, 4.0, 8.0),
         encoder_counts_per_rev=2.0**20 * 120.0,
         velocity_noise_rad_s=2e-4,
-        link_mass_factors=(1.03, 0.97, 1.04, 0.96, 1.05, 0.98),
+        link_mass_factors=LINK_MASS_FACTORS,
         unmodelled_flange_mass_kg=1.5,
     ),
     "ur5e": PlantSpec(
@@ -94,7 +97,7 @@ PLANTS: dict[str, PlantSpec] = {
         gear_rth_k_w=(3.0, 3.0, 3.0, 8.0, 8.0, 8.0),
         encoder_counts_per_rev=2.0**18 * 100.0,
         velocity_noise_rad_s=2e-4,
-        link_mass_factors=(1.03, 0.97, 1.04, 0.96, 1.05, 0.98),
+        link_mass_factors=LINK_MASS_FACTORS,
         unmodelled_flange_mass_kg=0.2,
     ),
 }
