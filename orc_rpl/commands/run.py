@@ -65,6 +65,7 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
+    from orc_rpl.syntax.files import is_offline
     from orc_rpl.transform.loading import load_program
 
     try:
@@ -80,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
         # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
         source, program = load_program(args.file, world_file)
-        cell = _world_cell(world_file, args.robot)
+        cell = None if is_offline(args.file) else _world_cell(world_file, args.robot)
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
@@ -108,7 +109,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _world_cell(world_file: str | None, robot: str) -> Any:
-    """The simulated cell made from the world model `--world FILE` (contacts on), or None for the default cell."""
+    """The simulated cell made from the world model `--world FILE` of an on-line program (contacts on), or None
+    for the default cell. An off-line program runs in the default cell: the tools its worlds hang on the flange
+    would meet the fixtures its bare-flange positions lead to (see docs/robots.md)."""
     if world_file is None:
         return None
     from orc_rpl.plant.world_scene import cell_from_world
