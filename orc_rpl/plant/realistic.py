@@ -29,10 +29,44 @@ class RealisticCell(SimCell):
     """
 
     def __init__(self, robot: str | None = None, cell: CellDescription | None = None, realtime: bool = False,
-                 seed: int = 0, spec: PlantSpec | None = None) -> None:
+                 seed: int = 0, spec: PlantSpec | None = None, elastic: bool = False) -> None:
+        """`elastic`: elastic gears, for a robot whose plant description has a gear stiffness (off by default)."""
         self.plant = spec if spec is not None else plant_spec(robot or (cell.robot if cell is not None else "irb2400"))
         self.seed = int(seed)
+        if elastic and self.plant.gear_stiffness_nm_rad is None:
+            from orc_rpl.errors import UsageError
+
+            raise UsageError(f"robot {self.plant.robot!r} has no gear stiffness in its plant description")
+        self.elastic = elastic
         super().__init__(robot, cell, realtime)
+
+    def _edited(self, spec: Any) -> Any:
+        """Elastic gears: a second hinge on each link, about the same axis, with the gear's stiffness.
+
+        The first hinge (jN, the motor's, with the rotor's armature, the friction and the encoder) and
+        the second (jN_gear, the gear's twist) turn one body in series: the rotor turns at the first
+        angle, the link at the sum, and the spring acts on the difference (a two-mass joint).
+        """
+        if not self.elastic:
+            return spec
+        import mujoco
+
+        from orc_rpl.plant.cell import ROBOT_PREFIX
+
+        p = self.plant
+        for i, (k, damping) in enumerate(zip(p.gear_stiffness_nm_rad, p.gear_damping_nm_s)):  # type: ignore[arg-type]
+            joint = spec.joint(f"{ROBOT_PREFIX}j{i + 1}")
+            joint.parent.add_joint(name=f"{ROBOT_PREFIX}j{i + 1}_gear", type=mujoco.mjtJoint.mjJNT_HINGE,
+                                   axis=list(joint.axis), pos=list(joint.pos), stiffness=k, damping=damping)
+        return spec
+
+    @property
+    def link_q(self) -> np.ndarray:
+        """The links' angles (rad): the motors' plus the gears' twist (the motors' when the gears are rigid)."""
+        q = self.true_q
+        if self.elastic:
+            q = q + self._data.qpos[self._qpos + 1]
+        return q
 
     # -- set-up ------------------------------------------------------------------------
 

@@ -41,7 +41,7 @@ class SimCell:
         self.description = cell if cell is not None else default_cell(robot or "irb2400")
         self.robot: str = self.description.robot
         try:
-            self._spec = build_spec(self.description)
+            self._spec = self._edited(build_spec(self.description))
             self._model = self._spec.compile()
         except ValueError as exc:  # MuJoCo's compile errors
             raise UsageError(f"cannot build the cell for robot {self.robot!r}: {exc}") from None
@@ -81,6 +81,10 @@ class SimCell:
         self._noted: set[tuple[int, int]] = set()  #: colliding geom pairs already noted, until they come apart
         self._work_geoms = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, s.name) for s in self.description.solids if s.work}
         self.reset()
+
+    def _edited(self, spec: Any) -> Any:
+        """The scene before it is compiled; a plant that adds to it (elastic gears) overrides this."""
+        return spec
 
     # -- state ----------------------------------------------------------------
 

@@ -52,6 +52,8 @@ class PlantSpec:
     gear_time_constant_s: float = 1200.0       #: gearbox warm-up time constant (20 min)
     gear_motor_heat_share: float = 0.3         #: share of the motor's copper loss that warms the gearbox
     ambient_c: float = 20.0
+    gear_stiffness_nm_rad: tuple[float, ...] | None = None  #: elastic gears (motor and link sides), None: rigid
+    gear_damping_nm_s: tuple[float, ...] = ()              #: the gears' own damping, with the stiffness
 
     def __post_init__(self) -> None:
         n = len(self.coulomb_nm)
@@ -85,6 +87,8 @@ PLANTS: dict[str, PlantSpec] = {
         velocity_noise_rad_s=2e-4,
         link_mass_factors=LINK_MASS_FACTORS,
         unmodelled_flange_mass_kg=1.5,
+        gear_stiffness_nm_rad=(1.5e5, 2.0e5, 1.0e5, 1.5e4, 1.5e4, 5.0e3),
+        gear_damping_nm_s=(250.0, 280.0, 100.0, 9.0, 7.0, 1.0),
     ),
     "ur5e": PlantSpec(
         robot="ur5e",

@@ -96,3 +96,21 @@ def test_every_robot_with_a_plant_builds_and_an_unknown_one_is_a_clear_error() -
         assert RealisticCell(name).n_joints == plant_spec(name).n_joints
     with pytest.raises(UsageError, match="no realistic plant"):
         plant_spec("puma")
+
+
+def test_elastic_gears_twist_under_load_and_the_servo_stays_stable() -> None:
+    from orc_rpl.servo.loop import ServoLoop
+
+    spec = plant_spec("irb2400")
+    cell = RealisticCell("irb2400", elastic=True)
+    loop = ServoLoop(load_robot("irb2400"), cell)
+    loop.servo.set_friction(spec.coulomb_nm, spec.viscous_nm_s)
+    arm = load_robot("irb2400")
+    loop.reset(arm.home_q)
+    loop.hold(arm.home_q, 1500)
+    twist = cell.link_q - cell.true_q
+    # at rest the gear carries the motor's torque against the arm's weight: k * twist = -tau (j2 carries the arm)
+    assert twist[1] == pytest.approx(-cell.tau[1] / spec.gear_stiffness_nm_rad[1], rel=0.05)
+    assert np.max(np.abs(loop.servo.position_error)) < 1e-4, "the motor side is held"
+    with pytest.raises(UsageError, match="no gear stiffness"):
+        RealisticCell("ur5e", elastic=True)
