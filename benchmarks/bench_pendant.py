@@ -69,7 +69,7 @@ async def measure(session: PendantSession, presses: int, statements: int) -> dic
         app = PendantApp(session, input=pipe, output=DummyOutput(), realtime=False)
         task = asyncio.ensure_future(app.run_async())
         await asyncio.sleep(0.2)
-        session.cycle_jog_increment()  # 0.1 mm / 0.1 deg: short motions, the robot stays where it is
+        session.jogger.cycle_increment()  # 0.1 mm / 0.1 deg: short motions, the robot stays where it is
         for i in range(presses):
             count = len(probe.entered)
             start = time.perf_counter()
@@ -87,7 +87,7 @@ async def measure(session: PendantSession, presses: int, statements: int) -> dic
             await _until(lambda: len(probe.returned) > count)
             typed_in.append(probe.entered[count] - start)
             typed_out.append(probe.returned[count] - start)
-            await _until(lambda: not session.busy and session.robot.pending() == 0)
+            await _until(lambda: not session.execution.busy and session.robot.pending() == 0)
         pipe.send_text(":quit!\r")
         await task
     return {"jog_in": jog_in, "jog_out": jog_out, "typed_in": typed_in, "typed_out": typed_out}

@@ -7,7 +7,7 @@ import importlib
 import sys
 
 #: Subcommand modules under orc_rpl.commands, in the order `orc --help` lists them.
-COMMANDS: tuple[str, ...] = ("check", "fmt", "run", "convert", "diff", "pendant")
+COMMANDS: tuple[str, ...] = ("check", "fmt", "run", "convert", "diff", "pendant", "lsp", "view")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -37,8 +37,13 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help(sys.stderr)
         return 2
+    from orc_rpl.application.registry import FeaturesMissing
+
     try:
         return int(args.handler(args))
+    except FeaturesMissing as error:  # a checkout that was never installed: say how to fix it
+        sys.stderr.write(f"orc: {error}\n")
+        return 2
     except KeyboardInterrupt:
         sys.stderr.write("orc: interrupted\n")
         return 130

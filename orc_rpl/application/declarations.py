@@ -17,7 +17,7 @@ def describe_type(value_type: ValueType) -> str:
     """A type as messages name it: `a velocity`, `a pose`, `a SpotGun`."""
     if isinstance(value_type, Dimension):
         word = DIMENSION_NAMES.get(value_type, value_type.symbol())
-        return f"a {word}" if word != "number" else "a number"
+        return f"{'an' if word[0] in 'aeiou' else 'a'} {word}" if word != "number" else "a number"
     if value_type.startswith("installed:"):
         return f"an installed {value_type.split(':', 1)[1]}"
     article = "an" if value_type[0] in "aeiou" else "a"

@@ -12,22 +12,24 @@ from orc_rpl.errors import OrcError
 #: Entry-point group through which features (built-in and third-party) register themselves.
 FEATURE_GROUP = "orc_rpl.features"
 
-#: The built-in features, in registration order: `name -> module:function`. They are also
-#: declared as entry points in pyproject.toml; this list is the fallback for a source tree
-#: whose package metadata is missing or stale.
-BUILTIN_FEATURES: dict[str, str] = {
-    "standard": "orc_rpl.application.features.standard:register",
-    "equipment": "orc_rpl.application.features.equipment:register",
-    "deburring": "orc_rpl.application.features.deburring:register",
-    "spot_welding": "orc_rpl.application.features.spot_welding:register",
-    "arc_welding": "orc_rpl.application.features.arc_welding:register",
-    "assembly": "orc_rpl.application.features.assembly:register",
-    "materials_handling": "orc_rpl.application.features.materials_handling:register",
-}
+#: The built-in features. They register through the same entry points as third-party ones (declared in
+#: pyproject.toml, read from the installed package's metadata); this list only names what must be there,
+#: so a checkout that was never installed fails with a clear message instead of a half-empty language.
+BUILTIN_FEATURES: tuple[str, ...] = (
+    "standard", "equipment", "deburring", "spot_welding", "arc_welding", "assembly", "materials_handling",
+)
+#: The distribution that provides the built-in features.
+DISTRIBUTION = "orc_rpl"
+#: Loaded first: other features build on its words (motion attributes, POSE...).
+FIRST_FEATURE = "standard"
 
 
 class DuplicateDeclaration(OrcError):
     """Two features declared the same word; the message names both."""
+
+
+class FeaturesMissing(OrcError):
+    """The package metadata that registers the built-in features is missing (a checkout never installed)."""
 
 
 def suggest(word: str, candidates: Iterable[str]) -> str | None:
@@ -87,21 +89,40 @@ class Registry:
         return sorted({*self.motions, *self.functions, *self.install_kinds})
 
 
-def _load_reference(reference: str) -> Callable[[Registry], None]:
-    module_name, _, attribute = reference.partition(":")
-    module = __import__(module_name, fromlist=[attribute])
-    return getattr(module, attribute)
+def _feature_entry_points(group: str = FEATURE_GROUP) -> dict[str, metadata.EntryPoint]:
+    """The installed features by name; one name offered by two distributions is refused, naming both."""
+    found: dict[str, metadata.EntryPoint] = {}
+    for entry_point in metadata.entry_points(group=group):
+        other = found.get(entry_point.name)
+        if other is not None and other.value != entry_point.value:
+            raise DuplicateDeclaration(
+                f"feature '{entry_point.name}' is registered twice: by {_origin(other)} and by {_origin(entry_point)}")
+        found[entry_point.name] = entry_point
+    return found
 
 
-def default_registry(extra_features: bool = True) -> Registry:
-    """A registry with the built-in features and every installed third-party feature."""
+def _origin(entry_point: metadata.EntryPoint) -> str:
+    dist = entry_point.dist
+    return f"'{entry_point.value}' ({dist.name if dist is not None else 'unknown package'})"
+
+
+def default_registry(extra_features: bool = True, group: str = FEATURE_GROUP) -> Registry:
+    """A registry with every feature registered in the `orc_rpl.features` entry points: the built-in ones
+    (of this package) and, unless `extra_features` is false, third-party ones; `standard` first, the rest
+    by name. Missing built-in entry points raise FeaturesMissing (the package is not installed)."""
+    entry_points = _feature_entry_points(group)
+    missing = [name for name in BUILTIN_FEATURES if name not in entry_points]
+    if missing:
+        raise FeaturesMissing(
+            f"the built-in features {', '.join(missing)} are not registered: the package metadata of "
+            f"{DISTRIBUTION} (its '{group}' entry points) is missing or stale; install the package, e.g. "
+            f"`pip install -e .` in the checkout")
+    if not extra_features:
+        entry_points = {name: ep for name, ep in entry_points.items() if name in BUILTIN_FEATURES}
+    order = sorted(entry_points, key=lambda name: (name != FIRST_FEATURE, name))
     registry = Registry()
-    entry_points = {ep.name: ep for ep in metadata.entry_points(group=FEATURE_GROUP)} if extra_features else {}
-    for name, reference in BUILTIN_FEATURES.items():
-        registry.load(name, _load_reference(reference))
-    for name, entry_point in sorted(entry_points.items()):
-        if name in BUILTIN_FEATURES:
-            continue  # the built-ins are loaded above, in their documented order
+    for name in order:
+        entry_point = entry_points[name]
         try:
             register = entry_point.load()
         except Exception as error:  # a broken plugin must not take the system down with a traceback

@@ -198,6 +198,18 @@ class FunctionParam:
     fn: Callable[[float], Any]
 
 
+def attached(robot: Any, name: str, make: Callable[[], Any]) -> Any:
+    """The robot's `name` (its sensor manager, its process record), made with `make()` and kept on it on first use."""
+    value = getattr(robot, name, None)
+    if value is None:
+        value = make()
+        try:
+            setattr(robot, name, value)
+        except AttributeError:  # a robot without attributes of its own keeps none
+            pass
+    return value
+
+
 def run_to_end(robot: RobotInterface, request: MotionRequest, timeout_s: float, what: str) -> Any:
     """Submit one motion and run the robot until it ends, for functions that move it (RecordSeam, CALIBRATE).
 

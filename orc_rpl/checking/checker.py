@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 from orc_rpl.application.declarations import describe_types
 from orc_rpl.application.registry import Registry, default_registry, suggest
 from orc_rpl.checking.expressions import ExpressionTyper, accepts
@@ -361,4 +363,29 @@ def check_program(program: n.Program, path: str = "<input>", registry: Registry 
     scope = Scope(parent=builtin_scope(list(registry.functions)))
     checker.collect(program.body, scope, top_level=True)
     checker.check_body(program.body, scope, WORLD)
+    return sorted(checker.diagnostics, key=lambda d: (d.location.line, d.location.column))
+
+
+def check_in_context(program: n.Program, statement: n.Statement, routine: str | None = None, frame: str = WORLD,
+                     path: str = "<typed>", registry: Registry | None = None,
+                     live_names: Iterable[str] = ()) -> list[Diagnostic]:
+    """The static errors of one statement as if it stood in `program`: inside routine `routine` (None: the main
+    program) and FRAME block `frame`; `live_names` are globals that exist already (earlier typed assignments).
+    The program's own errors are not reported (the pendant's typed statements)."""
+    registry = registry or default_registry()
+    checker = Checker(path, registry)
+    scope = Scope(parent=builtin_scope(list(registry.functions)))
+    checker.collect(program.body, scope, top_level=True)
+    for name in live_names:
+        if scope.lookup(name) is None:
+            scope.symbols[name] = Symbol(name, "assigned", ANY, None)
+    owner = next((s for s in program.body if isinstance(s, n.Routine) and s.name.id == routine), None)
+    if owner is not None:
+        scope = Scope(parent=scope, routine=owner)
+        for param in owner.params:
+            scope.symbols[param.id] = Symbol(param.id, "param", ANY, param)
+        checker.collect(owner.body, scope, top_level=False)
+    checker.collect((statement,), scope, top_level=owner is None)
+    checker.diagnostics.clear()
+    checker.check_statement(statement, scope, frame)
     return sorted(checker.diagnostics, key=lambda d: (d.location.line, d.location.column))

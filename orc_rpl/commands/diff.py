@@ -41,14 +41,27 @@ def positions(program: n.Program) -> dict[str, tuple[str, object, str]]:
 
 
 def _same(a: object, b: object) -> bool:
+    import numpy as np
+
     from orc_rpl.world import Pose
 
     if isinstance(a, Pose) and isinstance(b, Pose):
-        return a.frame == b.frame and all(abs(x - y) <= TOLERANCE for x, y in zip(
-            (a.x, a.y, a.z, a.a, a.b, a.c), (b.x, b.y, b.z, b.a, b.b, b.c)))
+        # (0, 180deg, 0) and (180deg, 0, 180deg) are one pose: compare transforms, not the numbers written
+        return a.frame == b.frame and bool(np.allclose(a.matrix(), b.matrix(), rtol=0.0, atol=TOLERANCE))
     if isinstance(a, tuple) and isinstance(b, tuple):
         return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b))
     return a == b
+
+
+def _shown_change(a: object, b: object) -> list[str]:
+    """`    (50.0, -40.0, 60.0) mm, ... -> (...) in base_plate`: a changed literal pose in the one display convention."""
+    from orc_rpl.world import Pose
+    from orc_rpl.world.pose import shown_pose
+
+    if not (isinstance(a, Pose) and isinstance(b, Pose)):
+        return []
+    where = f" in {b.frame}" if a.frame == b.frame else f" in {a.frame} -> in {b.frame}"
+    return [f"    {shown_pose(a).text()} -> {shown_pose(b).text()}{where}"]
 
 
 def statements(program: n.Program) -> list[str]:
@@ -87,6 +100,7 @@ def difference(a: n.Program, b: n.Program, name_a: str = "A", name_b: str = "B")
             lines.append(f"+ {pb[name][0]} {name} (only in {name_b})")
         elif not _same(pa[name][1], pb[name][1]):
             lines.append(f"~ {pa[name][0]} {name} changed: {pa[name][2]} -> {pb[name][2]}")
+            lines.extend(_shown_change(pa[name][1], pb[name][1]))
     diff = list(difflib.unified_diff(statements(a), statements(b), name_a, name_b, lineterm="", n=1))
     return lines + diff
 

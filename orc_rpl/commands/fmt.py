@@ -7,9 +7,7 @@ import sys
 
 from orc_rpl.atomic import write_text_atomic
 from orc_rpl.errors import SourceError, UsageError
-from orc_rpl.syntax.files import is_offline, parse_file
-from orc_rpl.syntax.offline_printer import print_offline
-from orc_rpl.syntax.printer import print_program
+from orc_rpl.syntax.files import canonical_text, is_offline, parse_file
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -28,7 +26,7 @@ def format_text(path: str, world: str | None = None) -> tuple[str, str]:
     """The file's text and its canonical form (off-line programs in the off-line syntax)."""
     text, program = parse_file(path)
     if not is_offline(path):
-        return text, print_program(program)
+        return text, canonical_text(program, path)
     if world is not None:
         from orc_rpl.transform.checks import load_world_file
         from orc_rpl.transform.references import world_diagnostics
@@ -36,7 +34,7 @@ def format_text(path: str, world: str | None = None) -> tuple[str, str]:
         diagnostics = world_diagnostics(program, load_world_file(world), path)
         if diagnostics:
             raise SourceError(diagnostics, text)
-    return text, print_offline(program)
+    return text, canonical_text(program, path)
 
 
 def run(args: argparse.Namespace) -> int:

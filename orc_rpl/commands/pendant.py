@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Iterable
 from pathlib import Path
 
 from orc_rpl.errors import OrcError, UsageError
@@ -14,7 +15,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         "pendant", help="the teach pendant: jog, teach, edit, step and run on the virtual robot",
         description="A full-screen teach pendant for an on-line program on the simulated cell. Type an RPL "
                     "statement to execute it at once, or a :command (:help lists them). Every edit is journaled: "
-                    "after a crash, the next start offers to recover it.")
+                    "after a crash, the next start offers to recover it. When standard input is not a terminal, "
+                    "its lines are run one by one as if typed (exit 1 if one failed).")
     parser.add_argument("file", metavar="FILE", nargs="?", help="program file (.rpl); created on :save if missing")
     parser.add_argument("--world", metavar="DIR", help="folder with the program's simulated-IO script (<name>.sim.yaml)")
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
@@ -37,20 +39,20 @@ def _fail(message: str) -> int:
 
 def _ask_recovery(session: object, args: argparse.Namespace) -> str:
     """Recover, discard or keep (answer asked on the terminal before the full screen starts)."""
-    pending = session.pending_recovery()  # type: ignore[attr-defined]
+    pending = session.editor.pending_recovery()  # type: ignore[attr-defined]
     if pending is None:
         return ""
     if args.recover:
-        return session.recover()  # type: ignore[attr-defined]
+        return session.editor.recover()  # type: ignore[attr-defined]
     if args.discard:
-        return session.discard_recovery()  # type: ignore[attr-defined]
+        return session.editor.discard_recovery()  # type: ignore[attr-defined]
     if not sys.stdin.isatty():
         return f"{pending} in the journal: start with --recover or --discard"
-    answer = input(f"orc pendant: {session.path} has {pending} from a session that did not save.\n"  # type: ignore[attr-defined]
+    answer = input(f"orc pendant: {session.editor.path} has {pending} from a session that did not save.\n"  # type: ignore[attr-defined]
                    "Recover them? [Y/n] ").strip().lower()
     if answer in ("", "y", "yes"):
-        return session.recover()  # type: ignore[attr-defined]
-    return session.discard_recovery()  # type: ignore[attr-defined]
+        return session.editor.recover()  # type: ignore[attr-defined]
+    return session.editor.discard_recovery()  # type: ignore[attr-defined]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -80,14 +82,47 @@ def _run(args: argparse.Namespace) -> int:
     from orc_rpl.pendant.robot import PendantRobot
     from orc_rpl.pendant.session import PendantSession
 
+    interactive = sys.stdin.isatty()
     robot = PendantRobot(CellRobot.virtual(args.robot, backend=args.backend, plant=args.plant, seed=args.seed))
-    session = PendantSession(args.file, robot=robot, synchronous=False)
+    session = PendantSession(args.file, robot=robot, synchronous=not interactive)
     try:
+        if not interactive and session.editor.pending_recovery() is not None and not (args.recover or args.discard):
+            # a script's edits would bury the killed session's in the journal: the user decides first
+            return _fail(f"{session.editor.path} has {session.editor.pending_recovery()} in its journal; "
+                         "start with --recover or --discard")
         message = _ask_recovery(session, args)
         if args.file is not None:
             io_script = script_path(args.file, args.world)
             if io_script is not None:
-                load_script(io_script, robot.io, lambda: robot.tcp_pose(session.tool_pose()))
+                load_script(io_script, robot.io, lambda: robot.tcp_pose(session.execution.tool_pose()))
+        if not interactive:
+            return _run_script(session, sys.stdin, message)
         return PendantApp(session, message=message).run()
     finally:
         session.close()
+
+
+def _run_script(session: object, lines: Iterable[str], message: str) -> int:
+    """Standard input is not a terminal: each line is typed at the command line in turn, its answer printed.
+
+    Exit 0 when every line succeeded, 1 when one failed (the others still ran); unsaved edits stay in the
+    journal, as after a crash, and the next start offers them.
+    """
+    from orc_rpl.pendant.commands import run_line
+
+    if message:
+        sys.stdout.write(message + "\n")
+    failed = 0
+    for number, line in enumerate(lines, start=1):
+        outcome = run_line(session, line.rstrip("\n"))  # type: ignore[arg-type]
+        if outcome.text:
+            sys.stdout.write(outcome.text + "\n")
+        if outcome.error:
+            failed += 1
+            sys.stderr.write(f"<stdin>:{number}: error in {line.strip()!r}\n")
+        if outcome.quit:
+            break
+    if session.editor.modified:  # type: ignore[attr-defined]
+        sys.stderr.write(f"orc pendant: unsaved edits of {session.editor.path} are kept in its journal "  # type: ignore[attr-defined]
+                         "(:save writes the program)\n")
+    return 1 if failed else 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import sys
@@ -26,9 +27,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--world", metavar="DIR|FILE", help="folder with the program's simulated-IO script (<name>.sim.yaml), "
                                                            "or the world model (YAML) of an off-line program (.orl)")
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
-    parser.add_argument("--log", metavar="OUT.npz", help="write the recorded signals (q, q_ref, tau, tcp, s) as NPZ")
+    parser.add_argument("--log", metavar="OUT.npz", help="write the recorded signals (q, q_ref, tau, tcp (flange), tool_tcp, s, process.*) as NPZ")
     parser.add_argument("--plot", metavar="OUT.png", help="plot the recorded signals as PNG")
-    parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints and error as JSON")
+    parser.add_argument("--summary-json", metavar="OUT.json", help="write status, cycle time, prints, error and the process outcomes as JSON")
     parser.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
     parser.add_argument("--plant", choices=("realistic", "ideal"), default="realistic",
                         help="realistic: friction, motor heat, encoders, masses off the model (default); "
@@ -36,7 +37,42 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
+    view = parser.add_argument_group("3D view and video (the [view] extra)")
+    view.add_argument("--view", action="store_true", help="show the run in a 3D view in the browser (paced to real time)")
+    view.add_argument("--fast", action="store_true", help="with --view: do not pace; the view shows the latest state")
+    view.add_argument("--host", metavar="ADDRESS", help="with --view: listen on ADDRESS instead of 127.0.0.1")
+    view.add_argument("--port", metavar="PORT", type=int, help="with --view: the first port to try (default 8080)")
+    view.add_argument("--video", metavar="OUT.mp4", help="film the run offscreen into an MP4 video")
     return parser
+
+
+def watching(args: argparse.Namespace) -> Any:
+    """The view and video options as a Watching (a UsageError for combinations that make no sense)."""
+    if not args.view:
+        for option in ("fast", "host", "port"):
+            if getattr(args, option) not in (None, False):
+                raise UsageError(f"--{option} needs --view")
+    if args.fast and args.realtime:
+        raise UsageError("--fast and --realtime contradict each other")
+    if args.video is not None:
+        if not args.video.lower().endswith(".mp4"):
+            raise UsageError(f"--video: the file must end in .mp4, got {args.video!r}")
+        if not Path(args.video).resolve().parent.is_dir():
+            raise UsageError(f"--video: the folder of '{args.video}' does not exist")
+    if not (args.view or args.video):
+        return None
+    from orc_rpl.view.rendering import request_rendering
+
+    if args.video:
+        request_rendering()  # before MuJoCo is first imported: it picks its GL backend then
+    try:
+        from orc_rpl.view.server import DEFAULT_HOST, DEFAULT_PORT, check_port
+        from orc_rpl.view.watch import Watching
+    except ImportError as error:
+        raise UsageError(f"--view and --video need the view extra (pip install 'orc_rpl[view]'): {error}") from None
+    check_port(args.port)
+    return Watching(view=args.view, host=args.host or DEFAULT_HOST, port=DEFAULT_PORT if args.port is None else args.port,
+                    video=args.video, interactive=sys.stdin.isatty() and sys.stderr.isatty())
 
 
 def speed_override(text: str) -> float:
@@ -69,6 +105,7 @@ def run(args: argparse.Namespace) -> int:
     from orc_rpl.transform.loading import load_program
 
     try:
+        watch_how = watching(args)
         override = speed_override(args.speed_override)
         if args.robot not in ROBOTS:
             raise UsageError(f"--robot: unknown robot {args.robot!r}; known robots: {', '.join(ROBOTS.names())}")
@@ -97,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(f"orc run: {len(diagnostics)} check error{'s' if len(diagnostics) != 1 else ''}; nothing moved\n")
         return 2
     try:
-        return _run(args, source, program, registry, override, cell)
+        return _run(args, source, program, registry, override, watch_how, cell)
     except UsageError as error:
         return _fail_usage(str(error))
     except OrcError as error:
@@ -124,7 +161,18 @@ def _world_cell(world_file: str | None, robot: str) -> Any:
     return cell_from_world(world, model)
 
 
-def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float, cell: Any = None) -> int:
+def _watched(args: argparse.Namespace, executive: Any, robot: Any, program: Any, registry: Any, how: Any) -> Any:
+    """The view and video around the run (view/), or nothing."""
+    if how is None:
+        return contextlib.nullcontext()
+    from orc_rpl.view.watch import watch, world_of
+
+    return watch(executive, robot, program, world_of(args.file, args.world), registry, how)
+
+
+def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float, watch_how: Any = None,
+         cell: Any = None) -> int:
+    from orc_rpl.executive.process_report import SIGNAL_UNITS, plotted_signals, submit_process_signals
     from orc_rpl.executive.report import Progress, summary, write_summary_text
     from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.executive import Executive
@@ -132,7 +180,8 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     from orc_rpl.executive.sim_io import load_script, script_path
 
     record = bool(args.log or args.plot)
-    robot = CellRobot.virtual(robot=cell.robot if cell is not None else args.robot, realtime=args.realtime, record=record,
+    paced = args.realtime or (args.view and not args.fast)
+    robot = CellRobot.virtual(robot=cell.robot if cell is not None else args.robot, realtime=paced, record=record,
                               plant=args.plant, seed=args.seed, cell=cell)
 
     def out(line: str) -> None:
@@ -143,12 +192,15 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
                           options=Options(speed_override=override))
     machine = executive.machine
     machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
+    # the run's process record; with --log/--plot, the tool's TCP and the process signals beside the flange
+    submit_process_signals(robot.layer.logger if record else None, robot, lambda: machine.last_tool)
     io_script = script_path(args.file, args.world)
     if io_script is not None:
         load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload)
-    wall_start = time.perf_counter()
-    with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress:
-        machine.robot = progress.monitor(robot)
+    with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress, _watched(args, executive, robot, program,
+                                                                                       registry, watch_how) as watchers:
+        machine.robot = watchers.monitor(progress.monitor(robot)) if watchers is not None else progress.monitor(robot)
+        wall_start = time.perf_counter()  # after the view's page connected
         executive.run()
     machine.robot = robot
     wall_s = time.perf_counter() - wall_start
@@ -163,5 +215,8 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         if args.log:
             recording.to_npz(args.log)
         if args.plot:
-            recording.plot_png(args.plot)
+            recording.plot_png(args.plot, signals=plotted_signals(recording), tcp="tool_tcp",
+                               title=f"orc run {Path(args.file).name}", units=SIGNAL_UNITS)
+    if watchers is not None:
+        watchers.linger()  # at a terminal, the 3D view stays open until Enter
     return 1 if executive.status == "failed" else 0

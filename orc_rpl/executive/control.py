@@ -8,9 +8,9 @@ from typing import Any
 from orc_rpl.executive import operators as ops
 from orc_rpl.executive.blocks import Block, Locals
 from orc_rpl.executive.machine import TICK
-from orc_rpl.executive.scope import Scope
+from orc_rpl.executive.scope import ProgramScopes, Scope
 from orc_rpl.executive.signals import RunError
-from orc_rpl.executive.values import type_name
+from orc_rpl.executive.values import IO_BANKS, type_name
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.units import Quantity
 
@@ -62,8 +62,6 @@ class ControlFlow:
         return fast, gen
 
     def _while(self, stmt: n.While, scope: Scope) -> tuple[Any, Any]:
-        from orc_rpl.executive.statements import reads_cell
-
         m = self.m
         cond = self.exprs.condition(stmt.condition, scope)
         body = self.block(stmt.body, scope)
@@ -232,3 +230,12 @@ def _stepped(a: Any, b: Any, c: Any) -> Iterator[Any]:
             return
         yield value
         k += 1
+
+
+#: names whose value the cell changes while a program waits (a WHILE on them polls once per motion cycle)
+_CELL_NAMES = frozenset({*IO_BANKS, "HERE", "ROBOT"})
+
+
+def reads_cell(expr: n.Expression, scopes: ProgramScopes) -> bool:
+    """True when an expression reads something the cell changes (IO, HERE, ROBOT, installed sensors)."""
+    return any(isinstance(node, n.Name) and (node.id in _CELL_NAMES or node.id in scopes.installed) for node in expr.walk())

@@ -202,7 +202,7 @@ class ExpressionCompiler:
             def user_call(L: dict[str, Any]) -> Any:
                 args = [f(L) for f in positional]
                 if named:
-                    args = _merge_named(name, order, args, {k: f(L) for k, f in named.items()})
+                    args = merge_named(name, order, args, {k: f(L) for k, f in named.items()})
                 return m.call_now(m.routines[name], args, span)
             return user_call
         spec = m.registry.functions.get(name)
@@ -238,7 +238,7 @@ class ExpressionCompiler:
         return lambda L: implementation(*[f(L) for f in positional], **{k: f(L) for k, f in named.items()})
 
 
-def _merge_named(routine: str, order: list[str], args: list[Any], named: dict[str, Any]) -> list[Any]:
+def merge_named(routine: str, order: list[str], args: list[Any], named: dict[str, Any]) -> list[Any]:
     result: list[Any] = list(args) + [_MISSING] * (len(order) - len(args))
     for key, value in named.items():
         if key not in order:

@@ -5,7 +5,8 @@ from __future__ import annotations
 from typing import Any
 
 from orc_rpl.executive.signals import RunError
-from orc_rpl.executive.values import EnumValue, Record, type_name
+from orc_rpl.application.values import Record
+from orc_rpl.executive.values import EnumValue, type_name
 from orc_rpl.syntax import units
 from orc_rpl.syntax.units import DimensionError, Quantity
 from orc_rpl.world.pose import Joints, Pose

@@ -167,13 +167,13 @@ class RecordingRobot:
         return pose.matrix() @ np.linalg.inv(request.tool.matrix())
 
     def _duration(self, request: MotionRequest) -> float:
-        if request.time_s:
-            return max(request.time_s, self.dt_s)
+        """The nominal duration; a requested TIME makes the motion take at least that long (as on the cell)."""
         start = self._queue[-1].end if self._queue and self._queue[-1].end is not None else self._flange
         distance = float(np.linalg.norm(self._target_flange(request)[:3, 3] - start[:3, 3]))
         speed = request.speed_m_s if isinstance(request.speed_m_s, (int, float)) else self.default_speed_m_s
         fraction = request.speed_fraction if isinstance(request.speed_fraction, (int, float)) else 1.0
-        return max(self.min_duration_s, distance / (speed * fraction))
+        natural = max(self.min_duration_s, distance / (speed * fraction))
+        return max(request.time_s, natural) if request.time_s else natural
 
     def _begin(self, ticket: Ticket) -> None:
         self._offset = np.zeros(3)

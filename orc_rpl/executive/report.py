@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-import math
 from typing import Any, TextIO
 
 from orc_rpl.executive.executive import Executive
+from orc_rpl.executive.process_report import process_lines, process_section, uncaught_warnings
+from orc_rpl.world.pose import Pose, shown_pose
 
 
 def summary(executive: Executive, robot: Any) -> dict[str, Any]:
@@ -31,6 +32,11 @@ def summary(executive: Executive, robot: Any) -> dict[str, Any]:
             "exception": error.name,
             "call_stack": [{"routine": e.routine, "line": e.line, "column": e.column} for e in error.stack],
         }
+    process = process_section(robot, error)
+    if process is not None:  # what the processes achieved (welds, bulges, seams, parts, tunings) and their faults
+        result["process"] = process
+        result["warnings"] += [{"line": result["error"]["line"], "column": result["error"]["column"], "message": message}
+                               for message in uncaught_warnings(process)]
     return result
 
 
@@ -39,12 +45,13 @@ def write_summary_text(result: dict[str, Any], wall_s: float, stream: TextIO) ->
     tcp = result["final_tcp"]
     cycle = result["cycle_time_s"]
     ratio = f", {cycle / wall_s:.0f}x real time" if wall_s > 0 and cycle > 0 else ""
-    pose = (f"({1000 * tcp['x_m']:.1f}, {1000 * tcp['y_m']:.1f}, {1000 * tcp['z_m']:.1f}) mm, "
-            f"({math.degrees(tcp['a_rad']):.1f}, {math.degrees(tcp['b_rad']):.1f}, {math.degrees(tcp['c_rad']):.1f}) deg")
+    pose = shown_pose(Pose(tcp["x_m"], tcp["y_m"], tcp["z_m"], tcp["a_rad"], tcp["b_rad"], tcp["c_rad"])).text()
     stream.write(f"status: {result['status']}\n"
                  f"cycle time: {cycle:.3f} s (simulated; {wall_s:.2f} s wall{ratio})\n"
                  f"motions: {result['motions']}\n"
                  f"final TCP: {pose}\n")
+    for line in process_lines(result.get("process")):
+        stream.write(f"process: {line}\n")
 
 
 class MonitoredRobot:

@@ -130,7 +130,7 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
 
 
 #: `seam:` keys that are lengths, and the other ones
-_SEAM_LENGTHS = ("amplitude", "wavelength", "raggedness", "correlation", "edge", "edge_width", "range")
+_SEAM_LENGTHS = ("amplitude", "wavelength", "raggedness", "correlation", "edge", "edge_width", "range", "noise")
 
 
 def seam_process(entry: Any) -> Any:
@@ -153,30 +153,28 @@ def seam_process(entry: Any) -> Any:
 
 
 def simulated_sensors(io: Any, tcp: Callable[[], Any]) -> dict[str, Any]:
-    """The cell's simulated sampling for the sensor kinds that have a process model: LaserDistance on the seam.
+    """The cell's simulated sampling for the sensor kinds that have a process model: LaserDistance on the seam,
+    ForceSensor on the castings' contact force (with a bias and noise).
 
     `tcp()` gives the TCP position (x, y, z) in m of the tool last moved; the seam is the cell's SeamProcess
     (from the script's `seam:`), or a default one added to the cell when a simulated laser is first read."""
+    from orc_rpl.motion.force_sensor import simulated_gauge
     from orc_rpl.motion.sensors import LaserValue
-    from orc_rpl.plant.processes.seam import SeamProcess
+    from orc_rpl.plant.processes.casting import CastingEdge
+    from orc_rpl.plant.processes.seam import cell_seam
 
     def laser(name: str) -> Any:
         def sample(sensor: Any) -> LaserValue:
-            seam = find_seam(io)
-            if seam is None:
-                seam = SeamProcess()
-                io.add_process(seam)
-            found, offset, edge = seam.measure(tcp())
+            found, offset, edge = cell_seam(io).measure(tcp())
             return LaserValue(found, offset, edge)
         return sample
-    return {"LaserDistance": laser}
 
+    def contact_force_n() -> float:  # the cell's contact force: what its castings push back with
+        return float(sum(getattr(p, "force_n", 0.0) for p in getattr(io, "processes", ()) if isinstance(p, CastingEdge)))
 
-def find_seam(io: Any) -> Any:
-    """The cell's SeamProcess, if it has one."""
-    from orc_rpl.plant.processes.seam import SeamProcess
-
-    return next((p for p in getattr(io, "processes", ()) if isinstance(p, SeamProcess)), None)
+    def force(name: str) -> Any:
+        return simulated_gauge(name, contact_force_n)
+    return {"LaserDistance": laser, "ForceSensor": force}
 
 
 def _length(text: Any) -> float:
@@ -210,15 +208,17 @@ def _channel(text: Any, io: Any, bank: str) -> int:
 def _weld_gun(entry: dict, io: Any, tcp: Callable[[], Pose]) -> Any:
     from orc_rpl.plant.processes import WeldGunProcess
 
-    if not set(entry) <= {"close", "weld_ok", "reaction", "weld_time", "fail"} or not {"close", "weld_ok"} <= set(entry):
-        raise UsageError(f"a weld gun has close, weld_ok and optionally reaction, weld_time, fail; got {entry!r}")
+    if not set(entry) <= {"close", "weld_ok", "reaction", "weld_time", "fail", "max_speed"} \
+            or not {"close", "weld_ok"} <= set(entry):
+        raise UsageError(f"a weld gun has close, weld_ok and optionally reaction, weld_time, fail, max_speed; got {entry!r}")
 
     def position() -> tuple[float, float, float]:
         pose = tcp()
         return (pose.x, pose.y, pose.z)
     return WeldGunProcess(_channel(entry["close"], io, "DigOut"), _channel(entry["weld_ok"], io, "DigIn"),
                           _seconds(entry.get("reaction", "80ms")), _seconds(entry.get("weld_time", "200ms")),
-                          tcp=position, fail=bool(entry.get("fail", False)))
+                          tcp=position, fail=bool(entry.get("fail", False)),
+                          **({"max_speed_m_s": _speed(entry["max_speed"])} if "max_speed" in entry else {}))
 
 
 def _parts(entry: dict, io: Any, set_payload: Callable[[float], None] | None) -> Any:
@@ -292,6 +292,13 @@ def _seconds(text: Any) -> float:
     if type(value) is Quantity and value.dim == TIME:
         return value.value
     raise UsageError(f"expected a time such as 1.5s, got {text!r}")
+
+
+def _speed(text: Any) -> float:
+    value = parse_literal(str(text).replace(" ", ""))
+    if type(value) is Quantity and value.dim == LENGTH / TIME and value.value > 0:
+        return value.value
+    raise UsageError(f"expected a speed such as 20mm/s, got {text!r}")
 
 
 def _expression(text: str) -> n.Expression:

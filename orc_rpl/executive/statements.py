@@ -9,7 +9,7 @@ from orc_rpl.executive import operators as ops
 from orc_rpl.executive.blocks import Block, Compiled, Locals, make_block
 from orc_rpl.executive.control import ControlFlow
 from orc_rpl.executive.declarations import DeclarationCompiler
-from orc_rpl.executive.expressions import ExpressionCompiler, invoke_method, set_robot_setting
+from orc_rpl.executive.expressions import ExpressionCompiler, invoke_method, merge_named, set_robot_setting
 from orc_rpl.executive.machine import TICK, Machine
 from orc_rpl.executive.motions import MotionCompiler
 from orc_rpl.executive.scope import ProgramScopes, Scope
@@ -19,9 +19,6 @@ from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.units import TIME, Quantity
 
 #: Names whose value the cell changes: a WHILE polling them lets one motion cycle pass per iteration.
-_CELL_NAMES = frozenset({*IO_BANKS, "HERE", "ROBOT"})
-
-
 class StatementCompiler(ControlFlow):
     """Compiles statements and blocks for one Machine."""
 
@@ -236,9 +233,7 @@ class StatementCompiler(ControlFlow):
             routine = m.routines[name]
             args = [f(L) for f in positional]
             if named:
-                from orc_rpl.executive.expressions import _merge_named
-
-                args = _merge_named(name, order, args, {k: f(L) for k, f in named.items()})
+                args = merge_named(name, order, args, {k: f(L) for k, f in named.items()})
             local_values = routine.bind(args)
             m.push(name, span, local_values)
             try:
@@ -274,7 +269,3 @@ def _seconds(value: Any, what: str) -> float:
         raise RunError(f"{what} needs a time >= 0, got {format_value(value)}")
     return seconds
 
-
-def reads_cell(expr: n.Expression, scopes: ProgramScopes) -> bool:
-    """True when an expression reads something the cell changes (IO, HERE, ROBOT, installed sensors)."""
-    return any(isinstance(node, n.Name) and (node.id in _CELL_NAMES or node.id in scopes.installed) for node in expr.walk())

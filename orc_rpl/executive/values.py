@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from orc_rpl.application.runtime import FINE, Fine
+from orc_rpl.application.values import Record
 from orc_rpl.syntax.units import ANGLE as _ANGLE, DIMENSION_NAMES, LENGTH as _LENGTH, Quantity, format_number
 from orc_rpl.world.pose import Joints, Pose
 
@@ -31,27 +32,6 @@ class EnumValue:
 
     def __hash__(self) -> int:
         return hash((self.enum, self.ordinal))
-
-
-@dataclass(frozen=True, slots=True)
-class Record:
-    """A value with named fields (`GrindingPars(tolerance = 0.2mm)`, an identification recording)."""
-
-    type_name: str
-    fields: tuple[tuple[str, Any], ...]
-
-    def get(self, name: str) -> Any:
-        for key, value in self.fields:
-            if key == name:
-                return value
-        raise KeyError(name)
-
-    def replace(self, name: str, value: Any) -> Record:
-        """The same record with one field changed (or added)."""
-        items = [(k, value if k == name else v) for k, v in self.fields]
-        if all(k != name for k, _ in self.fields):
-            items.append((name, value))
-        return Record(self.type_name, tuple(items))
 
 
 @dataclass(frozen=True, slots=True)

@@ -53,6 +53,9 @@ class MotionLayer(MotionPipeline):
         self._tuning: Any = None  # the servo tuning in use (None: the default gains)
         self._wall_start: float | None = None
         self.cycles = 0
+        #: the planned-path signal: each listener is told (move id, planned TCP positions (N, 3) in m) when a
+        #: move is accepted, before it starts (a 3D view draws the path the robot is about to take)
+        self.plan_listeners: list[Callable[[int, np.ndarray], None]] = []
         # thesis 4.5, alternative 3: the thermal load estimate is part of the standard motion cycle
         tau_max = getattr(kin.arm, "tau_max", None)
         self.thermal = None if tau_max is None else ThermalModel.for_arm(tau_max, motion_period_s)
@@ -132,6 +135,10 @@ class MotionLayer(MotionPipeline):
             h.status, h.done = MoveStatus.READY, True
             return h
         h.plan, h.pieces_left = plan, list(plan.pieces)
+        if self.plan_listeners and plan.pieces:
+            tcp_m = np.vstack([piece.tcp for piece in plan.pieces])
+            for listener in self.plan_listeners:
+                listener(h.id, tcp_m)
         self._queue.append(h)
         self._admit()
         return h

@@ -35,6 +35,7 @@ from typing import Any, ClassVar
 from orc_rpl.errors import SensorFault, UsageError
 
 __all__ = ["SENSOR_KINDS", "LaserDistanceSensor", "LaserValue", "Sensor", "SensorFault", "SensorManager", "SensorPair",
+           "SerialLineSensor",
            "SensorReadings", "register_sensor_kind"]
 
 #: Sensor kinds by name (`SensorDefs` in the thesis); `register_sensor_kind` adds one and refuses duplicates.
@@ -199,11 +200,12 @@ class LaserValue:
 LASER_WORST = LaserValue(False, math.nan, False)
 
 
-class LaserDistanceSensor(Sensor):
-    """A laser seam sensor: real over pyserial with the line protocol of this module's docstring."""
+class SerialLineSensor(Sensor):
+    """A real sensor that speaks an ASCII line protocol over pyserial (115200 8N1, lines ending in `\\n`):
+    one request, one answer line within `timeout_s`; `ERR <text>` is the device's error."""
 
-    kind = "LaserDistance"
     BAUD = 115200
+    what = "sensor"            #: how messages name the device ("the laser")
 
     def __init__(self, name: str, behaviour: str, port: str | None = None, simulate: SimFunction | None = None,
                  timeout_s: float = 0.2, link: Any = None, **options: Any) -> None:
@@ -216,28 +218,7 @@ class LaserDistanceSensor(Sensor):
             try:
                 self._link = serial.serial_for_url(port, baudrate=self.BAUD, timeout=timeout_s)
             except (serial.SerialException, ValueError, OSError) as error:
-                raise SensorFault(f"{name}: cannot open the laser on {port}: {error}") from None
-
-    def dummy_value(self) -> LaserValue:
-        return LASER_WORST
-
-    def command_real(self, command: str) -> None:
-        answer = self._ask(command)
-        if answer != "OK":
-            raise SensorFault(f"{self.name} on {self.port}: {command} answered {answer!r}, expected OK")
-
-    def sample_real(self) -> LaserValue:
-        answer = self._ask("MEAS?")
-        parts = answer.split()
-        try:
-            if len(parts) == 3 and parts[0] == "D":
-                edge = parts[2] == "1"
-                if parts[1] == "NONE":
-                    return LaserValue(False, math.nan, edge)
-                return LaserValue(True, float(parts[1]) / 1000.0, edge)
-        except ValueError:
-            pass
-        raise SensorFault(f"{self.name} on {self.port}: malformed answer {answer!r} to MEAS?")
+                raise SensorFault(f"{name}: cannot open {self.what} on {port}: {error}") from None
 
     def _ask(self, request: str) -> str:
         import serial
@@ -267,6 +248,34 @@ class LaserDistanceSensor(Sensor):
                 self._link = None
 
 
+class LaserDistanceSensor(SerialLineSensor):
+    """A laser seam sensor: real over pyserial with the line protocol of this module's docstring."""
+
+    kind = "LaserDistance"
+    what = "the laser"
+
+    def dummy_value(self) -> LaserValue:
+        return LASER_WORST
+
+    def command_real(self, command: str) -> None:
+        answer = self._ask(command)
+        if answer != "OK":
+            raise SensorFault(f"{self.name} on {self.port}: {command} answered {answer!r}, expected OK")
+
+    def sample_real(self) -> LaserValue:
+        answer = self._ask("MEAS?")
+        parts = answer.split()
+        try:
+            if len(parts) == 3 and parts[0] == "D":
+                edge = parts[2] == "1"
+                if parts[1] == "NONE":
+                    return LaserValue(False, math.nan, edge)
+                return LaserValue(True, float(parts[1]) / 1000.0, edge)
+        except ValueError:
+            pass
+        raise SensorFault(f"{self.name} on {self.port}: malformed answer {answer!r} to MEAS?")
+
+
 register_sensor_kind(LaserDistanceSensor)
 
 
@@ -276,7 +285,7 @@ class LaserEmulator:
     `measure()` gives the (offset_mm or None, edge) it reports; `lose_link()` makes it stop answering.
     """
 
-    def __init__(self, measure: Callable[[], tuple[float | None, bool]] = lambda: (0.0, False)) -> None:
+    def __init__(self, measure: Callable[[], Any] = lambda: (0.0, False)) -> None:
         import os
         import threading
 
@@ -312,14 +321,16 @@ class LaserEmulator:
                 self.requests.append(request)
                 if not self.answering:
                     continue
-                if request in ("ON", "OFF"):
-                    answer = "OK"
-                elif request == "MEAS?":
-                    offset, edge = self.measure()
-                    answer = f"D {'NONE' if offset is None else f'{offset:.3f}'} {int(edge)}"
-                else:
-                    answer = f"ERR unknown command {request}"
-                os.write(self.master, (answer + "\n").encode("ascii"))
+                os.write(self.master, (self.answer(request) + "\n").encode("ascii"))
+
+    def answer(self, request: str) -> str:
+        """The device's answer line to one request (a subclass emulates another device)."""
+        if request in ("ON", "OFF"):
+            return "OK"
+        if request == "MEAS?":
+            offset, edge = self.measure()
+            return f"D {'NONE' if offset is None else f'{offset:.3f}'} {int(edge)}"
+        return f"ERR unknown command {request}"
 
     def lose_link(self) -> None:
         """The device stops answering (a cut cable)."""

@@ -52,10 +52,9 @@ def dynamics(layer: MotionLayer, q: np.ndarray, qd: np.ndarray | None = None, qd
 
 def simulate(layer: MotionLayer, moves: Sequence[Motion | tuple[Motion, Params]], q_start: np.ndarray | None = None) -> Simulation:
     """Plan and run `moves` on a kinematic copy of the layer (blends included); the robot does not move."""
-    from orc_rpl.motion.layer import MotionLayer
-
     start = layer._tail_q() if q_start is None else np.asarray(q_start, dtype=float)
-    scratch = MotionLayer(layer.kin, KinematicBackend(start, layer.backend.servo_period_s), layer.dt_s)
+    # a scratch layer of the caller's own class (not an import of layer.py, which imports this file)
+    scratch = type(layer)(layer.kin, KinematicBackend(start, layer.backend.servo_period_s), layer.dt_s)
     handles: list[MoveHandle] = []
     for item in moves:
         motion, params = item if isinstance(item, tuple) else (item, DEFAULT_PARAMS)

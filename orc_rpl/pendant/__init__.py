@@ -1,1 +1,1 @@
-"""The teach pendant: a headless session (session.py and its mixins) and a thin prompt-toolkit application (app.py)."""
+"""The teach pendant: a headless session joining its parts (editor, execution, jogger, pointer, panels) and a thin prompt-toolkit application."""

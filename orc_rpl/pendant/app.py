@@ -125,7 +125,7 @@ class PendantApp:
 
     def start_edit(self) -> None:
         try:
-            stop = self.session.at_cursor
+            stop = self.session.editor.at_cursor
         except Exception as error:  # an empty program: nothing to edit
             self.show(str(error), True)
             return
@@ -148,11 +148,11 @@ class PendantApp:
             self.mode = MODES[(MODES.index(self.mode) + 1) % len(MODES)]
             self.show(f"{self.mode} mode")
         elif action == "@space":
-            self.show(session.cycle_jog_space())
+            self.show(session.jogger.cycle_space())
         elif action == "@increment":
-            self.show(session.cycle_jog_increment())
+            self.show(session.jogger.cycle_increment())
         elif action == "@manual":
-            self.run_line(":mode " + ("auto" if session.mode == "manual" else "manual"))
+            self.run_line(":mode " + ("auto" if session.execution.mode == "manual" else "manual"))
         elif action.endswith(" "):
             self.buffer.set_document(self.buffer.document.__class__(action, len(action)))
         else:
@@ -160,12 +160,12 @@ class PendantApp:
 
     def jog_key(self, sign: int) -> None:
         try:
-            self.show(self.session.jog_key(sign))
+            self.show(self.session.jogger.jog_key(sign))
         except Exception as error:  # a refused jog is a message, never a traceback
             self.show(str(error), True)
 
     def _take_notices(self) -> None:
-        notices = self.session.notices
+        notices = self.session.execution.notices
         if notices:
             text = "\n".join(notices)
             notices.clear()
@@ -181,12 +181,12 @@ class PendantApp:
             await asyncio.sleep(PUMP_PERIOD_S)
             now = time.perf_counter()
             elapsed, last = now - last, now
-            if session.busy or session.robot.pending() > 0:
+            if session.execution.busy or session.robot.pending() > 0:
                 ticks = round(elapsed / session.robot.dt_s) if self.realtime else MAX_TICKS_PER_PUMP
-                session.pump(max(1, min(MAX_TICKS_PER_PUMP, ticks)))
+                session.execution.pump(max(1, min(MAX_TICKS_PER_PUMP, ticks)))
                 self._take_notices()
                 self.application.invalidate()
-            elif session.notices:
+            elif session.execution.notices:
                 self._take_notices()
                 self.application.invalidate()
 

@@ -56,10 +56,10 @@ def _jog(s: PendantSession, args: list[str], rest: str) -> str:
     if args[0] == "frame":
         if len(args) != 4:
             raise CommandError(":jog frame: expected :jog frame NAME AXIS AMOUNT, e.g. :jog frame base_plate y +1mm")
-        return s.jog("frame", args[2], args[3], frame=args[1])
+        return s.jogger.jog("frame", args[2], args[3], frame=args[1])
     if len(args) != 3:
         raise CommandError(f":jog {args[0]}: expected :jog {args[0]} AXIS AMOUNT, e.g. :jog world x +10mm")
-    return s.jog(args[0], args[1], args[2])
+    return s.jogger.jog(args[0], args[1], args[2])
 
 
 def _insert(s: PendantSession, args: list[str], rest: str) -> str:
@@ -67,26 +67,26 @@ def _insert(s: PendantSession, args: list[str], rest: str) -> str:
         return s.insert_move(args[1] if len(args) == 2 else None)
     if not rest.strip():
         raise CommandError(":insert: expected `move [NAME]` or a statement, e.g. :insert WAIT 0.5s")
-    return s.insert(rest)
+    return s.editor.insert(rest)
 
 
 def _wrap(s: PendantSession, args: list[str], rest: str) -> str:
     name = args[-1]
     if len(args) == 2 and args[0] != "FRAME":
         raise CommandError(f":wrap: expected :wrap FRAME NAME, got {rest!r}")
-    return s.wrap(name)
+    return s.editor.wrap(name)
 
 
 def _io(s: PendantSession, args: list[str], rest: str) -> str:
     if not args:
-        return s.io()
+        return s.panels.io()
     if len(args) != 2:
         raise CommandError(":io: expected :io, or :io CHANNEL VALUE such as :io DigIn[3] 1")
-    return s.set_io(args[0], args[1])
+    return s.panels.set_io(args[0], args[1])
 
 
 def _save(s: PendantSession, args: list[str], rest: str) -> str:
-    return s.save(args[0] if args else None)
+    return s.editor.save(args[0] if args else None)
 
 
 def _table() -> dict[str, Command]:
@@ -94,50 +94,50 @@ def _table() -> dict[str, Command]:
         Command("jog", "jog SPACE AXIS AMOUNT", "jog: joint 3 +5deg | world x +10mm | tool z -2mm | frame NAME y +1mm",
                 _jog, 3, 4),
         Command("override", "override PERCENT", "speed override for programs and jogging, e.g. 50%",
-                lambda s, a, r: s.set_override(_percent("override", a[0])), 1, 1),
+                lambda s, a, r: s.execution.set_override(_percent("override", a[0])), 1, 1),
         Command("mode", "mode manual|auto", "manual caps the TCP speed at 250 mm/s for every motion",
-                lambda s, a, r: s.set_mode(a[0]), 1, 1),
+                lambda s, a, r: s.execution.set_mode(a[0]), 1, 1),
         Command("tool", "tool NAME", "the TOOL used by jogging, :teach and :insert move (ARM: the flange)",
-                lambda s, a, r: s.set_tool(a[0]), 1, 1),
+                lambda s, a, r: s.execution.set_tool(a[0]), 1, 1),
         Command("teach", "teach NAME", "declare a position at the current pose, relative to the cursor's FRAME block",
                 lambda s, a, r: s.teach(a[0]), 1, 1),
         Command("insert", "insert move [NAME] | insert STATEMENT",
                 "teach and insert MOVE <tool> TO <it> after the cursor; or insert any statement", _insert, 1, None),
         Command("modpos", "modpos NAME", "touch up a position to the current pose (the original is kept)",
                 lambda s, a, r: s.modpos(a[0]), 1, 1),
-        Command("positions", "positions", "every position, its frame, value and original", lambda s, a, r: s.positions()),
+        Command("positions", "positions", "every position, its frame, value and original", lambda s, a, r: s.panels.positions()),
         Command("undo", "undo [NAME]", "take back the last edit; with NAME, restore a touched-up position",
-                lambda s, a, r: s.undo(a[0] if a else None), 0, 1),
-        Command("goto", "goto LINE", "cursor to a line", lambda s, a, r: s.goto(_line(a[0])), 1, 1),
-        Command("select", "select", "start or clear a selection at the cursor", lambda s, a, r: s.select()),
-        Command("delete", "delete", "delete the statement at the cursor (or the selection)", lambda s, a, r: s.delete()),
+                lambda s, a, r: s.editor.undo(a[0] if a else None), 0, 1),
+        Command("goto", "goto LINE", "cursor to a line", lambda s, a, r: s.editor.goto(_line(a[0])), 1, 1),
+        Command("select", "select", "start or clear a selection at the cursor", lambda s, a, r: s.editor.select()),
+        Command("delete", "delete", "delete the statement at the cursor (or the selection)", lambda s, a, r: s.editor.delete()),
         Command("replace", "replace STATEMENT", "edit in place: the cursor's statement becomes STATEMENT",
-                lambda s, a, r: s.replace(r), 1, None),
+                lambda s, a, r: s.editor.replace(r), 1, None),
         Command("edit", "edit", "put the cursor's statement on the command line to edit it (Enter replaces it)",
                 lambda s, a, r: "edit the statement, then Enter"),
         Command("wrap", "wrap FRAME NAME", "wrap the selection in FRAME NAME ... ENDFRAME", _wrap, 1, 2),
         Command("shift", "shift up|down", "move the statement (or the selection) up or down in its block",
-                lambda s, a, r: s.shift(a[0]), 1, 1),
-        Command("check", "check", "run the checker on the program", lambda s, a, r: s.check()),
-        Command("run", "run", "run from the program pointer", lambda s, a, r: s.run()),
-        Command("stop", "stop", "stop the robot on its path", lambda s, a, r: s.stop()),
-        Command("step", "step", "run one statement at the program pointer", lambda s, a, r: s.step()),
-        Command("back", "back", "the previous motion in reverse; the pointer back to its statement", lambda s, a, r: s.back()),
+                lambda s, a, r: s.editor.shift(a[0]), 1, 1),
+        Command("check", "check", "run the checker on the program", lambda s, a, r: s.panels.check()),
+        Command("run", "run", "run from the program pointer", lambda s, a, r: s.execution.run()),
+        Command("stop", "stop", "stop the robot on its path", lambda s, a, r: s.execution.stop()),
+        Command("step", "step", "run one statement at the program pointer", lambda s, a, r: s.execution.step()),
+        Command("back", "back", "the previous motion in reverse; the pointer back to its statement", lambda s, a, r: s.pointer.back()),
         Command("pp", "pp", "program pointer to the cursor, with a slow approach to the statement's start",
-                lambda s, a, r: s.pp()),
+                lambda s, a, r: s.pointer.pp()),
         Command("exec", "exec", "execute the statement under the cursor in its FRAME block and scope",
-                lambda s, a, r: s.exec_cursor()),
+                lambda s, a, r: s.execution.exec_cursor()),
         Command("io", "io [CHANNEL VALUE]", "inputs and outputs; set one in simulation", _io, 0, 2),
-        Command("log", "log", "the event log", lambda s, a, r: s.log_text()),
-        Command("where", "where", "joints, TCP in the cursor's frame, tool, mode", lambda s, a, r: s.where()),
+        Command("log", "log", "the event log", lambda s, a, r: s.panels.log_text()),
+        Command("where", "where", "joints, TCP in the cursor's frame, tool, mode", lambda s, a, r: s.panels.where()),
         Command("help", "help [WORD]", "help on a command, a statement or a registered primitive",
-                lambda s, a, r: s.help(a[0] if a else None), 0, 1),
+                lambda s, a, r: s.panels.help(a[0] if a else None), 0, 1),
         Command("snapshot", "snapshot FILE.png", "an offscreen picture of the cell (MuJoCo)",
-                lambda s, a, r: s.snapshot(a[0]), 1, 1),
+                lambda s, a, r: s.panels.snapshot(a[0]), 1, 1),
         Command("save", "save [FILE]", "write the program (atomically); the journal is then cleared", _save, 0, 1),
         Command("recover", "recover", "take the unsaved edits of a killed session from the journal",
-                lambda s, a, r: s.recover()),
-        Command("quit", "quit", "leave the pendant (:quit! leaves with unsaved edits; the journal keeps them)",
+                lambda s, a, r: s.editor.recover()),
+        Command("quit", "quit | quit!", "leave the pendant; :quit! leaves with unsaved edits (the journal keeps them)",
                 lambda s, a, r: "bye"),
     ]
     return {command.name: command for command in c}
@@ -153,7 +153,7 @@ def run_line(session: PendantSession, line: str) -> Outcome:
         return Outcome("")
     try:
         if not text.startswith(":"):
-            return Outcome(session.execute_text(line.strip("\n")))
+            return Outcome(session.execution.execute_text(line.strip("\n")))
         return _command(session, text[1:])
     except OrcError as error:
         return Outcome(str(error), error=True)
@@ -164,7 +164,7 @@ def _command(session: PendantSession, text: str) -> Outcome:
     if name in ("quit!", "q!"):
         return Outcome("bye", quit=True)
     if name in ("quit", "q"):
-        if session.modified:
+        if session.editor.modified:
             return Outcome("unsaved edits (the journal keeps them): :save first, or :quit! to leave anyway", error=True)
         return Outcome("bye", quit=True)
     command = COMMANDS.get(name)

@@ -24,7 +24,7 @@ _ARGUMENTS = {"mode": ("manual", "auto"), "shift": ("up", "down"), "jog": ("join
 
 def _names(session: PendantSession, kinds: tuple[str, ...] | None = None) -> list[str]:
     out = []
-    for name, node in session.declared().items():
+    for name, node in session.editor.declared().items():
         if kinds is None or (isinstance(node, n.Declaration) and node.kind in kinds):
             out.append(name)
     return out
@@ -71,7 +71,7 @@ def _rpl_words(session: PendantSession) -> Iterable[str]:
     yield from registry.motions
     yield from registry.functions
     yield from PREDEFINED_NAMES
-    yield from session.declared()
+    yield from session.editor.declared()
 
 
 class RplCompleter(Completer):

@@ -47,11 +47,11 @@ def build_key_bindings(app: PendantApp) -> KeyBindings:
 
     @kb.add("up", filter=empty & jogging)
     def _axis_up(event: KeyPressEvent) -> None:
-        app.show(app.session.select_jog_axis(-1))
+        app.show(app.session.jogger.select_axis(-1))
 
     @kb.add("down", filter=empty & jogging)
     def _axis_down(event: KeyPressEvent) -> None:
-        app.show(app.session.select_jog_axis(1))
+        app.show(app.session.jogger.select_axis(1))
 
     @kb.add("left", filter=empty & jogging)
     def _jog_minus(event: KeyPressEvent) -> None:
@@ -63,19 +63,19 @@ def build_key_bindings(app: PendantApp) -> KeyBindings:
 
     @kb.add("up", filter=empty & ~jogging)
     def _cursor_up(event: KeyPressEvent) -> None:
-        app.session.move_cursor(-1)
+        app.session.editor.move_cursor(-1)
 
     @kb.add("down", filter=empty & ~jogging)
     def _cursor_down(event: KeyPressEvent) -> None:
-        app.session.move_cursor(1)
+        app.session.editor.move_cursor(1)
 
     @kb.add("pageup", filter=empty)
     def _page_up(event: KeyPressEvent) -> None:
-        app.session.move_cursor(-10)
+        app.session.editor.move_cursor(-10)
 
     @kb.add("pagedown", filter=empty)
     def _page_down(event: KeyPressEvent) -> None:
-        app.session.move_cursor(10)
+        app.session.editor.move_cursor(10)
 
     @kb.add("enter", filter=~completing)
     def _enter(event: KeyPressEvent) -> None:

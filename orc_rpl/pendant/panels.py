@@ -1,26 +1,27 @@
-"""The session's read-outs: :positions, :where, :io, :log, :help, :check and :snapshot, as plain text."""
+"""The pendant's panels: :positions, :where, :io, :log, :help, :check and :snapshot, as plain text."""
 
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from orc_rpl.application.declarations import describe_types
-from orc_rpl.checking.checker import check_program
-from orc_rpl.errors import Diagnostic, OrcError
+from orc_rpl.errors import OrcError
 from orc_rpl.executive.signals import RunError
-from orc_rpl.pendant.editing import context_of
+from orc_rpl.pendant.commands import COMMANDS
+from orc_rpl.pendant.editing import Editor
+from orc_rpl.pendant.events import EventLog
+from orc_rpl.pendant.execution import Execution
+from orc_rpl.pendant.robot import PendantRobot
 from orc_rpl.pendant.tree import EditError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.lexicon import RESERVED
 from orc_rpl.syntax.printer import simple_statement
-from orc_rpl.world.pose import Joints, Pose, readable_angles
-
-if TYPE_CHECKING:
-    from orc_rpl.pendant.session import PendantSession
+from orc_rpl.world.pose import Joints, Pose, ShownPose, shown_pose
 
 #: The IO banks the cell has, as the language names them and as the cell does.
 IO_BANKS = (("DigIn", "DigIn"), ("DigOut", "DigOut"), ("AnalogIn", "AnaIn"), ("AnalogOut", "AnaOut"))
@@ -46,41 +47,44 @@ STATEMENT_HELP = {
 
 def _format_value(value: object) -> str:
     if type(value) is Pose:
-        numbers = [f"{v * 1000:.2f}mm" for v in (value.x, value.y, value.z)]
-        numbers += [f"{math.degrees(v):.2f}deg" for v in (value.a, value.b, value.c)]
-        return f"({', '.join(numbers)})" + (f" IN {value.frame}" if value.frame != "world" else "")
+        return shown_pose(value, 2, 2).text() + (f" IN {value.frame}" if value.frame != "world" else "")
     if type(value) is Joints:
         return "JOINTS(" + ", ".join(f"{math.degrees(v):.2f}deg" for v in value.values) + ")"
     return "(no value: its declaration failed)" if value is None else str(value)
 
 
-class PanelsMixin:
-    """What the pendant shows besides the program."""
+class Panels:
+    """What the pendant shows besides the program: read-outs of the editor, the execution and the robot."""
 
-    def positions(self: PendantSession) -> str:
+    def __init__(self, editor: Editor, execution: Execution, robot: PendantRobot, registry: Any, events: EventLog) -> None:
+        self.editor = editor
+        self.execution = execution
+        self.robot = robot
+        self.registry = registry
+        self.events = events
+
+    def positions(self) -> str:
         """Every POS with its frame and value; a touched-up one with its original."""
-        values = self.executive().machine.globals
+        values = self.execution.executive().machine.globals
         lines = []
-        for node in self.program.walk():
+        for node in self.editor.program.walk():
             if isinstance(node, n.Declaration) and node.kind == "POS":
                 name = node.name.id
                 line = f"{name:<14} line {node.span.line:<4} {_format_value(values.get(name))}"
-                if name in self.originals:
-                    line += f"\n{'':<14} original:  {self.originals[name]}   (:undo {name} restores it)"
+                if name in self.editor.originals:
+                    line += f"\n{'':<14} original:  {self.editor.originals[name]}   (:undo {name} restores it)"
                 lines.append(line)
         return "\n".join(lines) if lines else "no positions declared (:teach NAME declares one)"
 
-    def where(self: PendantSession) -> str:
+    def where(self) -> str:
         state = self.where_values()
-        pose: Pose = state["tcp"]
+        pose: ShownPose = state["tcp"]
         joints = "  ".join(f"J{i + 1} {q:8.2f}" for i, q in enumerate(state["joints_deg"]))
         return (f"joints (deg)  {joints}\n"
-                f"TCP of {state['tool']} in {state['frame']}: x {pose.x * 1000:.2f} mm  y {pose.y * 1000:.2f} mm  "
-                f"z {pose.z * 1000:.2f} mm  a {math.degrees(pose.a):.2f}  b {math.degrees(pose.b):.2f}  "
-                f"c {math.degrees(pose.c):.2f} deg\n"
+                f"TCP of {state['tool']} in {state['frame']}: {pose.text()}\n"
                 f"mode {state['mode']}  override {state['override'] * 100:g}%  time {state['time_s']:.3f} s")
 
-    def io(self: PendantSession) -> str:
+    def io(self) -> str:
         lines = []
         for language, cell in IO_BANKS:
             bank = self.robot.io.bank(cell)
@@ -89,10 +93,8 @@ class PanelsMixin:
             lines.append(f"{language:<10} {shown}")
         return "\n".join(lines) + "\n(:io DigIn[3] 1 sets a channel of the simulated cell)"
 
-    def set_io(self: PendantSession, channel: str, value: str) -> str:
+    def set_io(self, channel: str, value: str) -> str:
         """Set a simulated input or an output: `DigIn[3] 1`, `AnalogIn[1] 2.5`."""
-        import re
-
         match = re.fullmatch(r"(DigIn|DigOut|AnalogIn|AnalogOut)\[(\d+)\]", channel)
         if match is None:
             raise EditError(f":io: expected a channel such as DigIn[3] or AnalogOut[1], got {channel!r}")
@@ -104,21 +106,18 @@ class PanelsMixin:
             raise EditError(f":io {channel}: expected a number, got {value!r}") from None
         except (IndexError, OrcError) as error:
             raise EditError(f":io {channel}: {error}") from None
-        return self.event(f"{channel} = {value}")
+        return self.events.record(f"{channel} = {value}")
 
-    def log_text(self: PendantSession, last: int = 200) -> str:
-        return "\n".join(self.log[-last:]) or "(no events yet)"
+    def log_text(self, last: int = 200) -> str:
+        return "\n".join(self.events.lines[-last:]) or "(no events yet)"
 
-    def check_diagnostics(self: PendantSession) -> list[Diagnostic]:
-        return check_program(self.program, str(self.path), self.registry)
-
-    def check(self: PendantSession) -> str:
-        problems = self.check_diagnostics()
+    def check(self) -> str:
+        problems = self.editor.check_diagnostics()
         if not problems:
             return "check: no errors"
-        return "\n".join(p.format(self.text) for p in problems) + f"\ncheck: {len(problems)} error(s)"
+        return "\n".join(p.format(self.editor.text) for p in problems) + f"\ncheck: {len(problems)} error(s)"
 
-    def snapshot(self: PendantSession, file: str) -> str:
+    def snapshot(self, file: str) -> str:
         if not file.endswith(".png"):
             raise EditError(f":snapshot {file}: the picture is written as PNG; name it FILE.png")
         if not Path(file).resolve().parent.is_dir():
@@ -127,21 +126,20 @@ class PanelsMixin:
             written = self.robot.snapshot(file)
         except OrcError as error:
             raise EditError(f":snapshot: {error}") from None
-        return self.event(f"snapshot written to {written}")
+        return self.events.record(f"snapshot written to {written}")
 
-    def help(self: PendantSession, word: str | None = None) -> str:
+    def help(self, word: str | None = None) -> str:
         """Help on a pendant command, a statement keyword or any registered primitive, from its declaration."""
-        from orc_rpl.pendant.commands import COMMANDS
-
+        commands = COMMANDS
         if not word:
-            usages = [f":{c.usage}" for c in COMMANDS.values()]
+            usages = [f":{c.usage}" for c in commands.values()]
             half = (len(usages) + 1) // 2
             rows = [f"  {left:<44}{right}" for left, right in zip(usages[:half], usages[half:] + [""])]
             return ("type an RPL statement to execute it at once, or a command (:help WORD explains one, "
                     "and any statement keyword or registered primitive):\n" + "\n".join(rows))
-        word = word.lstrip(":")
-        if word in COMMANDS:
-            c = COMMANDS[word]
+        word = word.lstrip(":").rstrip("!")  # :help quit! explains :quit
+        if word in commands:
+            c = commands[word]
             return f":{c.usage}\n  {c.doc}"
         reg = self.registry
         if word in reg.motions:
@@ -164,7 +162,7 @@ class PanelsMixin:
             return "\n".join(lines)
         if word in STATEMENT_HELP:
             return STATEMENT_HELP[word]
-        declared = self.declared().get(word)
+        declared = self.editor.declared().get(word)
         if declared is not None:
             first = simple_statement(declared) if not isinstance(declared, n.Routine) else f"{declared.kind} {word}"
             return f"{word}: declared at line {declared.span.line}: {first}"
@@ -172,14 +170,16 @@ class PanelsMixin:
             return f"{word}: a reserved word of RPL (docs/language.md)"
         raise EditError(f":help: nothing is called {word!r} (:help lists the commands)")
 
-    def where_values(self: PendantSession) -> dict[str, Any]:
-        """Joints (deg), TCP (relative to the cursor's frame), tool, mode, override: the state panel's numbers."""
-        frame = context_of(self.at_cursor)[1] if self.stops else "world"
+    def where_values(self) -> dict[str, Any]:
+        """Joints (deg), TCP (relative to the cursor's frame, as shown to people), tool, mode, override: the state panel's numbers."""
+        frame = self.editor.context()[1]
+        execution = self.execution
         try:
-            ex = self.executive()
-            world = self.robot.tcp_pose(self.tool_pose())
-            pose = readable_angles(Pose.from_matrix(np.linalg.inv(ex.machine.frame_matrix(frame)) @ world.matrix(), frame))
+            ex = execution.executive()
+            world = self.robot.tcp_pose(execution.tool_pose())
+            pose = Pose.from_matrix(np.linalg.inv(ex.machine.frame_matrix(frame)) @ world.matrix(), frame)
         except (RunError, OrcError):
             pose, frame = self.robot.tcp_pose(None), "world"
-        return {"joints_deg": self.robot.joints_deg(), "tcp": pose, "frame": frame, "tool": self.tool,
-                "mode": self.mode, "override": self.override, "time_s": self.robot.time_s()}
+        joints = tuple(round(q, 2) + 0.0 for q in self.robot.joints_deg())  # shown to 0.01 deg: never -0.00
+        return {"joints_deg": joints, "tcp": shown_pose(pose, 2, 2), "frame": frame, "tool": execution.tool,
+                "mode": execution.mode, "override": execution.override, "time_s": self.robot.time_s()}

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 from prompt_toolkit.formatted_text import StyleAndTextTuples
@@ -48,15 +47,16 @@ def _highlight(line: str) -> StyleAndTextTuples:
 
 def listing(session: PendantSession, height: int) -> StyleAndTextTuples:
     """The program with line numbers, the program pointer (>) and the cursor (reversed line), scrolled to the cursor."""
-    lines = session.text.split("\n")[:-1] if session.text else []
-    cursor = session.cursor_line
-    pointer = session.pointer_line
+    editor = session.editor
+    lines = editor.text.split("\n")[:-1] if editor.text else []
+    cursor = editor.cursor_line
+    pointer = session.execution.pointer_line
     selected: set[int] = set()
-    if session.mark is not None and session.stops:
-        a, b = sorted((session.stops[session.mark].line, cursor))
+    if editor.mark is not None and editor.stops:
+        a, b = sorted((editor.stops[editor.mark].line, cursor))
         selected = set(range(a, b + 1))
     first = max(1, min(cursor - height // 2, len(lines) - height + 1))
-    out: StyleAndTextTuples = [("class:title", f" {session.path.name}{' *' if session.modified else ''}\n")]
+    out: StyleAndTextTuples = [("class:title", f" {editor.path.name}{' *' if editor.modified else ''}\n")]
     for number in range(first, min(len(lines), first + height - 1) + 1):
         mark = ">" if number == pointer else " "
         out.append(("class:pointer" if mark == ">" else "class:gutter", f"{mark}{number:4} "))
@@ -71,26 +71,24 @@ def listing(session: PendantSession, height: int) -> StyleAndTextTuples:
 
 def state(session: PendantSession) -> StyleAndTextTuples:
     """Robot state: joints, TCP in the cursor's frame, tool, mode, override, jog settings, what is running."""
-    values = session.where_values()
+    values = session.panels.where_values()
     pose = values["tcp"]
     out: StyleAndTextTuples = [("class:title", " Robot\n")]
     for i, q in enumerate(values["joints_deg"]):
         out += [("class:label", f"  J{i + 1} "), ("class:value", f"{q:9.2f} deg\n")]
     out.append(("class:label", f" TCP of {values['tool']} in {values['frame']}\n"))
-    for axis, value in zip("xyz", (pose.x, pose.y, pose.z)):
-        out += [("class:label", f"  {axis} "), ("class:value", f"{value * 1000:9.2f} mm\n")]
-    for axis, value in zip("abc", (pose.a, pose.b, pose.c)):
-        degrees = math.degrees(value)
-        degrees = 180.0 if abs(degrees + 180.0) < 0.005 else round(degrees, 2) + 0.0  # one spelling of +-180 and of 0
-        out += [("class:label", f"  {axis} "), ("class:value", f"{degrees:9.2f} deg\n")]
+    for axis, value in zip("xyz", (pose.x_mm, pose.y_mm, pose.z_mm)):
+        out += [("class:label", f"  {axis} "), ("class:value", f"{value:9.2f} mm\n")]
+    for axis, value in zip("abc", (pose.a_deg, pose.b_deg, pose.c_deg)):
+        out += [("class:label", f"  {axis} "), ("class:value", f"{value:9.2f} deg\n")]
     mode_style = "class:manual" if values["mode"] == "manual" else "class:value"
     out += [("class:label", " mode "), (mode_style, values["mode"]),
             ("class:label", "  override "), ("class:value", f"{values['override'] * 100:g}%\n"),
-            ("class:label", " jog "), ("class:value", f"{session.jog_label()} {session.axis_label()}\n"),
-            ("class:label", "     "), ("class:value", f"{session.increment_label()}\n"),
+            ("class:label", " jog "), ("class:value", f"{session.jogger.space_label()} {session.jogger.axis_label()}\n"),
+            ("class:label", "     "), ("class:value", f"{session.jogger.increment_label()}\n"),
             ("class:label", f" t = {values['time_s']:.2f} s\n")]
-    if session.busy:
-        out.append(("class:busy", f" {session.job_name} running\n"))
+    if session.execution.busy:
+        out.append(("class:busy", f" {session.execution.job_name} running\n"))
     return out
 
 

@@ -99,8 +99,9 @@ class Recording:
     # -- pictures -------------------------------------------------------------
 
     def plot_png(self, path: str | Path, signals: list[str] | None = None, tcp: str | None = "tcp",
-                 width_in: float = 10.0) -> Path:
-        """Plot signals over time (all but the TCP by default) and the TCP path in x-y and x-z, to a PNG."""
+                 width_in: float = 10.0, title: str | None = None, units: dict[str, str] | None = None) -> Path:
+        """Plot signals over time (all but the TCP by default) and the TCP path in x-y and x-z, to a PNG;
+        `units` gives each signal's unit for its axis label, `title` heads the figure."""
         import matplotlib
 
         matplotlib.use("Agg")
@@ -114,9 +115,13 @@ class Recording:
         if rows == 0:
             raise UsageError("nothing to plot: the recording has no signals")
         fig = plt.figure(figsize=(width_in, 2.4 * rows), layout="constrained")
+        if title:
+            fig.suptitle(title)
         grid = fig.add_gridspec(rows, 2)
+        first = None
         for i, name in enumerate(chosen):
-            ax = fig.add_subplot(grid[i, :])
+            ax = fig.add_subplot(grid[i, :], sharex=first)  # one time axis for every panel
+            first = first or ax
             values = self.signals[name]
             if values.ndim == 1:
                 ax.plot(self.time_s, values, lw=1.0)
@@ -124,10 +129,10 @@ class Recording:
                 for k in range(values.shape[1]):
                     ax.plot(self.time_s, values[:, k], lw=1.0, label=f"[{k + 1}]")
                 ax.legend(loc="upper right", fontsize="x-small", ncols=min(values.shape[1], 6))
-            ax.set_ylabel(name)
+            unit = (units or {}).get(name)
+            ax.set_ylabel(f"{name} ({unit})" if unit else name)
             ax.grid(True, alpha=0.3)
-            if i == len(chosen) - 1:
-                ax.set_xlabel("time (s)")
+            ax.set_xlabel("time (s)")
         if has_tcp:
             path_m = self.signals[tcp]
             for col, (k, label) in enumerate(((1, "y (m)"), (2, "z (m)"))):

@@ -7,7 +7,9 @@ from pathlib import Path
 
 from orc_rpl.errors import UsageError
 from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.offline_printer import print_offline
 from orc_rpl.syntax.parser import parse
+from orc_rpl.syntax.printer import print_program
 
 ONLINE_SUFFIXES = (".rpl",)
 OFFLINE_SUFFIXES = (".orl",)
@@ -68,3 +70,8 @@ def declared_world(path: str | Path, text: str) -> Path | None:
         if match:
             return Path(path).parent / match.group(1)
     return None
+
+
+def canonical_text(program: n.Program, path: str | Path) -> str:
+    """The canonical text of a parsed program in the syntax its file's suffix names: what `orc fmt` writes."""
+    return print_offline(program) if is_offline(path) else print_program(program)

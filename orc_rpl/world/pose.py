@@ -130,3 +130,56 @@ def readable_angles(pose: Pose, near: Pose | None = None) -> Pose:
             return nonzero * 100.0 + abs(abc[2]) * 10.0 + sum(abs(x) for x in abc)
     a, b, c = min(options, key=cost)
     return Pose(pose.x, pose.y, pose.z, a, b, c, pose.frame)
+
+
+@dataclass(frozen=True, slots=True)
+class ShownPose:
+    """A pose as people read it (display only): mm and deg, rounded, in the convention of `shown_pose`."""
+
+    x_mm: float
+    y_mm: float
+    z_mm: float
+    a_deg: float
+    b_deg: float
+    c_deg: float
+    frame: str = WORLD
+    mm_digits: int = 1          #: decimals the numbers were rounded to
+    deg_digits: int = 1
+
+    def text(self) -> str:
+        """`(1000.0, 0.0, 800.0) mm, (0.0, 180.0, 0.0) deg`."""
+        xyz = ", ".join(f"{v:.{self.mm_digits}f}" for v in (self.x_mm, self.y_mm, self.z_mm))
+        abc = ", ".join(f"{v:.{self.deg_digits}f}" for v in (self.a_deg, self.b_deg, self.c_deg))
+        return f"({xyz}) mm, ({abc}) deg"
+
+
+def _shown(value: float, digits: int) -> float:
+    """Rounded to `digits` decimals, never -0.0."""
+    return round(value, digits) + 0.0
+
+
+def _shown_angle(angle_rad: float, digits: int) -> float:
+    """Degrees rounded to `digits` decimals in (-180, 180]: -180 is shown as 180, -0 as 0."""
+    degrees = _shown(math.degrees(_wrap(angle_rad)), digits)
+    return 180.0 if degrees == -180.0 else degrees
+
+
+def shown_pose(pose: Pose, mm_digits: int = 1, deg_digits: int = 1) -> ShownPose:
+    """The one way a measured pose is shown to people (summaries, diffs, hovers, the pendant, the view, plots).
+
+    Of the two angle triples of one rotation Rz(a)·Ry(b)·Rx(c), show the one with the fewest angles
+    that are not zero at the shown precision, then the smaller |c|, then the smaller |b|; every angle
+    in (-180, 180] deg and no -0. A tool pointing down declared (0, 180deg, 0) is measured as
+    (180, ~0, 180) by `from_matrix` and shown as (0.0, 180.0, 0.0) again. Display only: program
+    text keeps what the programmer wrote.
+    """
+    def shown(abc: tuple[float, float, float]) -> tuple[float, float, float]:
+        a, b, c = (_shown_angle(v, deg_digits) for v in abc)
+        return a, b, c
+
+    def cost(abc: tuple[float, float, float]) -> tuple[int, float, float]:
+        return sum(1 for v in abc if v != 0.0), abs(abc[2]), abs(abc[1])
+
+    a, b, c = min((shown(option) for option in zyx_alternatives(pose.a, pose.b, pose.c)), key=cost)
+    x, y, z = (_shown(v * 1000.0, mm_digits) for v in (pose.x, pose.y, pose.z))
+    return ShownPose(x, y, z, a, b, c, pose.frame, mm_digits, deg_digits)

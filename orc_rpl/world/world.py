@@ -9,6 +9,7 @@ from typing import Mapping
 
 import numpy as np
 
+from orc_rpl.world import changes
 from orc_rpl.world.loader import Parsed, parse_world
 from orc_rpl.world.objects import (DOTTED_RE, FLANGE, PREDEFINED, ROBOT, ModelAttributes, OnlineFrame, PathAttribute,
                                    Position, RobotEntry, WorldError, WorldObject)
@@ -267,31 +268,25 @@ class World:
     # -- changes (each returns a new World; the file text changes only where the change is) ---------
     def with_frame(self, owner: str, name: str, pose: Pose) -> World:
         """Add or change the frame `owner.name` (teach / touch-up); `pose` may be relative to any frame."""
-        from orc_rpl.world import changes
         return changes.with_frame(self, owner, name, pose)
 
     def with_pose(self, name: str, pose: Pose) -> World:
         """Move an object, its children with it; `pose` may be relative to any frame."""
-        from orc_rpl.world import changes
         return changes.with_pose(self, name, pose)
 
     def with_object(self, name: str, parent: str = WORLD, pose: Pose | None = None, *,
                     online_frame: bool = False, tool: bool = False) -> World:
         """Add an object below `parent`."""
-        from orc_rpl.world import changes
         return changes.with_object(self, name, parent, pose, online_frame=online_frame, tool=tool)
 
     def with_soft(self, owner: str, key: str, value: object) -> World:
         """Set a soft attribute of an object."""
-        from orc_rpl.world import changes
         return changes.with_soft(self, owner, key, value)  # type: ignore[arg-type]
 
     def affix(self, name: str, to: str) -> World:
         """AFFIX name TO to: keep its world pose, from now on move with `to`."""
-        from orc_rpl.world import changes
         return changes.affix(self, name, to)
 
     def unfix(self, name: str) -> World:
         """UNFIX name: hang it on the world where it is."""
-        from orc_rpl.world import changes
         return changes.unfix(self, name)

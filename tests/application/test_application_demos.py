@@ -15,13 +15,14 @@ from orc_rpl.world.pose import Pose
 
 ROOT = Path(__file__).resolve().parents[2]
 DEMOS = {
-    "programs/online/demo_spot_welding.rpl": ["spots welded: 6"],
+    "programs/online/demo_spot_welding.rpl": ["spots welded: 6 of 6"],
     "programs/online/demo_identify_parts.rpl": ["part 1 is Light", "part 2 is Heavy", "part 3 is Medium", "heavy parts: 1"],
     "programs/online/thesis_2_5_identmove.rpl": ["identified: Nut"],
     "programs/offline/spot_welding.orl": ["spots welded: 5"],
 }
-#: demos run on the ideal plant: identification from torques on the realistic plant is another issue's
-IDEAL_PLANT = {"programs/online/demo_identify_parts.rpl", "programs/online/thesis_2_5_identmove.rpl"}
+#: demos run on the ideal plant: identification from torques and weld timing on the realistic plant are another issue's
+IDEAL_PLANT = {"programs/online/demo_identify_parts.rpl", "programs/online/thesis_2_5_identmove.rpl",
+               "programs/online/demo_spot_welding.rpl", "programs/offline/spot_welding.orl"}
 
 
 @pytest.mark.sim

@@ -11,7 +11,8 @@ import pytest
 from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
 from orc_rpl.executive.recording_robot import RecordingRobot
-from orc_rpl.executive.sim_io import find_seam, load_script
+from orc_rpl.executive.sim_io import load_script
+from orc_rpl.plant.processes.seam import cell_seam
 from orc_rpl.plant.processes.seam import SeamProcess
 from orc_rpl.syntax.parser import parse
 from orc_rpl.syntax.units import Quantity
@@ -190,7 +191,7 @@ def test_the_seam_section_of_a_sim_script(tmp_path: Path) -> None:
                       "raggedness: 0.1mm, missing: [50mm, 60mm], seed: 7}\n")
     robot = RecordingRobot()
     load_script(script, robot.io, lambda: robot.tcp_pose(None))
-    seam = find_seam(robot.io)
+    seam = cell_seam(robot.io)  # the script's seam (a default one would be neither anchored nor 2 mm)
     assert seam is not None and seam.anchored and seam.amplitude == pytest.approx(0.002) and seam.missing == (0.05, 0.06)
     assert not seam.present(0.055) and seam.present(0.07)
     script.write_text("seam: {amplitude: 2}\n")
@@ -275,3 +276,22 @@ def test_a_lost_link_during_trackmove_stops_on_the_path_and_raises_sensor_fault(
     assert executive.status == "failed" and "real.rpl:8:1: SensorFault" in report and "link lost" in report, report
     u, _ = seam.along(position["p"])
     assert 0.0 < u < 0.1  # stopped on the path, well before its end
+
+
+@pytest.mark.sim
+def test_a_noisy_laser_still_tracks_within_half_a_millimetre() -> None:
+    # 2 mm of white noise on every reading: Tracking's design on the noisy recording lowers the gain
+    robot = CellRobot.virtual()
+    seam = SeamProcess(START, END, edge=0.0, noise=0.002)
+    executive, _ = run("""
+        PATH Piece = [StartPos, EndPos]
+        seam = RecordSeam(Piece)
+        MOVE effector TO StartPos
+        LaserSensor.On
+        TRACKMOVE effector TO EndPos WITH V = 50mm/s WITH SENSOR = LaserSensor WITH TRACKING = Tracking(seam, 50mm/s)
+        """, robot, seam)
+    assert executive.status == "finished", executive.report()
+    true_error = np.array([t.error_m for t in seam.trace[-600:]])  # the TRACKMOVE's samples against the true seam
+    assert np.sqrt(np.mean(true_error ** 2)) < 0.0005
+    (record,) = robot.process_log.seams
+    assert record.rms_m > 0.0015 and record.gain < 0.1  # the laser's own error includes its noise

@@ -64,3 +64,63 @@ def test_install_kinds_document_attributes_and_methods() -> None:
     for kind in REGISTRY.install_kinds.values():
         assert kind.doc and kind.origin
         assert all(a.doc for a in kind.attributes) and all(m.doc for m in kind.methods)
+
+
+class _EntryPoint:
+    """A stand-in for importlib.metadata.EntryPoint."""
+
+    def __init__(self, name: str, value: str, register: object, dist: str) -> None:
+        self.name, self.value, self._register = name, value, register
+        self.dist = type("Dist", (), {"name": dist})()
+
+    def load(self) -> object:
+        return self._register
+
+
+def _installed(monkeypatch: pytest.MonkeyPatch, extra: list[_EntryPoint]) -> None:
+    from importlib import metadata
+
+    from orc_rpl.application import registry as module
+
+    real = list(metadata.entry_points(group=module.FEATURE_GROUP))
+    monkeypatch.setattr(module.metadata, "entry_points", lambda group: [*real, *extra] if group == module.FEATURE_GROUP else [])
+
+
+def test_builtin_features_come_from_the_package_metadata() -> None:
+    from importlib import metadata
+
+    from orc_rpl.application.registry import BUILTIN_FEATURES, FEATURE_GROUP
+
+    declared = {ep.name: ep.dist.name for ep in metadata.entry_points(group=FEATURE_GROUP)}
+    assert all(declared.get(name) == "orc_rpl" for name in BUILTIN_FEATURES)
+    assert REGISTRY.features[0] == "standard" and set(BUILTIN_FEATURES) <= set(REGISTRY.features)
+
+
+def test_a_third_party_feature_is_loaded_like_a_builtin(monkeypatch: pytest.MonkeyPatch) -> None:
+    def register(registry: Registry) -> None:
+        registry.add_motion(MotionSpec("PAINTMOVE", "paint along a path", (), origin="painting"))
+    _installed(monkeypatch, [_EntryPoint("painting", "paint:register", register, "orc-painting")])
+    assert "PAINTMOVE" in default_registry().motions
+    assert "PAINTMOVE" not in default_registry(extra_features=False).motions
+
+
+def test_a_feature_name_claimed_by_two_packages_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    _installed(monkeypatch, [_EntryPoint("deburring", "other:register", lambda r: None, "orc-other")])
+    with pytest.raises(DuplicateDeclaration, match="feature 'deburring' is registered twice: .*orc-other"):
+        default_registry()
+
+
+def test_missing_metadata_is_a_clear_error(monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str],
+                                           tmp_path: object) -> None:
+    from orc_rpl.application import registry as module
+    from orc_rpl.application.registry import FeaturesMissing
+    from orc_rpl.cli import main
+
+    monkeypatch.setattr(module.metadata, "entry_points", lambda group: [])
+    with pytest.raises(FeaturesMissing, match="not registered: the package metadata .*pip install -e ."):
+        default_registry()
+    program = tmp_path / "p.rpl"  # type: ignore[operator]
+    program.write_text("PRINT 1\n")
+    assert main(["check", str(program)]) == 2
+    err = capsys.readouterr().err
+    assert "orc: the built-in features standard, equipment" in err and "Traceback" not in err

@@ -140,3 +140,66 @@ def test_spots_welded_at_their_positions_gun_closed_as_the_motion_ends_faster_th
     robot, _ = _run_on_cell(naive, naive_gun, plant="ideal")
     assert len(naive_gun.welds) == 4
     assert weldmove_s < robot.time_s() - 4 * 0.08  # at least REACTION saved per spot
+
+
+def _failing_run_on_cell(body: str, gun: WeldGunProcess, install: str = ""):  # type: ignore[no-untyped-def]
+    from orc_rpl.application.process_log import process_log
+    from orc_rpl.executive.cell_robot import CellRobot
+
+    robot = CellRobot.virtual()
+    source = GUN.replace("WITH WELD_TIME = 150ms", "WITH WELD_TIME = 150ms" + install) + body
+    executive = Executive(parse(source, "weld.rpl"), robot, path="weld.rpl", source=source, output=lambda line: None)
+    gun.tcp = tcp_of(robot, executive)
+    robot.io.add_process(gun)
+    executive.run()
+    return executive, gun, process_log(robot)
+
+
+SPOT = "POS first = POSE(900mm, -100mm, 600mm, 0, 180deg, 0)\nMOVE gun TO OFFS(first, 0, 0, 60mm)\nWELDMOVE gun TO first\n"
+
+
+@pytest.mark.sim
+def test_a_gun_faster_than_its_reaction_welds_while_moving_and_the_weld_is_rejected() -> None:
+    # the gun really closes in 30 ms, the program says 80 ms: the electrodes touch 50 ms before the robot stops
+    executive, gun, log = _failing_run_on_cell(SPOT, WeldGunProcess(3, 2, 0.03, 0.15))
+    assert gun.welds[0].moving and gun.welds[0].done_s is None  # the welder rejected the weld: no WELD_OK
+    assert executive.status == "failed" and executive.error.name == "Timeout"  # type: ignore[union-attr]
+    assert "rejected the weld" in executive.error.message  # type: ignore[union-attr]
+    assert [w.good for w in log.welds] == [False] and log.faults[0].exception == "Timeout"
+
+
+@pytest.mark.sim
+def test_a_weld_closing_faster_than_max_speed_is_a_catchable_weld_fault() -> None:
+    # the servo's tracking lag leaves the TCP drifting at about 2 mm/s as the gun closes: above a 1 mm/s limit
+    executive, gun, log = _failing_run_on_cell(SPOT, WeldGunProcess(3, 2, 0.08, 0.15), " WITH MAX_SPEED = 1mm/s")
+    assert executive.status == "failed" and executive.error.name == "WeldFault"  # type: ignore[union-attr]
+    assert "bad weld" in executive.error.message and "MAX_SPEED 1.0 mm/s" in executive.error.message  # type: ignore[union-attr]
+    (weld,) = log.welds
+    assert not weld.good and weld.speed_m_s > 0.001 and not weld_completed(gun)
+    caught, _, log = _failing_run_on_cell(
+        "POS first = POSE(900mm, -100mm, 600mm, 0, 180deg, 0)\nMOVE gun TO OFFS(first, 0, 0, 60mm)\n"
+        "TRY\n    WELDMOVE gun TO first\nON WeldFault : PRINT \"bad\"\nENDTRY\n",
+        WeldGunProcess(3, 2, 0.08, 0.15), " WITH MAX_SPEED = 1mm/s")
+    assert caught.status == "finished" and caught.prints == ["bad"]
+    assert [f.exception for f in log.faults] == ["WeldFault"]
+
+
+def weld_completed(gun: WeldGunProcess) -> bool:
+    """The weld was completed (WELD_OK came)."""
+    return any(w.done_s is not None for w in gun.welds)
+
+
+@pytest.mark.sim
+def test_a_weld_off_the_spot_is_a_weld_fault() -> None:
+    executive, _, log = _failing_run_on_cell(SPOT, WeldGunProcess(3, 2, 0.08, 0.15), " WITH MAX_OFFSET = 0.01mm")
+    assert executive.error is not None and executive.error.name == "WeldFault"
+    assert "off the spot" in executive.error.message and log.welds[0].offset_m > 1e-5
+
+
+@pytest.mark.sim
+def test_good_welds_are_recorded_with_their_quality() -> None:
+    executive, gun, log = _failing_run_on_cell(SPOT, WeldGunProcess(3, 2, 0.08, 0.15))
+    assert executive.status == "finished", executive.report()
+    (weld,) = log.welds
+    assert weld.good and weld.speed_m_s < 0.02 and weld.offset_m < 0.001
+    assert weld.time_s == pytest.approx(gun.welds[0].closed_s, abs=0.005)

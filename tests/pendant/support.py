@@ -47,4 +47,4 @@ def world_of(frame: Pose, pose: Pose) -> np.ndarray:
 
 def tcp_m(session: PendantSession) -> np.ndarray:
     """Where the TCP of the session's tool is, world, m."""
-    return np.array([getattr(session.robot.tcp_pose(session.tool_pose()), a) for a in "xyz"])
+    return np.array([getattr(session.robot.tcp_pose(session.execution.tool_pose()), a) for a in "xyz"])

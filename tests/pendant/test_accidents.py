@@ -22,17 +22,17 @@ def _start_fresh(session) -> None:  # noqa: ANN001
 
 
 def _start_after_program(session) -> None:  # noqa: ANN001
-    session.run()  # the pointer at the end, the robot at pos3 (outside the block)
+    session.execution.run()  # the pointer at the end, the robot at pos3 (outside the block)
 
 
 def _start_after_jogging(session) -> None:  # noqa: ANN001
-    session.jog("world", "y", "+150mm")
-    session.jog("joint", "1", "-20deg")
+    session.jogger.jog("world", "y", "+150mm")
+    session.jogger.jog("joint", "1", "-20deg")
 
 
 def _start_pointer_outside(session) -> None:  # noqa: ANN001
-    session.goto(LINE_MOVE_POS3)
-    session.pp()
+    session.editor.goto(LINE_MOVE_POS3)
+    session.pointer.pp()
 
 
 STARTS = {"fresh": _start_fresh, "after-run": _start_after_program, "after-jogging": _start_after_jogging,
@@ -44,8 +44,8 @@ def test_exec_of_a_move_inside_a_frame_block_uses_the_block_frame_from_any_start
     """Accident 1: "execute current instruction" on MOVE ARM TO pos1 must go to pos1 in base_plate."""
     session = session_on(tmp_path)
     STARTS[start](session)
-    session.goto(LINE_MOVE_POS1)
-    answer = session.exec_cursor()
+    session.editor.goto(LINE_MOVE_POS1)
+    answer = session.execution.exec_cursor()
     assert "FRAME base_plate" in answer, answer
     np.testing.assert_allclose(tcp_m(session), POS1_WORLD, atol=1e-4,
                                err_msg="the move was not executed relative to its FRAME block")
@@ -54,70 +54,70 @@ def test_exec_of_a_move_inside_a_frame_block_uses_the_block_frame_from_any_start
 
 def test_pp_into_a_frame_block_then_step_moves_in_the_block_frame(tmp_path) -> None:
     session = session_on(tmp_path)
-    session.goto(LINE_MOVE_POS1)
-    session.pp()
-    assert session.pointer_line == LINE_MOVE_POS1
-    session.step()
+    session.editor.goto(LINE_MOVE_POS1)
+    session.pointer.pp()
+    assert session.execution.pointer_line == LINE_MOVE_POS1
+    session.execution.step()
     np.testing.assert_allclose(tcp_m(session), POS1_WORLD, atol=1e-4)
 
 
 def test_a_statement_typed_with_the_cursor_in_a_block_runs_in_its_frame(tmp_path) -> None:
     session = session_on(tmp_path)
-    session.goto(LINE_MOVE_POS1)
-    session.execute_text("MOVE ARM TO pos1")
+    session.editor.goto(LINE_MOVE_POS1)
+    session.execution.execute_text("MOVE ARM TO pos1")
     np.testing.assert_allclose(tcp_m(session), POS1_WORLD, atol=1e-4)
 
 
 def _taught(session, name: str) -> tuple[Pose, str]:  # noqa: ANN001
-    declaration = next(line for line in session.text.splitlines() if line.startswith(f"POS {name} ="))
-    value = session.executive().machine.globals[name]
+    declaration = next(line for line in session.editor.text.splitlines() if line.startswith(f"POS {name} ="))
+    value = session.execution.executive().machine.globals[name]
     return value, declaration
 
 
 def test_a_position_taught_inside_a_block_is_stored_relative_to_its_frame(tmp_path) -> None:
     """Accident 2: a position taught with the cursor in the block must be relative to base_plate."""
     session = session_on(tmp_path)
-    session.run()  # the robot ends at pos3, the "current" frame of an ARLA-style system would be world
-    session.jog("world", "z", "-200mm")
+    session.execution.run()  # the robot ends at pos3, the "current" frame of an ARLA-style system would be world
+    session.jogger.jog("world", "z", "-200mm")
     here_world = tcp_m(session)
-    session.goto(LINE_MOVE_POS1)
+    session.editor.goto(LINE_MOVE_POS1)
     session.insert_move("pos1b")
     value, declaration = _taught(session, "pos1b")
     assert declaration.endswith("IN base_plate"), declaration
     assert value.frame == "base_plate"
     np.testing.assert_allclose(world_of(BASE_PLATE, value), here_world, atol=1e-5,
                                err_msg="the taught numbers are not the current pose relative to base_plate")
-    lines = session.text.splitlines()
+    lines = session.editor.text.splitlines()
     assert lines[lines.index("    MOVE ARM TO pos1") + 1] == "    MOVE ARM TO pos1b"  # inside the block, after pos1
 
 
 def test_running_the_program_from_the_start_reaches_the_position_taught_in_the_block(tmp_path) -> None:
     session = session_on(tmp_path)
-    session.goto(LINE_MOVE_POS1)
-    session.exec_cursor()
-    session.jog("world", "x", "+30mm")
-    session.jog("world", "z", "+40mm")
+    session.editor.goto(LINE_MOVE_POS1)
+    session.execution.exec_cursor()
+    session.jogger.jog("world", "x", "+30mm")
+    session.jogger.jog("world", "z", "+40mm")
     taught_world = tcp_m(session)
     session.insert_move("pos1b")
-    session.jog("joint", "1", "+40deg")  # move away, then run the whole program from the top
-    session.goto(1)
-    session.pp()
-    line = session.text.splitlines().index("    MOVE ARM TO pos1b") + 1
-    while session.pointer_line != line:
-        session.step()
-    session.step()
+    session.jogger.jog("joint", "1", "+40deg")  # move away, then run the whole program from the top
+    session.editor.goto(1)
+    session.pointer.pp()
+    line = session.editor.text.splitlines().index("    MOVE ARM TO pos1b") + 1
+    while session.execution.pointer_line != line:
+        session.execution.step()
+    session.execution.step()
     np.testing.assert_allclose(tcp_m(session), taught_world, atol=1e-4)
 
 
 def test_a_taught_position_moves_with_its_frame_when_the_fixture_is_relocated(tmp_path) -> None:
     session = session_on(tmp_path)
-    session.goto(LINE_MOVE_POS1)
-    session.exec_cursor()
+    session.editor.goto(LINE_MOVE_POS1)
+    session.execution.exec_cursor()
     session.insert_move("pos1b")
-    session.goto(1)
-    session.replace("FRAME base_plate = POSE(950mm, 20mm, 500mm, 90deg, 0, 0)")
-    session.goto(session.text.splitlines().index("    MOVE ARM TO pos1b") + 1)
-    session.exec_cursor()
+    session.editor.goto(1)
+    session.editor.replace("FRAME base_plate = POSE(950mm, 20mm, 500mm, 90deg, 0, 0)")
+    session.editor.goto(session.editor.text.splitlines().index("    MOVE ARM TO pos1b") + 1)
+    session.execution.exec_cursor()
     np.testing.assert_allclose(tcp_m(session), POS1_WORLD + [0.05, 0.02, 0.0], atol=1e-4)
 
 
@@ -127,7 +127,7 @@ def test_a_taught_position_moves_with_its_frame_when_the_fixture_is_relocated(tm
                          ids=["before-block", "block-header", "inside", "endframe", "after-block"])
 def test_teach_takes_the_frame_of_the_block_at_the_cursor(tmp_path, line, frame) -> None:
     session = session_on(tmp_path)
-    session.goto(line, end=(line == LINE_ENDFRAME))
+    session.editor.goto(line, end=(line == LINE_ENDFRAME))
     session.teach("taught")
     _, declaration = _taught(session, "taught")
     assert declaration.endswith(" IN base_plate") == (frame == "base_plate"), declaration

@@ -52,14 +52,14 @@ def test_jog_keys_move_the_selected_joint_by_the_increment(tmp_path) -> None:
 def test_teach_with_f4_and_insert_move_with_f5_inside_the_frame_block(tmp_path) -> None:
     session = session_on(tmp_path)
     drive(session, f":goto {LINE_MOVE_POS1}\r", ":exec\r", ":jog world z +5mm\r", F[4], "corner\r", F[5])
-    assert "POS corner = POSE(100mm, -100mm, 55mm, " in session.text
-    assert "    MOVE ARM TO pos1\n    MOVE ARM TO p1\n" in session.text
+    assert "POS corner = POSE(100mm, -100mm, 55mm, " in session.editor.text
+    assert "    MOVE ARM TO pos1\n    MOVE ARM TO p1\n" in session.editor.text
 
 
 def test_arrows_move_the_cursor_in_edit_mode_and_run_mode_keys_step(tmp_path) -> None:
     session = session_on(tmp_path)
     drive(session, F[8], f":goto {LINE_MOVE_POS0}\r", DOWN, DOWN, F[8], F[6], F[4])
-    assert session.pointer_line == LINE_MOVE_POS1 + 1  # F6 set the pointer at the cursor, F4 stepped over it
+    assert session.execution.pointer_line == LINE_MOVE_POS1 + 1  # F6 set the pointer at the cursor, F4 stepped over it
     expected = np.array([0.9 + 0.1, 0.1, 0.55])  # pos1 in base_plate (turned 90 deg about z)
     np.testing.assert_allclose(tcp_m(session), expected, atol=1e-4)
 
@@ -67,26 +67,26 @@ def test_arrows_move_the_cursor_in_edit_mode_and_run_mode_keys_step(tmp_path) ->
 def test_a_block_typed_over_several_lines_runs_when_it_is_closed(tmp_path) -> None:
     session = session_on(tmp_path)
     drive(session, f":goto {LINE_MOVE_POS1}\r", ":exec\r", "FRAME base_plate\r", "PRINT ROUND(HERE.z / 1mm)\r", "ENDFRAME\r")
-    assert session.printed[-1] == "50"  # HERE inside the typed block is relative to base_plate
+    assert session.execution.printed[-1] == "50"  # HERE inside the typed block is relative to base_plate
     assert open_blocks("FRAME a\n  IF x THEN\n  ENDIF") == 1 and open_blocks("WHILE x DO\nENDWHILE") == 0
 
 
 def test_edit_in_place_replaces_the_statement(tmp_path) -> None:
     session = session_on(tmp_path)
     drive(session, f":goto {LINE_MOVE_POS1}\r", ":edit\r", " WITH SPEED = 50%\r")
-    assert "    MOVE ARM TO pos1 WITH SPEED = 50%\n" in session.text
+    assert "    MOVE ARM TO pos1 WITH SPEED = 50%\n" in session.editor.text
 
 
 def test_quit_with_unsaved_edits_asks_to_save_first(tmp_path) -> None:
     session = session_on(tmp_path)
     app = drive(session, ":teach p7\r", ":quit\r")
-    assert "POS p7" in session.text
+    assert "POS p7" in session.editor.text
     assert app.message == "bye"  # :quit! after the refusal
 
 
 def test_the_screen_renders_listing_state_and_messages(tmp_path) -> None:
     session = session_on(tmp_path)
-    session.goto(LINE_MOVE_POS1)
+    session.editor.goto(LINE_MOVE_POS1)
     text = "".join(t for _, t in views.listing(session, 30))
     assert f"{LINE_MOVE_POS1:4}     MOVE ARM TO pos1" in text
     state = "".join(t for _, t in views.state(session))
@@ -97,4 +97,4 @@ def test_tab_completes_a_command_and_a_position_name(tmp_path) -> None:
     session = session_on(tmp_path)
     drive(session, f":goto {LINE_MOVE_POS1}\r", ":exec\r", ":jog world z +1mm\r", ":mo\t", "\t", "\t", "\r", "pos2\r")
     # Tab opens the menu (mode, modpos), Tab Tab chooses modpos, Enter takes it; then the name and Enter
-    assert "POS pos2 = POSE(100mm, -100mm, 51mm, " in session.text
+    assert "POS pos2 = POSE(100mm, -100mm, 51mm, " in session.editor.text

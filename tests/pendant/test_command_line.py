@@ -33,8 +33,8 @@ def test_recovery_flags_answer_without_asking(tmp_path, flag, expect_recovered) 
     again = session_on(tmp_path, FRAME_PROGRAM)
     args = argparse.Namespace(recover=flag == "recover", discard=flag == "discard")
     _ask_recovery(again, args)
-    assert ("POS p9" in again.text) is expect_recovered
-    assert again.pending_recovery() is None or expect_recovered
+    assert ("POS p9" in again.editor.text) is expect_recovered
+    assert again.editor.pending_recovery() is None or expect_recovered
 
 
 def test_without_a_terminal_the_journal_is_kept_for_later(tmp_path, monkeypatch) -> None:
@@ -44,4 +44,4 @@ def test_without_a_terminal_the_journal_is_kept_for_later(tmp_path, monkeypatch)
     again = session_on(tmp_path, FRAME_PROGRAM)
     monkeypatch.setattr("sys.stdin.isatty", lambda: False)
     answer = _ask_recovery(again, argparse.Namespace(recover=False, discard=False))
-    assert "start with --recover or --discard" in answer and again.pending_recovery() is not None
+    assert "start with --recover or --discard" in answer and again.editor.pending_recovery() is not None

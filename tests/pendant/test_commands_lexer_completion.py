@@ -44,7 +44,7 @@ def test_every_command_has_usage_and_help(tmp_path) -> None:
     session = session_on(tmp_path)
     for name, command in COMMANDS.items():
         assert command.usage.startswith(name) and command.doc
-        assert command.doc in session.help(name)
+        assert command.doc in session.panels.help(name)
 
 
 def _tokens(text: str) -> list[tuple[object, str]]:
@@ -85,5 +85,5 @@ def test_lexer_is_found_by_pygments_for_rpl_files() -> None:
 ], ids=lambda value: value if isinstance(value, str) else None)
 def test_completion_offers_commands_keywords_attributes_and_names(tmp_path, before, expected) -> None:
     session = session_on(tmp_path)
-    session.goto(LINE_MOVE_POS1)
+    session.editor.goto(LINE_MOVE_POS1)
     assert candidates(session, before)[1] == expected

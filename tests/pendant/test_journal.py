@@ -20,10 +20,10 @@ KILLED = textwrap.dedent("""\
     from orc_rpl.pendant.robot import PendantRobot
     from orc_rpl.pendant.session import PendantSession
     session = PendantSession(sys.argv[1], robot=PendantRobot.virtual(backend="kinematic"))
-    session.goto(%d)
-    session.jog("world", "z", "+25mm")
+    session.editor.goto(%d)
+    session.jogger.jog("world", "z", "+25mm")
     session.insert_move("pos1b")
-    session.jog("world", "x", "+10mm")
+    session.jogger.jog("world", "x", "+10mm")
     session.teach("pos1c")
     os.kill(os.getpid(), signal.SIGKILL)
     """) % LINE_MOVE_POS1
@@ -36,28 +36,28 @@ def test_sigkill_right_after_teaching_loses_nothing(tmp_path) -> None:
     assert done.returncode == -signal.SIGKILL, done.stderr.decode()
     assert program.read_text(encoding="utf-8") == FRAME_PROGRAM  # nothing was saved
     session = session_on(tmp_path, FRAME_PROGRAM)
-    assert session.pending_recovery() == "2 unsaved edits (last: insert move pos1b, teach pos1c)"
-    session.recover()
-    assert "POS pos1b = POSE(" in session.text and "POS pos1c = POSE(" in session.text
-    assert "    MOVE ARM TO pos1b\n" in session.text
-    values = session.executive().machine.globals
+    assert session.editor.pending_recovery() == "2 unsaved edits (last: insert move pos1b, teach pos1c)"
+    session.editor.recover()
+    assert "POS pos1b = POSE(" in session.editor.text and "POS pos1c = POSE(" in session.editor.text
+    assert "    MOVE ARM TO pos1b\n" in session.editor.text
+    values = session.execution.executive().machine.globals
     assert values["pos1b"].frame == values["pos1c"].frame == "base_plate"
-    session.save()
-    assert not journal_path(program).exists() and program.read_text(encoding="utf-8") == session.text
+    session.editor.save()
+    assert not journal_path(program).exists() and program.read_text(encoding="utf-8") == session.editor.text
 
 
 def test_a_second_kill_after_recovering_still_loses_nothing(tmp_path) -> None:
     session = session_on(tmp_path)
     session.teach("first")
-    text = session.text
+    text = session.editor.text
     session.close()  # as if killed: nothing saved
     again = session_on(tmp_path, FRAME_PROGRAM)
-    again.recover()
+    again.editor.recover()
     again.teach("second")
     again.close()
     third = session_on(tmp_path, FRAME_PROGRAM)
-    third.recover()
-    assert "POS first" in third.text and "POS second" in third.text and text != third.text
+    third.editor.recover()
+    assert "POS first" in third.editor.text and "POS second" in third.editor.text and text != third.editor.text
 
 
 def test_a_record_torn_by_the_kill_is_skipped(tmp_path) -> None:
@@ -74,9 +74,9 @@ def test_a_record_torn_by_the_kill_is_skipped(tmp_path) -> None:
 def test_saving_clears_the_journal_and_nothing_is_offered(tmp_path) -> None:
     session = session_on(tmp_path)
     session.teach("p")
-    assert journal_path(session.path).exists()
-    session.save()
-    assert session_on(tmp_path, session.text).pending_recovery() is None
+    assert journal_path(session.editor.path).exists()
+    session.editor.save()
+    assert session_on(tmp_path, session.editor.text).editor.pending_recovery() is None
 
 
 def test_declining_recovery_discards_the_journal(tmp_path) -> None:
@@ -84,18 +84,18 @@ def test_declining_recovery_discards_the_journal(tmp_path) -> None:
     session.teach("p")
     session.close()
     again = session_on(tmp_path, FRAME_PROGRAM)
-    again.discard_recovery()
-    assert again.pending_recovery() is None and again.text == FRAME_PROGRAM
+    again.editor.discard_recovery()
+    assert again.editor.pending_recovery() is None and again.editor.text == FRAME_PROGRAM
 
 
 def test_save_writes_atomically_and_refuses_other_suffixes(tmp_path) -> None:
     session = session_on(tmp_path)
     session.teach("p")
-    session.save(str(tmp_path / "copy.rpl"))
-    assert (tmp_path / "copy.rpl").read_text(encoding="utf-8") == session.text
+    session.editor.save(str(tmp_path / "copy.rpl"))
+    assert (tmp_path / "copy.rpl").read_text(encoding="utf-8") == session.editor.text
     assert not [p for p in os.listdir(tmp_path) if p.endswith(".tmp")]
     try:
-        session.save(str(tmp_path / "copy.txt"))
+        session.editor.save(str(tmp_path / "copy.txt"))
     except Exception as error:  # noqa: BLE001
         assert "must end in .rpl" in str(error)
     else:

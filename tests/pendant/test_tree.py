@@ -19,11 +19,11 @@ EDITS = st.lists(st.tuples(st.sampled_from(["insert", "delete", "wrap", "up", "d
 
 
 def _apply(session: PendantSession, edit: str, where: int, text: str) -> None:
-    session.cursor = where % len(session.stops) if session.stops else 0
-    actions = {"insert": lambda: session.insert(text), "delete": session.delete,
-               "wrap": lambda: session.wrap("base_plate"), "up": lambda: session.shift("up"),
-               "down": lambda: session.shift("down"), "replace": lambda: session.replace(text),
-               "undo": session.undo, "select": session.select}
+    session.editor.cursor = where % len(session.editor.stops) if session.editor.stops else 0
+    actions = {"insert": lambda: session.editor.insert(text), "delete": session.editor.delete,
+               "wrap": lambda: session.editor.wrap("base_plate"), "up": lambda: session.editor.shift("up"),
+               "down": lambda: session.editor.shift("down"), "replace": lambda: session.editor.replace(text),
+               "undo": session.editor.undo, "select": session.editor.select}
     actions[edit]()
 
 
@@ -33,11 +33,11 @@ def test_any_sequence_of_edits_keeps_the_program_parsable_and_canonical(edits) -
     session = PendantSession("edits.rpl", text=FRAME_PROGRAM, robot=PendantRobot.virtual(backend="kinematic"),
                              journal=False)
     for edit, where, text in edits:
-        before = session.text
+        before = session.editor.text
         try:
             _apply(session, edit, where, text)
         except EditError:
-            assert session.text == before  # a refused edit changes nothing
-        program = parse(session.text)
-        assert print_program(program) == session.text
-        assert [s.line for s in stops(program)] == [s.line for s in session.stops]
+            assert session.editor.text == before  # a refused edit changes nothing
+        program = parse(session.editor.text)
+        assert print_program(program) == session.editor.text
+        assert [s.line for s in stops(program)] == [s.line for s in session.editor.stops]

@@ -30,11 +30,14 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.application.process_log import SeamRecord, process_log
 from orc_rpl.application.runtime import (
     BehaviourError, InstallContext, MotionCall, MotionRequest, MotionView, run_to_end,
 )
 from orc_rpl.application.standard_behaviour import standard_motion
+from orc_rpl.application.values import Record
 from orc_rpl.errors import MotionFault, SensorFault
+from orc_rpl.plant.processes.seam import cell_seam
 from orc_rpl.syntax.units import LENGTH, TIME, VELOCITY, Quantity
 from orc_rpl.world.pose import Joints, Pose
 
@@ -87,8 +90,10 @@ class Tracker:
     """The correction loop of one straight motion: c <- c + g e each cycle; None when the seam is lost."""
 
     def __init__(self, sensor_name: str, lateral: np.ndarray, gain: float, read: Callable[[], Any],
-                 distance_m: float, strict: bool) -> None:
+                 distance_m: float, strict: bool, signals: dict[str, float] | None = None) -> None:
         self.sensor_name, self.lateral, self.gain, self.read = sensor_name, lateral, gain, read
+        self.signals = signals                         #: the process record's signals: seam_error_m each cycle
+        self.errors: list[float] = []                  #: the laser's lateral error each cycle the seam was seen
         self.distance_m, self.strict = distance_m, strict
         self.c = 0.0
         self.found_once = False
@@ -107,6 +112,9 @@ class Tracker:
         if value.found:
             self.found_once, self.missing = True, 0
             self.samples.append((view.s, self.c + value.offset_m))
+            self.errors.append(value.offset_m)
+            if self.signals is not None:
+                self.signals["seam_error_m"] = value.offset_m
             self.c += self.gain * value.offset_m
         else:
             self.missing += 1
@@ -135,13 +143,7 @@ def _anchor_seam(robot: Any, sensor: Any, start: Any, end: Any) -> None:
     """In simulation, lay the cell's seam along the first path the laser is used along (unless configured)."""
     if sensor.behaviour != "simulated":
         return
-    from orc_rpl.executive.sim_io import find_seam
-    from orc_rpl.plant.processes.seam import SeamProcess
-
-    seam = find_seam(robot.io)
-    if seam is None:
-        seam = SeamProcess()
-        robot.io.add_process(seam)
+    seam = cell_seam(robot.io)
     if not seam.anchored:
         seam.anchor(start, end)
 
@@ -151,7 +153,6 @@ def _anchor_seam(robot: Any, sensor: Any, start: Any, end: Any) -> None:
 
 def record_seam(path: Any, *, robot: Any, tool: Pose, to_world: Callable[[Pose], Pose] = lambda p: p) -> Any:
     """RecordSeam(path): to the path's start, then slowly along it with standard tracking; the recorded seam."""
-    from orc_rpl.executive.values import Record
 
     points = path if type(path) is tuple else (path,)
     if len(points) < 2 or any(type(p) is not Pose for p in points):
@@ -241,7 +242,6 @@ def simulated_rms(u: np.ndarray, o: np.ndarray, speed: float, gain: float, dt_s:
 
 def tracking(seam: Any, speed: Any) -> Any:
     """Tracking(seam, speed): the low-pass gain of the correction for this seam at this speed."""
-    from orc_rpl.executive.values import Record
 
     u, o = _seam_arrays(seam)
     v = speed.value if type(speed) is Quantity else float(speed)
@@ -282,19 +282,25 @@ def trackmove(call: MotionCall) -> Iterator[Any]:
     _anchor_seam(robot, sensor, _xyz(start), _xyz(end))
     if not sensor.on:
         raise BehaviourError(f"the laser {laser.name} is off ({laser.name}.On switches it on)")
+    record = process_log(robot)
     tracker = Tracker(laser.name, lateral_direction(_xyz(start), _xyz(end)), gain, sensor.read,
-                      math.dist(_xyz(start), _xyz(end)), strict=True)
+                      math.dist(_xyz(start), _xyz(end)), strict=True, signals=record.signals)
     request = dataclasses.replace(base, keyword=call.keyword, kind="linear", zone_m=0.0, correction=tracker)
     ticket = yield request
     while not ticket.done:
         yield None
+    record.signals["seam_error_m"] = math.nan
+    errors = np.abs(np.array(tracker.errors)) if tracker.errors else np.zeros(1)
+    record.seams.append(SeamRecord(math.dist(_xyz(start), _xyz(robot.tcp_pose(call.tool))),
+                                   float(np.sqrt(np.mean(errors ** 2))), float(errors.max()), gain))
     if ticket.outcome == "fault":
         raise ticket.error if ticket.error is not None else BehaviourError("the motion failed")
     if tracker.fault is not None:
-        raise tracker.fault
+        raise record.fault(tracker.fault, robot.time_s())
     if tracker.lost:
         where = f"{100 * tracker.samples[-1][0]:.0f} %" if tracker.samples else "the start"
-        raise SeamLost(f"{laser.name} lost the seam at {where} of the path; the robot stopped on its path")
+        raise record.fault(SeamLost(f"{laser.name} lost the seam at {where} of the path; the robot stopped on its path"),
+                           robot.time_s())
 
 
 def register_behaviour(registry: Any) -> None:

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.application.process_log import TuningRecord, process_log
 from orc_rpl.application.runtime import BehaviourError, MotionRequest, RobotInterface, Sample, run_to_end
 from orc_rpl.servo.control import ServoGains, ServoTuning
 from orc_rpl.world.pose import Joints, Pose
@@ -55,8 +56,14 @@ def calibrate(path: Any, *, robot: RobotInterface, tool: Pose, to_world: Callabl
     model = getattr(robot, "inverse_dynamics", None)
     n = len(start.values)
     if model is None or sum(len(r) for r in recordings) < 10:  # no model or no motion: the default tuning
-        return _tuning(gains, np.ones(n), np.ones(n), np.zeros(n), np.zeros(n), np.zeros(n), "no data")
-    return identify(recordings, model, start.values, load_kg, robot.dt_s, gains)
+        tuning = _tuning(gains, np.ones(n), np.ones(n), np.zeros(n), np.zeros(n), np.zeros(n), "no data")
+    else:
+        tuning = identify(recordings, model, start.values, load_kg, robot.dt_s, gains)
+    process_log(robot).tunings.append(TuningRecord({
+        "samples": sum(len(r) for r in recordings), "position_gain_1_s": list(tuning.position_gain_1_s),
+        "velocity_bw_rad_s": list(tuning.velocity_bw_rad_s), "d_inertia_kg_m2": list(tuning.d_inertia_kg_m2),
+        "d_viscous_nm_s": list(tuning.d_viscous_nm_s), "d_offset_nm": list(tuning.d_offset_nm), "label": tuning.label}))
+    return tuning
 
 
 def _move(robot: RobotInterface, request: MotionRequest) -> list[Sample]:

@@ -13,7 +13,7 @@
         } while (event == BULGE);
 
 The grinder sits on a compliant flange with a stroke u along the tool's z axis (normal to the path): the
-analog output AnaOut[8] commands the stroke (m, positive toward the part), the analog input AnaIn[8] is the
+analog output AnalogOut[8] commands the stroke (m, positive toward the part), the analog input AnalogIn[8] is the
 measured normal force (N). The force loop runs every motion cycle (dt = 4 ms) in this procedure, an
 integral admittance law
 
@@ -28,7 +28,10 @@ on the edge, so e follows the edge's profile (less the constant penetration F / 
 more than tolerance / 2 above the median of the last 25 samples outside bulges; it is caught when e has come
 down again and its top was above the tolerance. The motion is stopped (s2), the bulge [s0, s1] is ground
 back and forth, 10 mm beyond each side, until a pass measures it within the tolerance or `max_passes` passes
-are done (a warning says how much is left), and the path is resumed from where the robot is (PathLeft).
+are done, and the path is resumed from where the robot is (PathLeft). A bulge still above the tolerance after
+`max_passes` raises BurrLeft at the end of the path (the rest of the path is ground first). The force loop
+watches itself: an error that oscillates about the command with an RMS above half of it over 100 ms (a contact
+stiffer than the loop's gain allows) stops the robot, retracts the stroke and raises ProcessFault.
 """
 
 from __future__ import annotations
@@ -36,14 +39,18 @@ from __future__ import annotations
 import dataclasses
 import math
 import statistics
+from collections import deque
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from orc_rpl.application.process_log import BulgeRecord, ProcessFault, ProcessLog, process_log
 from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, MotionRequest
+from orc_rpl.errors import MotionFault
 from orc_rpl.application.standard_behaviour import standard_motion
+from orc_rpl.application.values import Record
 from orc_rpl.syntax.units import DIMENSIONLESS, FORCE, LENGTH, Quantity
 from orc_rpl.world.pose import Pose
 
@@ -62,11 +69,22 @@ BASELINE_SAMPLES = 25
 PASS_MARGIN_M = 0.01
 #: The contact has settled when the force first comes within this fraction of the commanded one.
 SETTLED_FRACTION = 0.2
+#: The force loop is unstable when, over this many cycles in contact, its error's RMS exceeds UNSTABLE_FRACTION
+#: of the command and changes sign at least UNSTABLE_SIGN_CHANGES times (a stable loop's error on a bulge's
+#: flank stays below a fifth of the command and keeps its sign).
+UNSTABLE_WINDOW = 25
+UNSTABLE_FRACTION = 0.5
+UNSTABLE_SIGN_CHANGES = 8
+
+
+class BurrLeft(MotionFault):
+    """GRINDMOVE left a bulge above the tolerance after `max_passes` passes."""
+
+    rpl_name = "BurrLeft"
 
 
 def grinding_pars(tolerance: Any = None, max_passes: Any = None) -> Any:
     """GrindingPars(tolerance = 0.2mm, max_passes = 4): a record usable as GRINDING / DEBURRING."""
-    from orc_rpl.executive.values import Record
 
     tol = Quantity(DEFAULT_TOLERANCE_M, LENGTH) if tolerance is None else tolerance
     if not (type(tol) is Quantity and tol.dim == LENGTH and tol.value > 0):
@@ -174,13 +192,32 @@ class ForceLoop:
         self.robot, self.force = robot, force
         self.stroke_m = 0.0
         self._in, self._out = robot.io.bank("AnaIn"), robot.io.bank("AnaOut")
+        self._errors: deque[float] = deque(maxlen=UNSTABLE_WINDOW)
+        self._command = 0.0
 
     def measured_n(self) -> float:
         return float(self._in[FORCE_IN])
 
+    def unstable(self) -> str | None:
+        """Why the loop is oscillating (its error's RMS and sign changes over the window), or None."""
+        errors = self._errors
+        if len(errors) < UNSTABLE_WINDOW:
+            return None
+        rms = math.sqrt(sum(e * e for e in errors) / len(errors))
+        changes = sum(1 for a, b in zip(errors, list(errors)[1:]) if a * b < 0)
+        if rms > UNSTABLE_FRACTION * max(self._command, 1.0) and changes >= UNSTABLE_SIGN_CHANGES:
+            return (f"the force loop is unstable: its error oscillates at {rms:.1f} N RMS about the commanded "
+                    f"{self._command:.1f} N ({changes} sign changes in {1000 * UNSTABLE_WINDOW * self.robot.dt_s:.0f} ms); "
+                    f"the contact is stiffer than its gain allows (stable below "
+                    f"{2 / (ADMITTANCE_M_PER_N_S * self.robot.dt_s) / 1000:.0f} N/mm)")
+        return None
+
     def step(self, s: float) -> tuple[float, float]:
         """Read the force, move the stroke; (commanded, measured) force."""
         command, measured = self.force(s), self.measured_n()
+        if measured > 0.0 or self._errors:  # watched from the first contact on
+            self._errors.append(command - measured)
+        self._command = command
         self.stroke_m = min(STROKE_LIMIT_M, max(-STROKE_LIMIT_M, self.stroke_m + ADMITTANCE_M_PER_N_S * self.robot.dt_s
                                                 * (command - measured)))
         self._out[STROKE_OUT] = self.stroke_m
@@ -256,6 +293,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
     loop = ForceLoop(robot, force)
     length = geometry.length_m
     normal = geometry.normal
+    record = process_log(robot)
 
     def sample() -> tuple[float, float]:
         """One cycle of the force loop and of CatchBulge's recording: (arc length, normal position error)."""
@@ -265,6 +303,13 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         e = float(np.dot(x - nominal, normal)) - loop.stroke_m
         command, measured = loop.step(arc / length)
         log.samples.append((robot.time_s(), arc / length, e, command, measured))
+        record.signals.update(force_n=measured, force_cmd_n=command, stroke_m=loop.stroke_m, normal_error_m=e)
+        why = loop.unstable()
+        if why is not None:
+            robot.stop()
+            loop.retract()
+            _quiet(record)
+            raise record.fault(ProcessFault(f"{why}; the robot stopped at s = {arc / length:.3f}"), robot.time_s())
         return arc, e
 
     def finish(ticket: Any) -> Iterator[Any]:
@@ -308,21 +353,30 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         log.bulges.append(bulge)
         handled.append((s0_m - PASS_MARGIN_M, s1_m + PASS_MARGIN_M))
         yield from grind_down(bulge, s0_m, s1_m, max_passes, tolerance_m, geometry, base, sample, finish)
+        left = bulge.passes[-1].measured_m if bulge.passes else height
+        record.bulges.append(BulgeRecord(bulge.s0, bulge.s1, height, tuple(p.measured_m for p in bulge.passes),
+                                         left, bulge.within_tolerance))
         if not bulge.within_tolerance:
-            message = (f"a bulge at s = {bulge.s0:.3f}..{bulge.s1:.3f} still measures "
-                       f"{1000 * bulge.passes[-1].measured_m if bulge.passes else 1000 * height:.2f} mm after "
-                       f"{max_passes} passes (tolerance {1000 * tolerance_m:.2f} mm); more passes (max_passes) needed")
-            log.warnings.append(message)
-            call.warn(message)
+            log.warnings.append(f"a bulge at s = {bulge.s0:.3f}..{bulge.s1:.3f} still measures {1000 * left:.2f} mm "
+                                f"after {max_passes} passes (tolerance {1000 * tolerance_m:.2f} mm)")
         arc_now = geometry.project(_position(robot.tcp_pose(call.tool)))[0]  # BurrPath = PathLeft(BurrPath, s2)
         if arc_now >= length - 1e-4:
             break
     loop.retract()
+    _quiet(record)
+    if log.warnings:
+        raise record.fault(BurrLeft("; ".join(log.warnings) + "; more passes (max_passes) or a higher FORCE needed"),
+                           robot.time_s())
     if not any(sample[4] > 0.0 for sample in log.samples):
-        message = (f"no contact force on AnaIn[{FORCE_IN}] along the whole path: nothing was ground "
+        message = (f"no contact force on AnalogIn[{FORCE_IN}] along the whole path: nothing was ground "
                    "(no casting in the cell, or the path is not on its edge)")
         log.warnings.append(message)
         call.warn(message)
+
+
+def _quiet(record: ProcessLog) -> None:
+    """No grinding any more: the grinding signals are not defined (NaN in the recording)."""
+    record.signals.update(force_n=math.nan, force_cmd_n=math.nan, stroke_m=math.nan, normal_error_m=math.nan)
 
 
 def grind_down(bulge: CaughtBulge, s0_m: float, s1_m: float, max_passes: int, tolerance_m: float,

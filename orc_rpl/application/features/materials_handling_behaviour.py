@@ -3,31 +3,48 @@
     IDENTMOVE gripper TO DropPositions[Id] VIA TopPos WITH Id = IDENT(proc, parts)
 
 The motion toward the via point starts at once with an action that records torques, q and q-dot for the
-first 0.2 s. From that recording the payload is estimated with the robot model (inverse dynamics with and
-without a unit load at the flange, least squares over every joint and sample); the user's FUNC `proc` gets
-the recording (`recording.payload`, `recording.Torque[j]` the samples of joint j, `recording.Time`) and
-returns one of `parts`. `Id` is bound to it, the target expression is evaluated then, and the final motion
-is sent while the robot still moves toward the via point, so it blends through it. If the identification
-comes late, the motion toward the via point has already slowed down and waits there.
+first 0.2 s; it takes at least RECORD_S + LEAD_S, so a near via point slows the approach just enough for the
+identification to end before it (and the blend radius is at most half the way to it). From that recording
+the payload is estimated with the robot model (`payload_estimation`: windows without acceleration switches,
+friction and offsets per joint, a standard deviation); the user's FUNC `proc` gets the recording
+(`recording.payload`, `recording.payload_sigma`, `recording.Torque[j]` the samples of joint j,
+`recording.Time`) and returns one of `parts`. The answer is trusted only when `proc` gives the same part from
+3 standard deviations below the estimate to 3 above; otherwise IdentUncertain (catchable) is raised and the
+robot stops at the via point. `Id` is bound to the answer, the target expression is evaluated then, and the
+final motion is sent while the robot still moves toward the via point, so it blends through it.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
+from orc_rpl.application.features.payload_estimation import SIGMAS, confidence, estimate
+from orc_rpl.application.process_log import IdentRecord, process_log
 from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, Sample
 from orc_rpl.application.standard_behaviour import standard_motion
+from orc_rpl.application.values import Record
+from orc_rpl.errors import MotionFault
 from orc_rpl.syntax.units import MASS, TIME, TORQUE, Quantity
+from orc_rpl.world.pose import Pose
 
 #: How long torques are recorded after the start of the motion (thesis 2.5: "0.2 s of torques").
 RECORD_S = 0.2
-#: Samples this close to the start are left out of the estimate (the servo's transient as the motion starts).
-SKIP_S = 0.04
-#: The motion toward the via point blends into the final one within this radius (unless ZONE is larger).
+#: The motion toward the via point takes at least RECORD_S plus this: time to classify and send the final
+#: motion before the blend toward it begins.
+LEAD_S = 0.1
+#: The motion toward the via point blends into the final one within this radius (unless ZONE is larger),
+#: at most half the way from the start to the via point.
 VIA_ZONE_M = 0.1
+
+
+class IdentUncertain(MotionFault):
+    """IDENTMOVE could not tell the part: the user's classification changes within the estimate's spread."""
+
+    rpl_name = "IdentUncertain"
 
 
 @dataclass(frozen=True, slots=True)
@@ -48,35 +65,18 @@ def ident(proc: Any, parts: Any) -> Identification:
 
 
 def estimate_payload(samples: list[Sample], inverse_dynamics: Any) -> float:
-    """Least-squares payload (kg) from recorded torques: tau = tau_0(q, qd, qdd) + m * (tau_1 - tau_0)."""
-    if not samples:
-        return 0.0
-    numerator = denominator = 0.0
-    for i, sample in enumerate(samples):
-        if sample.time_s - samples[0].time_s < SKIP_S - 1e-9:
-            continue  # the servo's torque lags the jerk-limited start: a large, load-independent residual
-        if i == 0 or sample.time_s <= samples[i - 1].time_s:
-            qdd = tuple(0.0 for _ in sample.q)
-        else:
-            dt = sample.time_s - samples[i - 1].time_s
-            qdd = tuple((a - b) / dt for a, b in zip(sample.qd, samples[i - 1].qd))
-        tau0 = inverse_dynamics(sample.q, sample.qd, qdd, 0.0)
-        tau1 = inverse_dynamics(sample.q, sample.qd, qdd, 1.0)
-        for measured, t0, t1 in zip(sample.torque, tau0, tau1):
-            d = t1 - t0
-            numerator += d * (measured - t0)
-            denominator += d * d
-    return max(0.0, numerator / denominator) if denominator > 0 else 0.0
+    """The payload (kg, at least 0) from recorded torques (payload_estimation.estimate)."""
+    return max(0.0, estimate(samples, inverse_dynamics).mass_kg)
 
 
-def recording_value(samples: list[Sample], payload_kg: float) -> Any:
-    """The recording as the user's FUNC sees it: payload, Torque[j] (samples of joint j), Time."""
-    from orc_rpl.executive.values import Record  # the language's record value
+def recording_value(samples: list[Sample], payload_kg: float, sigma_kg: float = 0.0) -> Any:
+    """The recording as the user's FUNC sees it: payload, payload_sigma, Torque[j] (samples of joint j), Time."""
 
     joints = len(samples[0].torque) if samples else 0
     torque = tuple(tuple(Quantity(s.torque[j], TORQUE) for s in samples) for j in range(joints))
     t0 = samples[0].time_s if samples else 0.0
-    return Record("Recording", (("payload", Quantity(payload_kg, MASS)), ("Torque", torque),
+    return Record("Recording", (("payload", Quantity(payload_kg, MASS)), ("payload_sigma", Quantity(sigma_kg, MASS)),
+                                ("Torque", torque),
                                 ("Time", tuple(Quantity(s.time_s - t0, TIME) for s in samples))))
 
 
@@ -97,8 +97,12 @@ def identmove(call: MotionCall) -> Iterator[Any]:
         raise BehaviourError(f"{name} must be bound to IDENT(proc, parts)")
     attributes = {k: v for k, v in call.attributes.items() if k not in outputs}
     to_via = standard_motion(dataclasses.replace(call, keyword="MOVE", target=call.via[0], via=(), attributes=attributes))
-    to_via = dataclasses.replace(to_via, keyword=call.keyword, zone_m=max(to_via.zone_m, VIA_ZONE_M), until=None,
-                                 record_s=RECORD_S)
+    zone = max(to_via.zone_m, VIA_ZONE_M)
+    here, via = robot.tcp_pose(call.tool), call.via[0]
+    if type(via) is Pose:  # blending must not begin before the final motion is known
+        zone = min(zone, 0.5 * math.dist((here.x, here.y, here.z), (via.x, via.y, via.z)))
+    to_via = dataclasses.replace(to_via, keyword=call.keyword, zone_m=zone, until=None, record_s=RECORD_S,
+                                 time_s=max(to_via.time_s or 0.0, RECORD_S + LEAD_S))
     ticket = yield to_via
     # the first sample is one cycle into the motion, the last RECORD_S into it
     while not ticket.done and (not ticket.recording
@@ -106,10 +110,26 @@ def identmove(call: MotionCall) -> Iterator[Any]:
         yield None
     if ticket.outcome == "fault":
         raise ticket.error if ticket.error is not None else BehaviourError("the motion toward the via point failed")
-    payload_kg = estimate_payload(ticket.recording, robot.inverse_dynamics)
-    result = call.call_function(identification.proc, [recording_value(ticket.recording, payload_kg)])
+    found = estimate(ticket.recording, robot.inverse_dynamics)
+    payload_kg = max(0.0, found.mass_kg)
+    record = process_log(robot)
+    record.signals["payload_kg"] = payload_kg
+
+    def answer_of(mass_kg: float) -> Any:
+        return call.call_function(identification.proc, [recording_value(ticket.recording, mass_kg, found.sigma_kg)])
+    result, trust, trusted = confidence(answer_of, found.mass_kg, found.sigma_kg)
     if result not in identification.parts:
         raise BehaviourError(f"{identification.proc.name} gave {result!r}, which is not one of the parts given to IDENT")
+    if not trusted:
+        record.identifications.append(IdentRecord(payload_kg, found.sigma_kg, trust, ""))
+        low, high = (answer_of(max(0.0, found.mass_kg + k * found.sigma_kg)) for k in (-SIGMAS, SIGMAS))
+        while not ticket.done:  # no target: the robot stops at the via point
+            yield None
+        raise record.fault(IdentUncertain(
+            f"{identification.proc.name} cannot tell the part: payload {payload_kg:.3f} kg +- {found.sigma_kg:.3f} kg "
+            f"gives {_name(result)}, but {_name(low)} at -{SIGMAS:g} sigma and {_name(high)} at +{SIGMAS:g} sigma "
+            f"(confidence {100 * trust:.1f} %); the robot stopped at the via point"), robot.time_s())
+    record.identifications.append(IdentRecord(payload_kg, found.sigma_kg, trust, _name(result)))
     target = call.resolve_target({name: result})
     final = standard_motion(dataclasses.replace(call, keyword="MOVE", target=target, via=(), attributes=attributes))
     final = dataclasses.replace(final, keyword=call.keyword, zone_m=0.0, until=None,
@@ -120,6 +140,11 @@ def identmove(call: MotionCall) -> Iterator[Any]:
     for t in (ticket, last):
         if t.outcome == "fault":
             raise t.error if t.error is not None else BehaviourError("the motion failed")
+
+
+def _name(value: Any) -> str:
+    """An ENUM value's name (or the value), for messages and the process record."""
+    return str(getattr(value, "name", value))
 
 
 def register_behaviour(registry: Any) -> None:

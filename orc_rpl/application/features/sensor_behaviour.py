@@ -5,6 +5,9 @@ INSTALL asks the robot's sensor manager (motion.sensors.SensorManager) for a Sen
 `LaserSensor.On/.Off` switch the laser; `.Distance` is the seam's lateral offset from the beam (a length,
 SensorFault when no seam is in view or the laser is off); `.EdgeDetected` is TRUE while the start edge of a
 seam is under the beam (FALSE while the laser is off).
+`INSTALL Gauge AS ForceSensor WITH PORT = "sim"` (or a serial device): `Gauge.Force` is the contact force along
+the tool's z axis (simulated: the cell's contact force with a bias and noise, as a real gauge), `Gauge.Zero`
+tares it.
 """
 
 from __future__ import annotations
@@ -12,22 +15,16 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
-from orc_rpl.application.runtime import InstallContext
+from orc_rpl.application.runtime import InstallContext, attached
 from orc_rpl.errors import SensorFault
+from orc_rpl.motion.force_sensor import ForceSensorDevice
 from orc_rpl.motion.sensors import LaserValue, SensorManager
-from orc_rpl.syntax.units import LENGTH, Quantity
+from orc_rpl.syntax.units import FORCE, LENGTH, Quantity
 
 
 def sensor_manager(robot: Any) -> SensorManager:
     """The robot's sensors (a robot without any gets an empty manager of its own)."""
-    manager = getattr(robot, "sensors", None)
-    if manager is None:
-        manager = SensorManager()
-        try:
-            robot.sensors = manager
-        except AttributeError:
-            pass
-    return manager
+    return attached(robot, "sensors", SensorManager)
 
 
 class LaserDistance:
@@ -65,8 +62,24 @@ class LaserDistance:
         return bool(self.sensor.on and self.value().edge)
 
 
+class ForceSensor:
+    """An installed force sensor at the flange: `.Force` the contact force along the tool's z axis, `.Zero` tares it."""
+
+    def __init__(self, context: InstallContext) -> None:
+        self.name = context.name
+        port = context.attributes.get("PORT") or "sim"
+        self.pair = sensor_manager(context.robot).install(context.name, ForceSensorDevice.kind, str(port))
+
+    def Force(self) -> Quantity:  # noqa: N802 - the language's method names
+        return Quantity(float(self.pair.sensor.read()), FORCE)
+
+    def Zero(self) -> None:  # noqa: N802
+        self.pair.sensor.command("ZERO")
+
+
 def register_behaviour(registry: Any) -> None:
-    """Fill the behaviour slot of LaserDistance."""
-    kind = registry.install_kinds.get("LaserDistance")
-    if kind is not None and kind.factory is None:
-        registry.install_kinds["LaserDistance"] = dataclasses.replace(kind, factory=LaserDistance)
+    """Fill the behaviour slots of LaserDistance and ForceSensor."""
+    for name, factory in (("LaserDistance", LaserDistance), ("ForceSensor", ForceSensor)):
+        kind = registry.install_kinds.get(name)
+        if kind is not None and kind.factory is None:
+            registry.install_kinds[name] = dataclasses.replace(kind, factory=factory)

@@ -12,16 +12,37 @@ import math
 from collections.abc import Iterator
 from typing import Any
 
+from orc_rpl.application.process_log import WeldRecord, process_log
 from orc_rpl.application.runtime import BehaviourError, InstallContext, MotionCall, MotionRequest
 from orc_rpl.application.standard_behaviour import standard_motion
-from orc_rpl.errors import Timeout
-from orc_rpl.syntax.units import TIME, Quantity
+from orc_rpl.errors import MotionFault, Timeout
+from orc_rpl.syntax.units import LENGTH, TIME, VELOCITY, Quantity
 from orc_rpl.world.pose import Pose
 
 #: A motion up to this long (TCP distance, m) is a ShortMove (jerk-limited, dynamics constant).
 SHORT_MOTION_M = 0.15
 #: WELD_OK must come within this much after the weld should be done (WELD_TIME), or Timeout is raised.
 WELD_OK_MARGIN_S = 1.0
+#: Default quality limits when the gun closes (MAX_SPEED, MAX_OFFSET): the servo's tracking lag alone leaves a
+#: few mm/s and a few hundredths of a mm for some 30 ms after the reference has stopped.
+MAX_SPEED_M_S = 0.02
+MAX_OFFSET_M = 0.001
+
+
+class WeldFault(MotionFault):
+    """A bad spot weld: the gun closed while the TCP moved faster than MAX_SPEED or farther than MAX_OFFSET from the spot."""
+
+    rpl_name = "WeldFault"
+
+
+def _limit(value: Any, dim: Any, what: str, example: str, default: float) -> float:
+    if value is None:
+        return default
+    if type(value) is Quantity and value.dim == dim and value.value > 0:
+        return value.value
+    if type(value) in (int, float) and value > 0:
+        return float(value)  # a declared default, in SI units
+    raise BehaviourError(f"{what} must be > 0 (e.g. {example}), got {value}")
 
 
 def _seconds(value: Any, what: str, default: float) -> float:
@@ -47,6 +68,8 @@ class SpotGun:
             raise BehaviourError(f"INSTALL {context.name} AS SpotGun needs WITH CLOSE = DigOut[n] WITH WELD_OK = DigIn[m]")
         self.reaction_s = _seconds(attrs.get("REACTION"), "REACTION", 0.08)
         self.weld_time_s = _seconds(attrs.get("WELD_TIME"), "WELD_TIME", 0.2)
+        self.max_speed_m_s = _limit(attrs.get("MAX_SPEED"), VELOCITY, "MAX_SPEED", "20mm/s", MAX_SPEED_M_S)
+        self.max_offset_m = _limit(attrs.get("MAX_OFFSET"), LENGTH, "MAX_OFFSET", "1mm", MAX_OFFSET_M)
         self.welds = 0
 
     def Close(self) -> None:  # noqa: N802 - the language's method names
@@ -54,6 +77,9 @@ class SpotGun:
 
     def Open(self) -> None:  # noqa: N802
         self._context.write(self.close_channel, 0)
+
+    def Welds(self) -> int:  # noqa: N802
+        return self.welds
 
     def weld_ok(self) -> bool:
         return bool(self._context.read(self.weld_ok_channel))
@@ -85,6 +111,27 @@ def weldmove(call: MotionCall) -> Iterator[Any]:
     if ticket.done and ticket.outcome == "fault":
         raise ticket.error if ticket.error is not None else BehaviourError("the move failed")
     gun.Close()  # the gun closes REACTION from now: when the motion ends
+    closes_at = robot.time_s() + gun.reaction_s
+    while robot.time_s() < closes_at - 1e-9:
+        yield None
+    closed = _position(robot.tcp_pose(call.tool))
+    yield None  # the TCP over the first cycle the gun holds the sheet: its speed and where it is
+    last = _position(robot.tcp_pose(call.tool))
+    speed = math.dist(last, closed) / robot.dt_s
+    log = process_log(robot)
+    offset = math.dist(last, (target.x, target.y, target.z)) if type(target) is Pose else 0.0
+    reason = ""
+    if speed > gun.max_speed_m_s:
+        reason = f"the TCP moved at {1000 * speed:.1f} mm/s (MAX_SPEED {1000 * gun.max_speed_m_s:.1f} mm/s)"
+    elif offset > gun.max_offset_m:
+        reason = f"the TCP was {1000 * offset:.2f} mm off the spot (MAX_OFFSET {1000 * gun.max_offset_m:.2f} mm)"
+    if reason:
+        gun.Open()  # abort the weld: the welder gives no WELD_OK
+        log.welds.append(WeldRecord(gun.name, robot.time_s(), last, speed, offset, False, reason))
+        while not ticket.done:
+            yield None
+        raise log.fault(WeldFault(f"{gun.name}: bad weld, the gun closed while {reason}; the weld was aborted"),
+                        robot.time_s())
     while not ticket.done:
         yield None
     if ticket.outcome == "fault":
@@ -94,13 +141,22 @@ def weldmove(call: MotionCall) -> Iterator[Any]:
     while not gun.weld_ok():  # Gun->WaitWelding()
         if robot.time_s() > deadline:
             gun.Open()
-            raise Timeout(f"WELDMOVE: {gun.name} gave no WELD_OK within "
-                          f"{1000 * (gun.reaction_s + gun.weld_time_s + WELD_OK_MARGIN_S):.0f} ms of the motion's end "
-                          f"(REACTION {1000 * gun.reaction_s:.0f} ms + WELD_TIME {1000 * gun.weld_time_s:.0f} ms "
-                          f"+ {1000 * WELD_OK_MARGIN_S:.0f} ms); check the welder and its WELD_OK input")
+            log.welds.append(WeldRecord(gun.name, closes_at, last, speed, offset, False, "no WELD_OK"))
+            raise log.fault(Timeout(
+                f"WELDMOVE: {gun.name} gave no WELD_OK within "
+                f"{1000 * (gun.reaction_s + gun.weld_time_s + WELD_OK_MARGIN_S):.0f} ms of the motion's end "
+                f"(REACTION {1000 * gun.reaction_s:.0f} ms + WELD_TIME {1000 * gun.weld_time_s:.0f} ms "
+                f"+ {1000 * WELD_OK_MARGIN_S:.0f} ms): the welder failed or rejected the weld (a gun that closes "
+                f"before the robot stands still, i.e. faster than REACTION, makes a bad weld); check the welder, "
+                f"its WELD_OK input and the gun's REACTION"), robot.time_s())
         yield None
     gun.Open()
     gun.welds += 1
+    log.welds.append(WeldRecord(gun.name, closes_at, last, speed, offset, True))
+
+
+def _position(pose: Pose) -> tuple[float, float, float]:
+    return (pose.x, pose.y, pose.z)
 
 
 def _as_move(call: MotionCall) -> MotionCall:

@@ -11,7 +11,8 @@ perpendicular to the line (world z x line direction). The seam starts at `edge` 
 `EdgeDetected` within `edge_width`) and runs to `end` + 1 m; over `missing` = [from, to] (distances along
 the line) there is no seam (the laser loses it: TRACKMOVE raises SeamLost). The laser beam is at the TCP and
 sees a seam within `range` sideways; each sample is recorded in `trace` as (u, TCP lateral position, seam
-offset), from which the tracking error against the true seam is measured.
+offset), from which the tracking error against the true seam is measured. `noise` adds white measurement noise of that
+standard deviation to each reading (a noisy laser; seeded from `seed`).
 """
 
 from __future__ import annotations
@@ -48,7 +49,11 @@ class SeamProcess:
                  raggedness: float = DEFAULTS["raggedness"], correlation: float = DEFAULTS["correlation"],
                  edge: float = DEFAULTS["edge"], edge_width: float = DEFAULTS["edge_width"],
                  range: float = DEFAULTS["range"], seed: int = int(DEFAULTS["seed"]),  # noqa: A002 - the yaml key
-                 missing: tuple[float, float] | None = None) -> None:
+                 missing: tuple[float, float] | None = None, noise: float = 0.0) -> None:
+        if noise < 0:
+            raise ValueError("seam: the laser's noise must be >= 0")
+        self.noise = noise      #: the laser's measurement noise (m, standard deviation of each reading; seeded)
+        self._rng = np.random.default_rng(seed + 1)
         if wavelength <= 0 or raggedness < 0 or correlation <= 0 or range <= 0 or edge_width <= 0:
             raise ValueError("seam: wavelength, correlation, range and edge_width must be > 0, raggedness >= 0")
         self.amplitude, self.wavelength, self.raggedness, self.correlation = amplitude, wavelength, raggedness, correlation
@@ -123,7 +128,18 @@ class SeamProcess:
         found = in_range and self.present(u)
         if found:
             self.trace.append(SeamSample(u, lateral, seam))
+            if self.noise > 0:
+                rel += float(self._rng.normal(0.0, self.noise))
         return found, rel if found else math.nan, edge
 
     def __call__(self, io: Any, time_s: float) -> None:
         """As a process of the cell's IO (so the sensors find it): nothing to do per plant step."""
+
+
+def cell_seam(io: Any) -> SeamProcess:
+    """The cell's SeamProcess (from a script's `seam:`), or a default one added to the cell's IO now."""
+    seam = next((p for p in getattr(io, "processes", ()) if isinstance(p, SeamProcess)), None)
+    if seam is None:
+        seam = SeamProcess()
+        io.add_process(seam)
+    return seam

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -10,6 +11,9 @@ from typing import Any
 #: The TCP counts as moving when the gun closes if it is faster than this (m/s); the servo's tracking lag
 #: alone leaves a few mm/s for some 30 ms after the reference has stopped.
 MOVING_M_S = 0.02
+#: The TCP's speed is its displacement over this window: the measured TCP may change once a motion cycle (4 ms)
+#: while the plant steps every millisecond.
+SPEED_WINDOW_S = 0.008
 
 
 @dataclass(slots=True)
@@ -33,12 +37,16 @@ class WeldGunProcess:
     `weld_time_s`, then DigIn[weld_ok] rises; the close signal falling opens the gun and clears WELD_OK.
 
     `tcp()` gives the TCP position (x, y, z) in m; each weld records where the gun closed and how fast the
-    TCP was moving then. `fail=True` models a welder that never reports a good weld.
+    TCP was moving then. A weld whose gun closes while the TCP moves faster than `max_speed_m_s` is bad: the
+    welder's monitoring rejects it and WELD_OK never rises. `fail=True` models a welder that never reports a
+    good weld.
     """
 
     def __init__(self, close: int, weld_ok: int, reaction_s: float = 0.08, weld_time_s: float = 0.2,
-                 tcp: Callable[[], tuple[float, float, float]] | None = None, fail: bool = False) -> None:
+                 tcp: Callable[[], tuple[float, float, float]] | None = None, fail: bool = False,
+                 max_speed_m_s: float = MOVING_M_S) -> None:
         self.close, self.weld_ok = close, weld_ok
+        self.max_speed_m_s = max_speed_m_s
         self.reaction_s, self.weld_time_s = reaction_s, weld_time_s
         self.tcp, self.fail = tcp, fail
         self.welds: list[Weld] = []
@@ -47,12 +55,17 @@ class WeldGunProcess:
         self._done_at: float | None = None
         self._last: tuple[float, tuple[float, float, float]] | None = None
         self._speed = 0.0
+        self._history: deque[tuple[float, tuple[float, float, float]]] = deque()
 
     def __call__(self, io: Any, time_s: float) -> None:
         if self.tcp is not None:
             position = tuple(float(v) for v in self.tcp())
-            if self._last is not None and time_s > self._last[0]:
-                self._speed = math.dist(position, self._last[1]) / (time_s - self._last[0])
+            self._history.append((time_s, position))  # type: ignore[arg-type]
+            while len(self._history) > 2 and time_s - self._history[1][0] >= SPEED_WINDOW_S - 1e-9:
+                self._history.popleft()
+            first_s, first = self._history[0]
+            if time_s > first_s:
+                self._speed = math.dist(position, first) / (time_s - first_s)
             self._last = (time_s, position)  # type: ignore[assignment]
         command = bool(io.dig_out[self.close])
         if command and not self._commanded:
@@ -66,7 +79,8 @@ class WeldGunProcess:
             position = self._last[1] if self._last is not None else (math.nan,) * 3
             self.welds.append(Weld(self._closing_at - self.reaction_s, time_s, position, self._speed))  # type: ignore[arg-type]
             self._closing_at = None
-            self._done_at = None if self.fail else time_s + self.weld_time_s
+            rejected = self.fail or self._speed > self.max_speed_m_s
+            self._done_at = None if rejected else time_s + self.weld_time_s
         if self._done_at is not None and time_s >= self._done_at - 1e-9:
             io.dig_in[self.weld_ok] = True
             self.welds[-1].done_s = time_s

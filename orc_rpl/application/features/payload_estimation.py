@@ -1,0 +1,125 @@
+"""Payload identification from a short recording of joint torques (IDENTMOVE): the estimate, its spread, the answer's confidence.
+
+The robot model gives the torques without a load, tau_0(q, qd, qdd), and the torques a 1 kg load at the
+flange adds, d = tau_1 - tau_0. Per joint j and window w of the recording the measured torque is
+
+    tau_j = tau_0j + m d_j + c_j + b_j qd_j + noise
+
+with the payload m shared by every joint and, per joint, an offset c_j (Coulomb friction while the joint
+turns one way, and a constant error of the model) and a viscous friction b_j. Windows, not samples: over a
+window of WINDOW samples the torque is averaged and the acceleration is the change of the measured velocity
+divided by the window's length, so no differentiated velocity (whose one sample at an acceleration switch
+used to dominate the fit) enters. The offsets and frictions have a prior (zero mean, OFFSET_PRIOR_NM and
+VISCOUS_PRIOR_NM_S spread): what the recording cannot separate from the payload (a constant offset against a
+load's nearly constant weight) stays uncertain instead of being guessed. Each joint's equations are
+weighted by its noise, estimated from the residuals of a first fit (and never below NOISE_FLOOR_NM), and the
+estimate's standard deviation comes from the posterior covariance.
+
+`confidence(answer_of, m, sigma)` asks the user's classification at the estimate and around it: the answer
+is trusted when it is the same from m - 3 sigma to m + 3 sigma; its confidence is the normal probability
+mass over the grid points that give the same answer.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+#: Samples averaged into one window (4 ms motion cycle: 20 ms windows).
+WINDOW = 5
+#: A window whose per-cycle joint accelerations spread by more than this (rad/s^2, plus a tenth of their size)
+#: holds an acceleration switch and is left out.
+SWITCH_RAD_S2 = 0.3
+#: Prior spread of each joint's offset (N m): Coulomb friction and a constant model error together.
+OFFSET_PRIOR_NM = 0.3
+#: Prior spread of each joint's viscous friction (N m s/rad).
+VISCOUS_PRIOR_NM_S = 0.5
+#: Each joint's torque noise is at least this (N m): a fit cannot be more certain than the motor's resolution.
+NOISE_FLOOR_NM = 0.2
+#: The answer must hold over the estimate +- this many standard deviations.
+SIGMAS = 3.0
+#: Grid of the confidence (in standard deviations from the estimate).
+GRID = np.arange(-4.0, 4.0001, 0.25)
+
+
+@dataclass(frozen=True, slots=True)
+class PayloadEstimate:
+    """The payload (kg) and its standard deviation (kg); `windows` used."""
+
+    mass_kg: float
+    sigma_kg: float
+    windows: int
+
+
+def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[float]]) -> PayloadEstimate:
+    """The payload from samples (time_s, q, qd, torque) and the controller's model `inverse_dynamics(q, qd, qdd, kg)`."""
+    rows = _windows(samples)
+    if not rows:
+        return PayloadEstimate(0.0, math.inf, 0)
+    n = len(rows[0][0])
+    tau0 = np.array([inverse_dynamics(q, qd, qdd, 0.0) for q, qd, qdd, _ in rows], dtype=float)
+    d = np.array([inverse_dynamics(q, qd, qdd, 1.0) for q, qd, qdd, _ in rows], dtype=float) - tau0
+    tau = np.array([t for _, _, _, t in rows], dtype=float)
+    qd = np.array([v for _, v, _, _ in rows], dtype=float)
+    y = tau - tau0                                           # (windows, joints)
+    k = len(rows)
+    # unknowns: m, c_1..c_n, b_1..b_n; equation (w, j): y = m d + c_j + b_j qd_j
+    a = np.zeros((k * n, 1 + 2 * n))
+    for j in range(n):
+        a[j::n, 0] = d[:, j]
+        a[j::n, 1 + j] = 1.0
+        a[j::n, 1 + n + j] = qd[:, j]
+    b = y.reshape(-1)
+    prior = np.concatenate(([0.0], np.full(n, 1.0 / OFFSET_PRIOR_NM ** 2), np.full(n, 1.0 / VISCOUS_PRIOR_NM_S ** 2)))
+    noise = np.full(n, 1.0)
+    for _ in range(2):  # a first fit with unit noise, then each joint weighted by its residual noise
+        w = np.tile(1.0 / noise ** 2, k)
+        info = a.T @ (a * w[:, None]) + np.diag(prior)
+        theta = np.linalg.solve(info, a.T @ (w * b))
+        residual = (b - a @ theta).reshape(k, n)
+        dof = max(1.0, k - 2.0)  # each joint spends about two windows on its offset and friction
+        noise = np.maximum(NOISE_FLOOR_NM, np.sqrt((residual ** 2).sum(axis=0) / dof))
+    w = np.tile(1.0 / noise ** 2, k)
+    info = a.T @ (a * w[:, None]) + np.diag(prior)
+    theta = np.linalg.solve(info, a.T @ (w * b))
+    covariance = np.linalg.inv(info)
+    return PayloadEstimate(float(theta[0]), float(math.sqrt(max(covariance[0, 0], 0.0))), k)
+
+
+def _windows(samples: Sequence[Any]) -> list[tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...], np.ndarray]]:
+    """(q, qd, qdd, mean torque) per clean window: q at its middle, qd its mean, qdd the velocity change across it
+    over its length, against the torque between the samples (the mean of each cycle's two ends: the motor
+    torque is sampled at the cycle's boundaries, the velocity changes in between). A window in which the
+    acceleration switches (its per-cycle accelerations spread by more than SWITCH_RAD_S2 plus a tenth of
+    their size) is left out: there the servo's torque and the measured motion do not average alike."""
+    out = []
+    for start in range(0, len(samples) - WINDOW, WINDOW):
+        window = samples[start: start + WINDOW + 1]
+        t = np.array([s.time_s for s in window])
+        if np.any(np.diff(t) <= 0):
+            continue
+        qd = np.array([s.qd for s in window], dtype=float)
+        per_cycle = np.diff(qd, axis=0) / np.diff(t)[:, None]
+        spread = per_cycle.max(axis=0) - per_cycle.min(axis=0)
+        if np.any(spread > SWITCH_RAD_S2 + 0.1 * np.abs(per_cycle).max(axis=0)):
+            continue
+        qdd = tuple(((qd[-1] - qd[0]) / (t[-1] - t[0])).tolist())
+        torques = np.array([s.torque for s in window], dtype=float)
+        torque = (torques[1:] + torques[:-1]).mean(axis=0) / 2  # the trapezoid: the torque between the samples
+        out.append((tuple(window[WINDOW // 2].q), tuple(qd.mean(axis=0).tolist()), qdd, torque))
+    return out
+
+
+def confidence(answer_of: Callable[[float], Any], mass_kg: float, sigma_kg: float) -> tuple[Any, float, bool]:
+    """(the answer at the estimate, its confidence 0..1, trusted: the same answer over +- SIGMAS sigma)."""
+    answer = answer_of(max(0.0, mass_kg))
+    if not math.isfinite(sigma_kg):
+        return answer, 0.0, False
+    weights = np.exp(-0.5 * GRID ** 2)
+    same = np.array([answer_of(max(0.0, mass_kg + g * sigma_kg)) == answer for g in GRID])
+    trusted = bool(np.all(same[np.abs(GRID) <= SIGMAS + 1e-9]))
+    return answer, float(weights[same].sum() / weights.sum()), trusted

@@ -1,0 +1,168 @@
+"""The view of a run: follows the robot, the planned paths, the positions and the statement, at a steady wall-clock rate."""
+
+from __future__ import annotations
+
+import time
+from functools import partial
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.executive.executive import Executive
+from orc_rpl.executive.report import MonitoredRobot
+from orc_rpl.plant.shapes import Poses, cell_poses, cell_shapes
+from orc_rpl.view.framing import frame_work
+from orc_rpl.view.positions import declared_names, world_transforms
+from orc_rpl.view.scene import CellScene, wxyz_of
+from orc_rpl.view.sender import Sender
+from orc_rpl.world.objects import FLANGE, PREDEFINED
+from orc_rpl.world.pose import shown_pose
+
+#: Updates per second of wall-clock time the view sends at most (the robot, the trace, the caption).
+RATE_HZ = 40.0
+#: The TCP trace takes a point every this many motion cycles (simulated time, so it is the same paced or fast).
+TRACE_EVERY_TICKS = 5
+
+
+def sim_cell(robot: Any) -> Any:
+    """The simulated MuJoCo cell under a robot, or None (a kinematic robot, real hardware)."""
+    loop = getattr(getattr(getattr(robot, "layer", None), "backend", None), "loop", None)
+    return getattr(loop, "cell", None)
+
+
+def statement_caption(executive: Executive, time_s: float) -> str:
+    """`t = 1.24 s · line 12: LMOVE gripper TO slot1`: where the program is (the statement it executes or waits at)."""
+    pointer = executive.pointer
+    if pointer is None or executive.source is None:
+        return f"t = {time_s:.2f} s"
+    lines = executive.source.splitlines()
+    text = lines[pointer.line - 1].strip() if 0 < pointer.line <= len(lines) else ""
+    return f"t = {time_s:.2f} s · line {pointer.line}: {text}"
+
+
+class LiveView:
+    """Attach to a run (`attach`), let the executive drive `monitor(robot)`, call `finish()` at the end.
+
+    It reads the plant, the motion layer's planned-path signal and the executive's variables; it commands nothing.
+    """
+
+    def __init__(self, scene: CellScene, executive: Executive, robot: Any, world: Any = None,
+                 rate_hz: float = RATE_HZ) -> None:
+        self.scene, self.executive, self.robot, self.world = scene, executive, robot, world
+        self.period_s = 1.0 / rate_hz
+        self.updates = 0                          #: updates sent so far (the benchmark's rate)
+        self._cell = sim_cell(robot)
+        self._names: tuple[str, ...] = ()
+        self._seen: dict[str, Any] = {}
+        self._next_wall_s = 0.0
+        self._ticks = 0
+        self._trace_new: list[np.ndarray] = []
+        self._tool: tuple[Any, np.ndarray | None] = (None, None)
+        self._flange_node: Any = None
+        self.sender = Sender()
+
+    # -- setting up ---------------------------------------------------------------------------
+
+    def attach(self, program: Any) -> None:
+        """Draw the cell, the world and what is declared so far; listen to the planned paths; aim the camera."""
+        self.executive.tracing = True  # the program pointer follows every statement (the caption)
+        self._names = declared_names(program)
+        if self._cell is not None:
+            self.scene.add_cell(cell_shapes(self._cell), cell_poses(self._cell))
+        if self.world is not None:
+            self._add_world()
+        layer = self.robot.layer
+        layer.plan_listeners.append(self._planned)
+        reach = [np.zeros(3), layer.fk(layer.current_q())[:3, 3], *(n.position for n in self.scene.objects.values())]
+        self.scene.frame_camera(frame_work(np.array(reach)))
+        self.update()
+
+    def _add_world(self) -> None:
+        world = self.world
+        for obj in world.objects:
+            if obj.name in PREDEFINED:
+                continue
+            if FLANGE in world.ancestors(obj.name):  # tools ride on the flange
+                if self._flange_node is None:
+                    self._flange_node = self.scene.add_mount("/flange")
+                self.scene.add_object(obj.name, world.relative_pose(obj.name, FLANGE).matrix(), obj.model, "/flange")
+                continue
+            self.scene.add_object(obj.name, world.world_pose(obj.name).matrix(), obj.model)
+            dotted_names = [f"{obj.name}.{frame.name}" for frame in obj.frames]  # the world's named positions
+            dotted_names += [f"{obj.name}.{path.name}[{i}]" for path in obj.paths for i in range(1, len(path.points) + 1)]
+            for dotted in dotted_names:
+                self.scene.set_position(dotted, world.world_pose(dotted).matrix())
+
+    def _planned(self, move_id: int, tcp_m: np.ndarray) -> None:
+        """The motion layer's planned-path signal: drawn before the move starts."""
+        self.sender.always(partial(self.scene.add_path, move_id, tcp_m))
+
+    def monitor(self, robot: Any) -> Any:
+        """The robot the executive should drive: the same robot, whose ticks also feed the view."""
+        return MonitoredRobot(robot, 1, self.on_tick)
+
+    # -- each motion cycle ---------------------------------------------------------------------
+
+    def on_tick(self) -> None:
+        self._ticks += 1
+        if self._ticks % TRACE_EVERY_TICKS == 0:
+            self._trace_new.append(self._tcp_m())
+        if time.perf_counter() >= self._next_wall_s:
+            self.update()
+
+    def _tcp_m(self) -> np.ndarray:
+        tool = self.executive.machine.last_tool
+        if tool is not self._tool[0]:
+            self._tool = (tool, None if tool is None else tool.matrix())
+        layer = self.robot.layer
+        return layer.fk(layer.current_q(), self._tool[1])[:3, 3].copy()
+
+    def update(self) -> None:
+        """Hand the robot's pose, the trace, new positions and the caption to the sending thread now."""
+        self._next_wall_s = time.perf_counter() + self.period_s
+        poses = cell_poses(self._cell) if self._cell is not None else None
+        flange = self.robot.layer.fk(self.robot.layer.current_q()) if self._flange_node is not None else None
+        values = self.executive.machine.globals
+        for name in self._names:
+            value = values.get(name)
+            if value is not None and value is not self._seen.get(name):
+                self._seen[name] = value
+                for label, t in world_transforms(name, value, self.executive):
+                    self.sender.always(partial(self._show_position, label, t))
+        if self._trace_new:
+            self.sender.always(partial(self.scene.extend_trace, self._trace_new))
+            self._trace_new = []
+        tcp = shown_pose(self.robot.tcp_pose(self.executive.machine.last_tool)).text()
+        caption = f"{statement_caption(self.executive, self.robot.time_s())}\n\nTCP {tcp}"
+        self.sender.latest(partial(self._show_state, poses, flange, caption))
+
+    def _show_state(self, poses: Poses | None, flange: np.ndarray | None, caption: str) -> None:
+        if poses is not None:
+            self.scene.move_cell(poses)
+        if flange is not None:
+            self._flange_node.position = flange[:3, 3]
+            self._flange_node.wxyz = wxyz_of(flange[:3, :3])
+        self.scene.set_caption(caption)
+        self.updates += 1
+
+    def _show_position(self, label: str, world_t: np.ndarray) -> None:
+        """A declared position; an off-line program's positions are the world's frames under short names: drawn once."""
+        if label not in self.scene.positions:
+            same = [node for key, node in (*self.scene.objects.items(), *self.scene.positions.items())
+                    if key == label or key.endswith(f".{label}")]
+            if any(np.allclose(node.position, world_t[:3, 3], atol=1e-6) for node in same):
+                return
+        self.scene.set_position(label, world_t)
+
+    def highlight(self, position: str | None = None, move_id: int | None = None) -> None:
+        """Show a selected position and a move's planned path (the pendant's selection and program pointer)."""
+        self.sender.always(partial(self.scene.highlight, position, move_id))
+
+    def finish(self) -> None:
+        """Show the last state of the run, whatever the rate, and wait until it is sent; stop listening."""
+        self._trace_new.append(self._tcp_m())
+        self.update()
+        self.sender.close()
+        listeners = self.robot.layer.plan_listeners
+        if self._planned in listeners:
+            listeners.remove(self._planned)

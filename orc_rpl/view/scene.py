@@ -1,0 +1,201 @@
+"""The view's scene: the cell's geoms, the world's objects and frames, positions, planned paths and the TCP trace in viser."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import viser
+import viser.transforms as tf
+
+from orc_rpl.plant.shapes import Poses, Shape
+from orc_rpl.view.framing import Framing
+
+#: Colours (RGB 0..255) of what the view draws over the cell.
+PATH_RGB = (255, 140, 0)
+TRACE_RGB = (220, 30, 60)
+POSITION_AXES_M = 0.06
+OBJECT_AXES_M = 0.1
+#: The TCP trace is drawn in chunks of this many points: only the newest chunk is sent again as it grows.
+TRACE_CHUNK = 200
+#: Planned paths kept on screen (the oldest are removed first).
+PATHS_KEPT = 40
+#: What is selected (a position picked at the pendant, the motion at the program pointer) is drawn this much larger.
+HIGHLIGHT_SCALE = 2.5
+HIGHLIGHT_RGB = (30, 120, 255)
+
+
+def wxyz_of(rotation: np.ndarray) -> np.ndarray:
+    """The unit quaternion (w, x, y, z) of a rotation matrix."""
+    return tf.SO3.from_matrix(np.asarray(rotation, dtype=float)).wxyz
+
+
+def _rgb(rgba: tuple[float, ...]) -> tuple[int, int, int]:
+    return (int(round(255 * rgba[0])), int(round(255 * rgba[1])), int(round(255 * rgba[2])))
+
+
+class CellScene:
+    """What one viser server shows; the handles stay readable so tests and the pendant can ask what is drawn."""
+
+    def __init__(self, server: viser.ViserServer) -> None:
+        self.server = server
+        self.scene = server.scene
+        self.moving: dict[int, Any] = {}          #: geom index -> node of a geom that moves with a body
+        self.shapes: dict[str, Any] = {}          #: geom name -> node, every geom of the cell
+        self.objects: dict[str, Any] = {}         #: world object name -> its frame node
+        self.positions: dict[str, Any] = {}       #: position name -> its small frame
+        self.paths: dict[int, Any] = {}           #: move id -> the planned path's line segments
+        self.trace_m: list[np.ndarray] = []       #: TCP trace points so far, world, m
+        self._trace_nodes: list[Any] = []
+        self._caption: Any = None
+        self.scene.set_up_direction("+z")
+
+    # -- the cell (MuJoCo geoms) -------------------------------------------------------------
+
+    def add_cell(self, shapes: tuple[Shape, ...], poses: Poses) -> None:
+        """Every geom of the compiled cell at its current pose."""
+        for shape in shapes:
+            node = self._add_shape(f"/cell/{shape.name}", shape)
+            node.position = poses.position_m[shape.index]
+            node.wxyz = poses.wxyz[shape.index]
+            self.shapes[shape.name] = node
+            if shape.moves:
+                self.moving[shape.index] = node
+
+    def _add_shape(self, name: str, shape: Shape) -> Any:
+        scene, rgb, size = self.scene, _rgb(shape.rgba), shape.size_m
+        opacity = None if shape.rgba[3] >= 1.0 else shape.rgba[3]
+        if shape.kind == "box":
+            return scene.add_box(name, rgb, tuple(2 * s for s in size), opacity=opacity)
+        if shape.kind == "sphere":
+            return scene.add_icosphere(name, size[0], rgb, opacity=opacity)
+        if shape.kind == "ellipsoid":
+            return scene.add_icosphere(name, 1.0, rgb, scale=size, opacity=opacity)
+        if shape.kind == "cylinder":
+            return scene.add_cylinder(name, size[0], 2 * size[1], rgb, opacity=opacity)
+        if shape.kind == "capsule":  # a cylinder with a sphere at each end, moved as one group
+            group = scene.add_frame(name, show_axes=False)
+            scene.add_cylinder(f"{name}/body", size[0], 2 * size[1], rgb, opacity=opacity)
+            for end, z in (("top", size[1]), ("bottom", -size[1])):
+                scene.add_icosphere(f"{name}/{end}", size[0], rgb, position=(0.0, 0.0, z), opacity=opacity)
+            return group
+        if shape.kind == "mesh":
+            return scene.add_mesh_simple(name, shape.vertices_m, shape.faces, color=rgb, opacity=opacity)
+        # a plane: MuJoCo's size is its half extents (0: infinite, drawn as the floor the cell stands on)
+        width = 2 * size[0] if size[0] > 0 else 10.0
+        height = 2 * size[1] if size[1] > 0 else 10.0
+        return scene.add_grid(name, width, height, cell_size=0.25, section_size=1.0, plane_color=rgb, plane_opacity=0.5)
+
+    def move_cell(self, poses: Poses) -> None:
+        """The moving geoms where the plant has them now, sent together so a browser never shows half a robot."""
+        with self.server.atomic():
+            for index, node in self.moving.items():
+                node.position = poses.position_m[index]
+                node.wxyz = poses.wxyz[index]
+
+    # -- the world model: objects, frames, their names ----------------------------------------
+
+    def add_object(self, name: str, world_t: np.ndarray, model: Any, parent_node: str = "/world") -> None:
+        """A world object: its frame with its name, and its geometry (box, cylinder, sphere) where the model says."""
+        node_name = f"{parent_node}/{name}"
+        node = self.scene.add_frame(node_name, axes_length=OBJECT_AXES_M, axes_radius=0.004,
+                                    position=world_t[:3, 3], wxyz=wxyz_of(world_t[:3, :3]))
+        self.scene.add_label(f"{node_name}/name", name, font_screen_scale=0.9)
+        self.objects[name] = node
+        if model is not None and model.geometry in ("box", "cylinder", "sphere") and model.size_m:
+            offset = model.offset.matrix() if model.offset is not None else np.eye(4)
+            where = {"position": offset[:3, 3], "wxyz": wxyz_of(offset[:3, :3])}
+            rgb, size = _colour(model.colour), model.size_m
+            if model.geometry == "box":
+                self.scene.add_box(f"{node_name}/geometry", rgb, tuple(size), **where)
+            elif model.geometry == "cylinder":
+                self.scene.add_cylinder(f"{node_name}/geometry", size[0], size[1], rgb, **where)
+            else:
+                self.scene.add_icosphere(f"{node_name}/geometry", size[0], rgb, **where)
+
+    def add_mount(self, name: str) -> Any:
+        """An invisible node that carries what is mounted on it (the flange carries tools); move it with set_mount."""
+        return self.scene.add_frame(name, show_axes=False)
+
+    # -- positions, planned paths, the TCP trace -------------------------------------------------
+
+    def set_position(self, name: str, world_t: np.ndarray) -> None:
+        """A declared position as a small frame with its name (moved if it is declared again)."""
+        node = self.positions.get(name)
+        if node is None:
+            node = self.scene.add_frame(f"/positions/{name}", axes_length=POSITION_AXES_M, axes_radius=0.003)
+            self.scene.add_label(f"/positions/{name}/name", name, font_screen_scale=0.8)
+            self.positions[name] = node
+        node.position = world_t[:3, 3]
+        node.wxyz = wxyz_of(world_t[:3, :3])
+
+    def add_path(self, move_id: int, tcp_m: np.ndarray) -> None:
+        """The TCP path a move is planned to take, drawn before it starts."""
+        points = np.asarray(tcp_m, dtype=np.float32)
+        if len(points) < 2:
+            return
+        segments = np.stack([points[:-1], points[1:]], axis=1)
+        self.paths[move_id] = self.scene.add_line_segments(f"/paths/{move_id}", segments, PATH_RGB, thickness=3.0,
+                                                           thickness_units="screen")
+        while len(self.paths) > PATHS_KEPT:
+            self.paths.pop(next(iter(self.paths))).remove()
+
+    def extend_trace(self, points_m: list[np.ndarray]) -> None:
+        """Add TCP positions to the trace; only its newest chunk is sent again."""
+        if not points_m:
+            return
+        self.trace_m.extend(points_m)
+        first = (len(self._trace_nodes) - 1) * TRACE_CHUNK if self._trace_nodes else 0
+        while True:
+            chunk = np.asarray(self.trace_m[first: first + TRACE_CHUNK + 1], dtype=np.float32)
+            index = first // TRACE_CHUNK
+            if len(chunk) >= 2:
+                segments = np.stack([chunk[:-1], chunk[1:]], axis=1)
+                if index < len(self._trace_nodes):
+                    with self.server.atomic():
+                        node = self._trace_nodes[index]
+                        node.points = segments
+                        node.colors = np.broadcast_to(np.array(TRACE_RGB, dtype=np.uint8), segments.shape).copy()
+                else:
+                    self._trace_nodes.append(self.scene.add_line_segments(
+                        f"/trace/{index}", segments, TRACE_RGB, thickness=2.0, thickness_units="screen"))
+            if first + TRACE_CHUNK + 1 >= len(self.trace_m):
+                return
+            first += TRACE_CHUNK
+
+    def highlight(self, position: str | None = None, move_id: int | None = None) -> None:
+        """Show one position larger (None: none) and one move's planned path in blue and thicker (None: none)."""
+        for name, node in self.positions.items():
+            node.scale = HIGHLIGHT_SCALE if name == position else 1.0
+        for key, node in self.paths.items():
+            chosen = key == move_id
+            node.thickness = 6.0 if chosen else 3.0
+            node.colors = np.broadcast_to(np.array(HIGHLIGHT_RGB if chosen else PATH_RGB, dtype=np.uint8),
+                                          node.points.shape).copy()
+
+    # -- words and the camera -------------------------------------------------------------
+
+    def set_caption(self, text: str) -> None:
+        """The line under the title: the simulated time and the statement the program is at."""
+        if self._caption is None:
+            self._caption = self.server.gui.add_markdown(text)
+        elif self._caption.content != text:
+            self._caption.content = text
+
+    def frame_camera(self, framing: Framing) -> None:
+        """Where a newly opened page looks from."""
+        self.server.initial_camera.look_at = framing.lookat_m
+        self.server.initial_camera.position = framing.camera_position_m()
+        self.server.initial_camera.up = (0.0, 0.0, 1.0)
+
+
+def _colour(colour: str | tuple[float, ...] | None) -> tuple[int, int, int]:
+    """A world model's colour (a name or [r, g, b(, a)] in 0..1) as RGB 0..255; grey when none is given."""
+    from matplotlib.colors import to_rgba
+
+    if colour is None:
+        return (160, 160, 160)
+    try:
+        return _rgb(to_rgba(colour))
+    except ValueError:  # the world loader checked it; a name matplotlib does not know stays grey
+        return (160, 160, 160)

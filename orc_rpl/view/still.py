@@ -1,0 +1,27 @@
+"""A still view: the cell at home, a world's objects and frames and a program's declared positions; nothing runs."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from orc_rpl.errors import OrcError
+from orc_rpl.executive.cell_robot import CellRobot
+from orc_rpl.syntax import nodes as n
+from orc_rpl.view.live import LiveView
+from orc_rpl.view.positions import evaluate_declarations
+from orc_rpl.view.scene import CellScene
+
+
+def show_still(server: Any, world: Any, program: n.Program | None, registry: Any, robot: str, caption: str,
+               path: str = "<program>") -> LiveView:
+    """Draw the still view on `server`; an OrcError when a declaration of the program (at `path`) cannot be evaluated."""
+    cell_robot = CellRobot.virtual(robot=robot)
+    shown = program if program is not None else n.Program(body=())
+    executive = evaluate_declarations(shown, cell_robot, registry, path)
+    if executive.status == "failed":
+        raise OrcError(executive.report())
+    view = LiveView(CellScene(server), executive, cell_robot, world)
+    view.attach(shown)
+    view.sender.drain()  # everything is drawn when this returns
+    view.scene.set_caption(caption)
+    return view
