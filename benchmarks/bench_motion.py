@@ -2,7 +2,10 @@
 
 Run: python benchmarks/bench_motion.py [--robot irb2400] [--seconds 60]
 The last lines are `key=value` figures (targets: sim_speed_x_realtime >= 50,
-time_optimality_ratio <= 1.03, vs_naive_ratio <= 0.8, lmove_path_deviation_mm <= 1).
+sim_vs_raw_mujoco_ratio >= 0.25, time_optimality_ratio <= 1.03, vs_naive_ratio <= 0.8,
+lmove_path_deviation_mm <= 1). The speed is the realistic plant's (median of five runs, each
+against raw mj_step of the ideal arm); the other figures are the realistic plant's, warm, with the
+payload declared right.
 """
 
 from __future__ import annotations
@@ -70,11 +73,18 @@ def program_step(layer: MotionLayer, i: int) -> None:
             layer.wait(h)
 
 
+def warm_realistic(robot: str) -> MotionLayer:
+    """The realistic plant after a warm-up (friction about its warm value), no payload (none declared)."""
+    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic")
+    layer.backend.loop.cell.warm_up()
+    return layer
+
+
 def bench_speed(robot: str, seconds: float) -> tuple[float, float, float, float]:
     """(x real time of the whole stack, x real time of raw mj_step, their ratio, share of wall time in servo+plant)."""
-    layer = make_virtual_motion_layer(robot, backend="servo", record=True)
+    layer = make_virtual_motion_layer(robot, backend="servo", record=True, plant="realistic")
     program_step(layer, 0)  # warm-up: imports (toppra pulls in matplotlib), caches
-    layer = make_virtual_motion_layer(robot, backend="servo", record=True)
+    layer = make_virtual_motion_layer(robot, backend="servo", record=True, plant="realistic")
     below = [0.0]
     advance = layer.backend.advance
 
@@ -136,7 +146,7 @@ def naive_quintic_time(layer: MotionLayer, q0: np.ndarray, q1: np.ndarray) -> fl
 
 def bench_optimality(robot: str) -> tuple[float, float, float, float, float]:
     """Worst and mean executed/TOPP-RA-bound ratio; our time over the naive quintic: all joint moves, short, long."""
-    layer = make_virtual_motion_layer(robot, backend="servo")
+    layer = warm_realistic(robot)
     ratios: list[float] = []
     ours: dict[str, list[float]] = {"short": [], "long": []}
     naive: dict[str, list[float]] = {"short": [], "long": []}
@@ -164,7 +174,7 @@ def bench_optimality(robot: str) -> tuple[float, float, float, float, float]:
 
 def bench_lmove_deviation(robot: str) -> float:
     """Largest distance (mm) of the measured TCP from the programmed line, every servo step, LMOVEs at full speed."""
-    layer = make_virtual_motion_layer(robot, backend="servo")
+    layer = warm_realistic(robot)
     loop = layer.backend.loop
     worst = 0.0
     line: list[np.ndarray] = []
@@ -193,7 +203,9 @@ def main() -> None:
     ap.add_argument("--robot", default="irb2400")
     ap.add_argument("--seconds", type=float, default=60.0)
     args = ap.parse_args()
-    ours, raw, ratio, servo_share = bench_speed(args.robot, args.seconds)
+    # the machine is shared: the median of five runs of the stack, each against raw mj_step in the same run
+    runs = sorted((bench_speed(args.robot, args.seconds / 5) for _ in range(5)), key=lambda r: r[2])
+    ours, raw, ratio, servo_share = runs[2]
     worst, mean, naive, naive_short, naive_long = bench_optimality(args.robot)
     dev = bench_lmove_deviation(args.robot)
     print(f"robot={args.robot}")

@@ -113,6 +113,12 @@ class Timeout(MotionFault):
     rpl_name = "Timeout"
 
 
+class Collision(MotionFault):
+    """The robot or its tool touched something in the cell that is not its work: a collision stop."""
+
+    rpl_name = "Collision"
+
+
 class SensorFault(MotionFault):
     """A sensor failed to deliver a value (lost link, bad reply)."""
 

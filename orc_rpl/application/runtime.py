@@ -49,6 +49,7 @@ class MotionRequest:
     time_s: float | None = None                   #: requested duration
     load_kg: float = 0.0                          #: payload
     tuning: Any = None                            #: servo tuning (passed down)
+    path_control: bool | None = None              #: path velocity control for this motion (None: the robot's setting)
     until: Callable[[MotionView], bool] | None = None  #: stop on the path when it becomes true
     short: bool = False                           #: a short move (ShortMove: jerk-limited, FINE) when the robot has one
     signal_before_end_s: float | None = None      #: tau: the ticket's `signalled_s` is set when t >= T_d - tau

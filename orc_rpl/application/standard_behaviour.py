@@ -108,6 +108,7 @@ def standard_motion(call: MotionCall) -> MotionRequest:
         speed_m_s=speed_m_s, speed_fraction=speed_fraction, accel_fraction=accel_fraction,
         zone_m=_zone(attrs.get("ZONE")), time_s=duration or None,
         load_kg=_quantity(attrs.get("LOAD"), MASS, "LOAD") or 0.0, tuning=attrs.get("TUNING"), until=call.until,
+        path_control=attrs.get("PATHCONTROL"),
     )
 
 

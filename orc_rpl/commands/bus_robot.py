@@ -36,6 +36,8 @@ def check_options(args: argparse.Namespace) -> None:
         return
     from orc_rpl.hardware.calibration import check_bus_robot
 
+    if getattr(args, "plant", None) is not None:
+        raise UsageError("--plant: a real arm (--port) is its own plant; --plant chooses the simulated one")
     check_bus_robot(args.robot, "--robot (with --port)")
     if not os.path.exists(args.port):
         raise UsageError(f"--port: no such device {args.port!r} (is the arm plugged in? is the emulator running?)")

@@ -27,6 +27,10 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     bus_robot.add_options(parser)
     parser.add_argument("--allow-devices", action="store_true",
                         help="let the program open the serial devices its PORT attributes name (default: none is opened)")
+    parser.add_argument("--plant", choices=("realistic", "ideal"), default=None,
+                        help="realistic: friction, motor heat, encoders, masses off the model (default); "
+                             "ideal: the controller's own model, exactly (simulation only: not with --port)")
+    parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
     recovery = parser.add_mutually_exclusive_group()
     recovery.add_argument("--recover", action="store_true", help="take unsaved edits from the journal without asking")
     recovery.add_argument("--discard", action="store_true", help="discard unsaved edits in the journal without asking")
@@ -84,6 +88,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.sim_io import load_script, script_path
     from orc_rpl.motion.sensors import SensorManager
     from orc_rpl.pendant.app import PendantApp
@@ -94,7 +99,8 @@ def _run(args: argparse.Namespace) -> int:
     if args.port is not None:
         robot = PendantRobot(bus_robot.connect(args, record=False))  # a real (or emulated) arm on a servo bus
     else:
-        robot = PendantRobot.virtual(args.robot, backend=args.backend)
+        robot = PendantRobot(CellRobot.virtual(args.robot, backend=args.backend, plant=args.plant or "realistic",
+                                               seed=args.seed))
         # A simulated session touches no device unless asked (the manager INSTALL would otherwise make for this robot).
         robot.sensors = SensorManager(allow_devices=args.allow_devices)  # type: ignore[attr-defined]
     session = PendantSession(args.file, robot=robot, synchronous=not interactive)

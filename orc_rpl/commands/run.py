@@ -43,6 +43,10 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                              "(default 1000000; 0: no budget)")
     parser.add_argument("--allow-devices", action="store_true",
                         help="let the program open the serial devices its PORT attributes name (default: none is opened)")
+    parser.add_argument("--plant", choices=("realistic", "ideal"), default=None,
+                        help="realistic: friction, motor heat, encoders, masses off the model (default); "
+                             "ideal: the controller's own model, exactly (simulation only: not with --port)")
+    parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
     view = parser.add_argument_group("3D view and video (the [view] extra)")
@@ -113,6 +117,7 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
+    from orc_rpl.syntax.files import is_offline
     from orc_rpl.transform.loading import load_program_and_attributes
     from orc_rpl.transform.overrides import override_constants
 
@@ -132,6 +137,7 @@ def run(args: argparse.Namespace) -> int:
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
         source, program, attributes = load_program_and_attributes(args.file, world_file)
         program = override_constants(program, args.set)
+        cell = None if is_offline(args.file) or args.port is not None else _world_cell(world_file, args.robot)
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
@@ -149,7 +155,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(f"orc run: {len(diagnostics)} check error{'s' if len(diagnostics) != 1 else ''}; nothing moved\n")
         return 2
     try:
-        return _run(args, source, program, registry, override, attributes, watch_how)
+        return _run(args, source, program, registry, override, attributes, watch_how, cell)
     except UsageError as error:
         return _fail_usage(str(error))
     except OrcError as error:
@@ -158,6 +164,22 @@ def run(args: argparse.Namespace) -> int:
     except Exception as error:  # a bug of ours: say so, without a traceback
         sys.stderr.write(f"orc run: internal error (a bug in orc_rpl, please report it): {type(error).__name__}: {error}\n")
         return 1
+
+
+def _world_cell(world_file: str | None, robot: str) -> Any:
+    """The simulated cell made from the world model `--world FILE` of an on-line program (contacts on), or None
+    for the default cell. An off-line program runs in the default cell: the tools its worlds hang on the flange
+    would meet the fixtures its bare-flange positions lead to (see docs/robots.md)."""
+    if world_file is None:
+        return None
+    from orc_rpl.plant.world_scene import cell_from_world
+    from orc_rpl.world import load_world
+
+    world = load_world(world_file)
+    model = world.robot.model if world.robot is not None else robot
+    if robot not in ("irb2400", model):  # --robot's default gives way to the world's robot
+        raise UsageError(f"--robot {robot} differs from the robot of the world model '{world_file}' ({model})")
+    return cell_from_world(world, model)
 
 
 def _watched(args: argparse.Namespace, executive: Any, robot: Any, program: Any, registry: Any, how: Any) -> Any:
@@ -170,7 +192,7 @@ def _watched(args: argparse.Namespace, executive: Any, robot: Any, program: Any,
 
 
 def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float, attributes: Any,
-         watch_how: Any = None) -> int:
+         watch_how: Any = None, cell: Any = None) -> int:
     from orc_rpl.executive.process_report import SIGNAL_UNITS, plotted_signals, submit_process_signals
     from orc_rpl.executive.report import Progress, summary, write_summary_text
     from orc_rpl.executive.cell_robot import CellRobot
@@ -183,7 +205,8 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     if args.port is not None:
         robot = bus_robot.connect(args, record)
     else:
-        robot = CellRobot.virtual(robot=args.robot, realtime=paced, record=record)
+        robot = CellRobot.virtual(robot=cell.robot if cell is not None else args.robot, realtime=paced, record=record,
+                                  plant=args.plant or "realistic", seed=args.seed, cell=cell)
         robot.sensors.allow_devices = args.allow_devices  # a simulated run touches no device unless asked
 
     def out(line: str) -> None:

@@ -58,13 +58,25 @@ class CellRobot:
         self.gripper_angles_rad: dict[int, float] = {}  #: servo grippers on the simulated cell (ideal)
 
     @classmethod
-    def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False) -> CellRobot:
-        """The default simulated cell with `robot`, ready at its home position."""
+    def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False,
+                plant: str = "realistic", seed: int = 0, cell: Any = None) -> CellRobot:
+        """The default simulated cell with `robot` (or the cell description `cell`), ready at its home position
+        (`plant`: "realistic" or "ideal")."""
         from orc_rpl.motion import make_virtual_motion_layer
 
-        return cls(make_virtual_motion_layer(robot=robot, realtime=realtime, backend=backend, record=record))
+        return cls(make_virtual_motion_layer(robot=robot, realtime=realtime, backend=backend, record=record,
+                                             plant=plant, seed=seed, cell=cell))
 
     # -- RobotInterface ------------------------------------------------------------------
+
+    @property
+    def path_control(self) -> bool:
+        """Path velocity control for motions that do not say (`ROBOT.PathControl`)."""
+        return self.layer.path_velocity_control
+
+    def set_path_control(self, on: bool) -> None:
+        """`ROBOT.PathControl = on`: for the motions requested from now on."""
+        self.layer.path_velocity_control = bool(on)
 
     def time_s(self) -> float:
         return self.layer.now_s()
@@ -203,7 +215,7 @@ def _params(request: MotionRequest, zone_m: float | None = None) -> Params:
         return kind(speed_m_s=request.speed_m_s, speed_fraction=request.speed_fraction,
                     accel_fraction=request.accel_fraction, zone_m=request.zone_m if zone_m is None else zone_m,
                     time_s=request.time_s, load_kg=request.load_kg,
-                    tuning=request.tuning)
+                    tuning=request.tuning, path_velocity=request.path_control)
     except OrcError as error:
         raise PlanningError(f"{request.keyword}: {error}") from None
 

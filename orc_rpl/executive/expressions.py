@@ -9,7 +9,7 @@ from orc_rpl.executive import operators as ops
 from orc_rpl.executive.machine import Machine
 from orc_rpl.executive.scope import ProgramScopes, Scope
 from orc_rpl.executive.signals import RunError
-from orc_rpl.executive.values import FINE, IO_BANKS, ROBOT, Installed, IOBank, Routine, RobotSignals, type_name
+from orc_rpl.executive.values import FINE, IO_BANKS, ROBOT, Installed, IOBank, Routine, RobotSignals, format_value, type_name
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.units import ANGLE, LENGTH, Quantity, parse_literal, to_si, UNIT_CONSTANTS
 from orc_rpl.world.pose import Pose
@@ -283,5 +283,19 @@ def robot_signal(m: Machine, name: str) -> Any:
         if thermal is None:
             raise RunError("ROBOT.Thermal: this robot has no thermal load estimate")
         return tuple(float(x) for x in thermal())
-    raise RunError(f"ROBOT has no signal '{name}'; it has Joints, Torque, PosError, Thermal")
+    if name == "PathControl":
+        return bool(getattr(robot, "path_control", False))
+    raise RunError(f"ROBOT has no signal '{name}'; it has Joints, Torque, PosError, Thermal, PathControl")
+
+
+def set_robot_setting(m: Machine, name: str, value: Any) -> None:
+    """`ROBOT.PathControl = TRUE|FALSE`: path velocity control for the motions requested from now on."""
+    if name != "PathControl":
+        raise RunError(f"ROBOT.{name} cannot be assigned; ROBOT.PathControl can")
+    if type(value) is not bool:
+        raise RunError(f"ROBOT.PathControl takes TRUE or FALSE, got {format_value(value)}")
+    setter = getattr(m.robot, "set_path_control", None)
+    if setter is None:
+        raise RunError("ROBOT.PathControl: this robot has no path velocity controller")
+    setter(value)
 

@@ -9,12 +9,12 @@ from orc_rpl.executive import operators as ops
 from orc_rpl.executive.blocks import Block, Compiled, Locals, make_block
 from orc_rpl.executive.control import ControlFlow
 from orc_rpl.executive.declarations import DeclarationCompiler
-from orc_rpl.executive.expressions import ExpressionCompiler, invoke_method, merge_named
+from orc_rpl.executive.expressions import ExpressionCompiler, invoke_method, merge_named, set_robot_setting
 from orc_rpl.executive.machine import TICK, Machine
 from orc_rpl.executive.motions import MotionCompiler
 from orc_rpl.executive.scope import ProgramScopes, Scope
 from orc_rpl.executive.signals import ReturnSignal, RunError, StopSignal
-from orc_rpl.executive.values import IO_BANKS, Installed, IOBank, format_value, type_name
+from orc_rpl.executive.values import IO_BANKS, Installed, IOBank, RobotSignals, format_value, type_name
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.limits import MAX_DURATION_S
 from orc_rpl.syntax.units import TIME, Quantity
@@ -109,9 +109,13 @@ class StatementCompiler(ControlFlow):
         if isinstance(target, n.Field):
             get_base, set_base = self.exprs.compile(target.value, scope), self.setter(target.value, scope)
             name = target.name.id
+            m = self.m
 
             def set_field(L: Locals, value: Any) -> None:
                 base = get_base(L)
+                if type(base) is RobotSignals:
+                    set_robot_setting(m, name, value)
+                    return
                 if type(base) is Installed:
                     raise RunError(f"{base.name}.{name} cannot be assigned")
                 set_base(L, ops.set_field(base, name, value))

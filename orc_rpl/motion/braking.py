@@ -24,11 +24,12 @@ def _brake_accel(d1: np.ndarray, d2: np.ndarray, sd: float, qdd_max: np.ndarray)
     return lo if lo <= hi else 0.5 * (lo + hi)
 
 
-def brake(traj: Trajectory, row: int, qdd_max: np.ndarray) -> Trajectory:
-    """A trajectory that starts at fine row `row` of `traj` and stops on the same path as fast as allowed."""
+def brake(traj: Trajectory, row: int, qdd_max: np.ndarray, x_sd: tuple[float, float] | None = None) -> Trajectory:
+    """A trajectory that starts at fine row `row` of `traj` (or at path parameter and speed `x_sd`, where a
+    time-scaled command really is) and stops on the same path as fast as allowed."""
     path = traj.path
     h = traj.dt_s / traj.sub
-    x, sd = float(traj.x_f[row]), float(traj.sd_f[row])
+    x, sd = (float(traj.x_f[row]), float(traj.sd_f[row])) if x_sd is None else x_sd
     xs, sds, sdds = [x], [sd], [0.0]
     end = path.length
     while sd > 0.0 and x < end:

@@ -173,7 +173,8 @@ class MotionLayer(MotionPipeline):
         elif traj.kind == "brake":
             return float(traj.s[-1])
         else:
-            new = brake(traj, row, self.kin.arm.qdd_max)
+            pvc = self.pvc
+            new = brake(traj, row, self.kin.arm.qdd_max, None if pvc is None or pvc.in_sync else (pvc.x, pvc.sd))
         stopping = next((h for h in self._in_traj if h.id == int(new.owner[-1])), None)
         for h in self._in_traj:
             h.stopped_by = by if h is stopping else h.stopped_by
@@ -207,7 +208,7 @@ class MotionLayer(MotionPipeline):
                 h.stopped_by, h.stopped_s = "reset_ref", h.s
                 self._finish(h, MoveStatus.ACT_STOPPED)
         self._queue.clear()
-        self._traj, self._in_traj, self._settling, self._hold_cache = None, [], None, None
+        self._traj, self._in_traj, self._settling, self._hold_cache, self.pvc = None, [], None, None, None
         self._q_ref = np.array(self.backend.q())
         self._qd_ref, self._qdd_ref = np.zeros_like(self._q_ref), np.zeros_like(self._q_ref)
         return self._q_ref.copy()

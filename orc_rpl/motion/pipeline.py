@@ -8,7 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.errors import MotionFault, OrcError, PlanningError
+from orc_rpl.arm.pvc import PathVelocityController
+from orc_rpl.errors import Collision, MotionFault, OrcError, PlanningError
 from orc_rpl.motion.actions import Actions, MotionData
 from orc_rpl.motion.backend import Backend
 from orc_rpl.motion.blending import blend
@@ -52,14 +53,21 @@ class MotionPipeline:
     _settling: tuple[MoveHandle, float] | None
     _continuous: list[tuple[Actions, MoveHandle]]
     _stop_by: str
+    _t_end_nominal: dict[int, float]
     _control_load_kg: float
     _wall_start: float | None
     thermal: Any
+    #: the winding temperature estimate (motion.thermal.WindingTemperature), None when the motors' data is unknown
+    winding: Any = None
     _tuning: Any
     #: the installed sensors (motion.sensors.SensorManager), read by actions through MotionData.sensors
     sensors: Any = None
     #: the path correction of a tracked move: a joint offset added to the planned references (set_path_offset)
     _track_dq: np.ndarray | None = None
+    #: path velocity control (thesis 5.3) for moves that do not say (Params.path_velocity None)
+    path_velocity_control: bool = False
+    #: the path velocity controller of the running trajectory (None: the nominal one is played as planned)
+    pvc: PathVelocityController | None = None
 
     def now_s(self) -> float:
         """The controller clock (simulated time on the virtual robot)."""
@@ -120,10 +128,23 @@ class MotionPipeline:
         self._traj, self._k, self._traj_t0 = traj, 0, self.now_s()
         self._in_traj = handles
         owners = traj.owner
+        self._t_end_nominal: dict[int, float] = {}
         for h in handles:
             idx = np.nonzero(owners == h.id)[0]
             if len(idx):
-                h.t_end_s = self._traj_t0 + float(idx[-1]) * self.dt_s
+                h.t_end_s = self._t_end_nominal[h.id] = self._traj_t0 + float(idx[-1]) * self.dt_s
+        self.pvc = self._path_velocity_controller(traj, handles)
+
+    def _path_velocity_controller(self, traj: Trajectory, handles: list[MoveHandle]) -> PathVelocityController | None:
+        """A path velocity controller for a trajectory timed along its path, when its first move asks for one."""
+        dynamics = getattr(self.backend, "path_dynamics", None)
+        if traj.kind != "path" or dynamics is None or not handles:
+            return None
+        wanted = handles[0].params.path_velocity
+        if not (self.path_velocity_control if wanted is None else wanted):
+            return None
+        return PathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
+                                      dynamics, self.kin.arm.tau_max)
 
     def _try_blend(self, nxt: MoveHandle) -> bool:
         """Replan from the current state through a blended corner onto `nxt`; False if too late or not a zone move."""
@@ -135,7 +156,7 @@ class MotionPipeline:
         if not np.allclose(nxt.plan.start_q, tail.plan.end_q, atol=1e-9, rtol=0.0):
             return False
         row = self._k * self.sub
-        x_now = float(traj.x_f[row])
+        x_now = self.pvc.x if self.pvc is not None else float(traj.x_f[row])  # where the command really is
         dense = traj.path.dense
         later = np.nonzero(traj.path.x_knots > x_now + BLEND_MARGIN_RAD)[0]
         if len(later) < 3:
@@ -167,11 +188,16 @@ class MotionPipeline:
 
     def tick(self) -> None:
         """One motion cycle: command the next references (sub servo steps), update moves, run actions."""
-        traj = self._traj
-        if traj is not None and self._k < traj.cycles:
+        traj, pvc = self._traj, self.pvc
+        if traj is not None and (self._k < traj.cycles if pvc is None else not pvc.done):
             self._k += 1
-            rows = traj.rows(self._k)
-            q_r, qd_r, qdd_r = traj.q_f[rows], traj.qd_f[rows], traj.qdd_f[rows]
+            scaled = None if pvc is None else pvc.cycle(self._k)
+            if scaled is None:
+                rows = traj.rows(self._k)
+                q_r, qd_r, qdd_r = traj.q_f[rows], traj.qd_f[rows], traj.qdd_f[rows]
+            else:
+                q_r, qd_r, qdd_r = scaled
+                self._rescale_end_times(pvc.lag_s())  # type: ignore[union-attr]
             if self._track_dq is not None:
                 q_r = q_r + self._track_dq
             self._hold_cache = None
@@ -185,9 +211,18 @@ class MotionPipeline:
         except MotionFault as fault:  # a real drive failed (DriveFault): the backend holds, the moves fail
             self._drive_fault(fault)
             return
+        collision = getattr(self.backend, "collision", None)
+        hit = None if collision is None else collision()
+        if hit is not None:
+            self._collision_stop(hit)
+            traj = None
         if self.thermal is not None:
-            self.thermal.update(self.backend.torque())
-        self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
+            tau = self.backend.torque()
+            self.thermal.update(tau)
+            if self.winding is not None:
+                self.winding.update(tau)
+        if hit is None:  # a collision stop has set the reference where the robot is
+            self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
         self.cycles += 1
         stop = False
         if traj is not None:
@@ -205,7 +240,12 @@ class MotionPipeline:
 
     def _progress(self, traj: Trajectory) -> bool:
         """Hand the cycle's sample to its owning move; start and finish moves; run during actions."""
-        owner = traj.owner.item(self._k)  # item(): a Python int without a numpy scalar between
+        pvc = self.pvc
+        if pvc is None or pvc.in_sync and self._k <= traj.cycles:
+            owner, s_now = traj.owner.item(self._k), traj.s.item(self._k)  # item(): Python numbers
+        else:  # the time scale was changed: the move and its s where the command really is
+            owners, ss = traj.path.owner_and_s(np.array([pvc.x]))
+            owner, s_now = int(owners[0]), float(ss[0])
         active = self._active
         if active is None or active.id != owner:
             if active is not None and not active.done and active.id != owner:
@@ -216,14 +256,35 @@ class MotionPipeline:
             active = self._active
         stop = False
         if active is not None:
-            active.s = traj.s.item(self._k)
+            active.s = s_now
             if active.actions and active.actions.stage("during"):
                 stop = active.actions.run("during", self._data(active, "during"))
                 if stop:
                     self._stop_by = next(e.name for e in active.actions.stage("during") if e.slot.stop_requested)
-        if self._k >= traj.cycles:
+        if (self._k >= traj.cycles) if pvc is None else pvc.done:
             self._traj_end(traj)
         return stop
+
+    def _collision_stop(self, bodies: tuple[str, str]) -> None:
+        """A collision stop: the reference jumps to where the robot is (no braking along the path into the
+        obstacle); the running, settling and queued moves fault with Collision naming the two bodies."""
+        error = Collision(f"collision between {bodies[0]} and {bodies[1]}: the robot stopped")
+        moves = [*self._in_traj, *([self._settling[0]] if self._settling is not None else []), *self._queue]
+        self._queue.clear()
+        self._traj, self._in_traj, self._settling, self._hold_cache, self.pvc = None, [], None, None, None
+        self._q_ref = np.array(self.backend.q())
+        self._qd_ref, self._qdd_ref = np.zeros_like(self._q_ref), np.zeros_like(self._q_ref)
+        for h in moves:
+            if not h.done:
+                h.error = error
+                self._finish(h, MoveStatus.FAULT)
+
+    def _rescale_end_times(self, lag_s: float) -> None:
+        """The moves of a time-scaled trajectory end later by the controller's lag (T_d for actions and blends)."""
+        for h in self._in_traj:
+            nominal = self._t_end_nominal.get(h.id)
+            if nominal is not None and not h.done:
+                h.t_end_s = nominal + lag_s
 
     def _traj_end(self, traj: Trajectory) -> None:
         h = self._active

@@ -54,6 +54,9 @@ class Planner:
         self._saved: dict[int, Plan] = {}
         #: TCP speed every move keeps (manual mode: 0.25 m/s); None: no cap
         self.tcp_speed_cap_m_s: float | None = None
+        #: torque the model's nominal friction may take at full speed (N m per joint), kept out of the
+        #: torque limits (toppra's torque bound has no term linear in the path speed); zeros: no friction
+        self.friction_reserve_nm: np.ndarray | float = 0.0
 
     # -- limits -----------------------------------------------------------------
 
@@ -95,7 +98,7 @@ class Planner:
         return TimingLimits(
             qd_max=arm.qd_max * share,
             qdd_max=arm.qdd_max * params.accel_fraction * share,
-            tau_max=arm.tau_max * TORQUE_SHARE * share,
+            tau_max=(arm.tau_max * TORQUE_SHARE - self.friction_reserve_nm) * share,
             inverse_dynamics=inverse_dynamics,
             tcp_jacobian=self._tcp_jacobian(tool) if tcp is not None else None,
             tcp_speed_m_s=tcp,
@@ -115,7 +118,8 @@ class Planner:
         arm = self.arm
         gravity = np.array(arm.inverse_dynamics(q, np.zeros_like(q), np.zeros_like(q), params.load_kg))
         inertia = np.diag(arm.mass_matrix(q, params.load_kg))
-        qdd = constant_dynamics_accel(arm.qdd_max * params.accel_fraction, arm.tau_max * TORQUE_SHARE, gravity, inertia)
+        qdd = constant_dynamics_accel(arm.qdd_max * params.accel_fraction, arm.tau_max * TORQUE_SHARE - self.friction_reserve_nm,
+                                      gravity, inertia)
         frac = params.speed_fraction_at(0.0)
         return ShortLimits(arm.qd_max * frac, qdd, qdd * DEFAULT_JERK_PER_S)
 

@@ -138,6 +138,7 @@ class Params:
     time_s: float | None = None          #: requested duration: the motion takes at least this long
     load_kg: float = 0.0                 #: payload carried, included in the torque limits
     tuning: Any = None                   #: servo tuning for this motion only (a `ServoTuning`; None: default gains)
+    path_velocity: bool | None = None    #: path velocity control on/off for this motion (None: the layer's default)
     computation: Computation = Computation.DURING
     descriptor: int | None = None        #: plan store slot for SAVE / DONE
     known: Known = Known.COMPLETELY

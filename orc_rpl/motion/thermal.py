@@ -66,3 +66,41 @@ class ThermalModel:
     def reset(self) -> None:
         """Cold motors (a plant reset)."""
         self.load[:] = 0.0
+
+
+class WindingTemperature:
+    """Estimated rise of each motor winding above ambient (K), from the torque of every motion cycle.
+
+    dT/dt = (Rth R20 (1 + 0.00393 (T_ambient + T - 20)) (tau / k)^2 - T) / time_constant, with the data
+    sheet's k (torque per ampere at the joint), R20, Rth and time constant, discretised exactly for a
+    loss held over each period. The plant's own constants differ from the data sheet (docs/robots.md).
+    """
+
+    def __init__(self, torque_per_amp_nm_a: Sequence[float], resistance_ohm: Sequence[float], rth_k_w: Sequence[float],
+                 time_constants_s: Sequence[float], ambient_c: float, period_s: float, tempco_1_k: float) -> None:
+        arrays = [np.array(v, dtype=float) for v in (torque_per_amp_nm_a, resistance_ohm, rth_k_w, time_constants_s)]
+        if len({a.shape for a in arrays}) != 1 or not all(np.all(np.isfinite(a)) and np.all(a > 0) for a in arrays):
+            raise UsageError("winding estimate: one positive torque constant, resistance, Rth and time constant per joint")
+        k, self._r20, self._rth, t = arrays
+        self._inv_k2 = 1.0 / (k * k)
+        self._decay = np.exp(-period_s / t)
+        self._ambient_c, self._tempco = float(ambient_c), float(tempco_1_k)
+        # steady rise per (tau/k)^2 at 20 C and its growth per kelvin, folded with (1 - a): four ufuncs a cycle
+        self._gain = (1.0 - self._decay) * self._rth * self._r20 * self._inv_k2 * (1.0 + self._tempco * (self._ambient_c - 20.0))
+        self._gain_per_k = (1.0 - self._decay) * self._rth * self._r20 * self._inv_k2 * self._tempco
+        self._work, self._heat = np.zeros(len(k)), np.zeros(len(k))
+        self.rise_k = np.zeros(len(k))  #: the estimate (K above ambient)
+
+    def update(self, tau_nm: np.ndarray) -> None:
+        """One period with the torque tau_nm (in place, no allocation)."""
+        work, heat, rise = self._work, self._heat, self.rise_k
+        multiply(rise, self._gain_per_k, heat)
+        add(heat, self._gain, heat)
+        multiply(tau_nm, tau_nm, work)
+        multiply(work, heat, work)
+        multiply(rise, self._decay, rise)
+        add(rise, work, rise)
+
+    def reset(self) -> None:
+        """Windings at ambient."""
+        self.rise_k[:] = 0.0

@@ -10,6 +10,7 @@ from orc_rpl.errors import UsageError
 from orc_rpl.motion.backend import KinematicBackend
 from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.layer import MotionLayer
+from orc_rpl.motion.thermal import WindingTemperature
 from orc_rpl.motion.timing import preload as preload_planning
 
 
@@ -20,6 +21,11 @@ class ServoBackend:
         self.loop = loop
         self.servo_period_s = float(loop.period_s)
         self._state = loop.state()
+        # the servo's own model (its payload is the control payload), as a bare RNEA
+        self._rnea = loop.servo.arm.inverse_dynamics_function()
+        if not loop.cell.description.contacts:
+            self.collision = None  # type: ignore[assignment]  # nothing can collide: the cycle need not ask
+        self._zero = np.zeros(loop.servo.arm.n_joints)
 
     def advance(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
         self._state = self.loop.run(q_ref, qd_ref, qdd_ref, len(q_ref))
@@ -46,9 +52,45 @@ class ServoBackend:
         """The servo tuning of the motion now starting (a `ServoTuning`, or None for the default gains)."""
         self.loop.set_tuning(tuning)
 
+    def path_dynamics(self, q: np.ndarray, d1: np.ndarray, d2: np.ndarray, sd: float) -> tuple[np.ndarray, np.ndarray]:
+        """The arm controller along a path as tau = b1 s'' + b2 (thesis 5.3), for the path velocity controller.
+
+        q, d1, d2: the path and its derivatives by s at one point, sd = ds/dt. b2 includes the servo's
+        integral torque: what the model does not know (an undeclared payload, friction) as the servo sees it.
+        """
+        servo, rnea, zero = self.loop.servo, self._rnea, self._zero
+        b2 = servo.model_torque(q, d1 * sd, d2 * (sd * sd))
+        b2 += servo.integral
+        b1 = rnea(q, zero, d1)
+        b1 -= rnea(q, zero, zero)  # M(q) d1: friction has no part in it
+        return b1, b2
+
+    def collision(self) -> tuple[str, str] | None:
+        """The two bodies of a collision in the cell since the last call (then forgotten), or None."""
+        cell = self.loop.cell
+        hit = cell.collision
+        if hit is not None:
+            cell.clear_collision()
+        return hit
+
     def set_control_payload(self, mass_kg: float) -> None:
         """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
         self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)
+
+
+#: The virtual robots: "realistic" is not the controller's model (docs/robots.md), "ideal" is its exact twin.
+PLANTS = ("realistic", "ideal")
+
+
+def _make_cell(robot: str, plant: str, seed: int, cell: Any = None) -> Any:
+    """The MuJoCo cell of a virtual robot (the default cell, or the description `cell`)."""
+    if plant == "ideal":
+        from orc_rpl.plant.sim import SimCell
+
+        return SimCell(None if cell is not None else robot, cell)
+    from orc_rpl.plant.realistic import RealisticCell
+
+    return RealisticCell(None if cell is not None else robot, cell, seed=seed)
 
 
 def make_virtual_motion_layer(
@@ -59,13 +101,21 @@ def make_virtual_motion_layer(
     backend: str = "servo",
     q0: np.ndarray | None = None,
     record: bool = False,
+    plant: str = "realistic",
+    seed: int = 0,
+    cell: Any = None,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
-    backend "servo": ServoLoop + MuJoCo SimCell (1 ms steps); "kinematic": the reference is followed
-    perfectly (fast; no plant). `record=True` makes a signals Logger with q_ref, q, qd_ref, tau, tcp
-    and s (available as `layer.logger`); pass your own `logger` to choose the signals yourself.
+    backend "servo": ServoLoop + MuJoCo cell (1 ms steps); "kinematic": the reference is followed
+    perfectly (fast; no plant). `plant` "realistic" (friction, hot motors, encoders, masses off the
+    model's; deterministic for `seed`) or "ideal" (the controller's own model, exactly). `record=True`
+    makes a signals Logger with q_ref, q, qd_ref, tau, tcp and s (available as `layer.logger`); pass
+    your own `logger` to choose the signals yourself. `cell` (a `plant.CellDescription`, e.g. made from
+    a world model by `plant.world_scene.cell_from_world`) replaces the default cell.
     """
+    if plant not in PLANTS:
+        raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
     from orc_rpl.robot import load_robot, solve_ik
 
     arm = load_robot(robot)
@@ -77,7 +127,13 @@ def make_virtual_motion_layer(
 
         # The servo gets its own model: a payload is state of an ArmModel, and the planner's
         # what-if torque computations must not change the servo's feed-forward.
-        loop = ServoLoop(load_robot(robot))
+        loop = ServoLoop(load_robot(robot), _make_cell(robot, plant, seed, cell))
+        if plant == "realistic":
+            from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, plant_spec
+
+            nominal = plant_spec(robot)
+            loop.servo.set_friction(nominal.coulomb_nm, nominal.viscous_nm_s)  # the model knows nominal friction
+            reserve_nm = np.array(nominal.coulomb_nm) + np.array(nominal.viscous_nm_s) * arm.qd_max
         loop.reset(start)
         be: Any = ServoBackend(loop)
     elif backend == "kinematic":
@@ -85,6 +141,13 @@ def make_virtual_motion_layer(
     else:
         raise UsageError(f"backend must be 'servo' or 'kinematic', not {backend!r}")
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
+    if backend == "servo" and plant == "realistic":
+        layer.planner.friction_reserve_nm = reserve_nm
+        layer.winding = WindingTemperature(nominal.torque_per_amp_nm_a, nominal.winding_resistance_ohm,
+                                           nominal.winding_rth_k_w, nominal.winding_time_constant_s, nominal.ambient_c,
+                                           motion_period_s, COPPER_TEMPCO_1_K)
+    # thesis 5.3: torque-limited path following is on where torques can run short of the plan
+    layer.path_velocity_control = backend == "servo" and plant == "realistic"
     # A robot that is set up should move at once: a paced run would start 0.4 s late otherwise.
     preload_planning()
     if record and logger is None:

@@ -27,6 +27,24 @@ class Box:
 
 
 @dataclass(frozen=True, slots=True)
+class Solid:
+    """An object of a world model as the simulated cell sees it: a shape that can touch the robot.
+
+    Placed in the world frame, or in the flange frame when `on_flange` (a tool, a holder); `work`
+    marks what the robot works on (a casting to grind): touching it is no collision.
+    """
+
+    name: str
+    geometry: str                                   #: "box", "cylinder" or "sphere"
+    size_m: tuple[float, ...]                       #: box (x, y, z); cylinder (radius, height); sphere (radius,)
+    position_m: tuple[float, float, float]          #: centre of the shape
+    rotation: tuple[float, ...]                     #: its orientation, a 3x3 matrix row by row
+    on_flange: bool = False
+    work: bool = False
+    rgba: tuple[float, float, float, float] = (0.6, 0.6, 0.62, 1.0)
+
+
+@dataclass(frozen=True, slots=True)
 class CellDescription:
     """Everything the virtual cell is made of; a world model will later generate this."""
 
@@ -39,6 +57,8 @@ class CellDescription:
     camera_lookat_m: tuple[float, float, float] = (0.6, 0.0, 0.6)
     camera_distance_m: float = 3.2
     notes: tuple[str, ...] = field(default=())
+    solids: tuple[Solid, ...] = ()                             #: a world model's objects (contacts on)
+    contacts: bool = False                                     #: the robot collides with the floor and the solids
 
     @property
     def robot_spec(self) -> RobotSpec:
@@ -94,8 +114,11 @@ def build_spec(cell: CellDescription) -> Any:
 
     world = spec.worldbody
     world.add_light(name="sun", pos=[1.0, -1.0, 4.0], dir=[-0.2, 0.2, -1.0], diffuse=[0.7, 0.7, 0.7])
+    # Contact groups: the cell (floor, solids) is type 1 and meets type 2, the robot and its tool the other
+    # way round: the robot meets the cell, never itself, and the cell never itself.
+    cell_type, cell_affinity = (1, 2) if cell.contacts else (0, 0)
     world.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[4.0, 4.0, 0.05],
-                   rgba=[0.82, 0.84, 0.86, 1.0], contype=0, conaffinity=0)
+                   rgba=[0.82, 0.84, 0.86, 1.0], contype=cell_type, conaffinity=cell_affinity)
     for box in cell.boxes:
         quat = np.zeros(4)
         mujoco.mju_mat2Quat(quat, rotation_zyx(*box.angles_rad).reshape(-1))
@@ -109,5 +132,29 @@ def build_spec(cell: CellDescription) -> Any:
     mount = world.add_frame(pos=list(cell.robot_base_m))
     mount.attach_body(robot.worldbody.first_body(), ROBOT_PREFIX, "")
     # A massless body at the flange: the plant's payload, set at run time (SimCell.set_payload).
-    spec.body(ROBOT_PREFIX + flange_link).add_body(name="payload", pos=flange_pos, quat=flange_quat)
+    payload = spec.body(ROBOT_PREFIX + flange_link).add_body(name="payload", pos=flange_pos, quat=flange_quat)
+    if cell.contacts:
+        for geom in spec.geoms:
+            if geom.parent.name.startswith(ROBOT_PREFIX):
+                geom.contype, geom.conaffinity = 2, 1
+    for solid in cell.solids:
+        size = _mujoco_size(solid)
+        kind = {"box": mujoco.mjtGeom.mjGEOM_BOX, "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER,
+                "sphere": mujoco.mjtGeom.mjGEOM_SPHERE}[solid.geometry]
+        body, (ctype, caff) = (payload, (2, 1)) if solid.on_flange else (world, (cell_type, cell_affinity))
+        # no mass: the plant's payload is set apart (set_payload), and a fixture weighs nothing to the robot
+        quat = np.zeros(4)
+        mujoco.mju_mat2Quat(quat, np.asarray(solid.rotation, dtype=float))
+        body.add_geom(name=solid.name, type=kind, size=size, pos=list(solid.position_m), quat=list(quat),
+                      rgba=list(solid.rgba), contype=ctype, conaffinity=caff, density=0.0)
     return spec
+
+
+def _mujoco_size(solid: Solid) -> list[float]:
+    """MuJoCo's half sizes of a solid."""
+    s = solid.size_m
+    if solid.geometry == "box":
+        return [s[0] / 2, s[1] / 2, s[2] / 2]
+    if solid.geometry == "cylinder":
+        return [s[0], s[1] / 2, 0.0]
+    return [s[0], 0.0, 0.0]

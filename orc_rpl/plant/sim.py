@@ -33,7 +33,7 @@ class SimCell:
         self.description = cell if cell is not None else default_cell(robot or "irb2400")
         self.robot: str = self.description.robot
         try:
-            self._spec = build_spec(self.description)
+            self._spec = self._edited(build_spec(self.description))
             self._model = self._spec.compile()
         except ValueError as exc:  # MuJoCo's compile errors
             raise UsageError(f"cannot build the cell for robot {self.robot!r}: {exc}") from None
@@ -67,7 +67,16 @@ class SimCell:
         self.realtime = realtime
         self._wall_start_s = time.perf_counter()
         self._renderer: Any = None
+        # Collisions (a cell made from a world model): the first contact of the robot with anything but its work
+        self.collision: tuple[str, str] | None = None  #: the two bodies of the first collision not yet cleared
+        self._watch_contacts = bool(self.description.contacts)
+        self._noted: set[tuple[int, int]] = set()  #: colliding geom pairs already noted, until they come apart
+        self._work_geoms = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, s.name) for s in self.description.solids if s.work}
         self.reset()
+
+    def _edited(self, spec: Any) -> Any:
+        """The scene before it is compiled; a plant that adds to it (elastic gears) overrides this."""
+        return spec
 
     # -- state ----------------------------------------------------------------
 
@@ -117,6 +126,8 @@ class SimCell:
             self._data.qvel[self._qvel] = self._checked(qd, "qd")
         mujoco.mj_forward(self._model, self._data)
         self.io.reset()
+        self.collision = None
+        self._noted = set()
         self._wall_start_s = time.perf_counter()
 
     def step(self, tau_nm: np.ndarray) -> None:
@@ -124,12 +135,52 @@ class SimCell:
         data = self._data
         self._ctrl[:] = tau_nm
         mj_step(self._model, data)
+        self._after_step(data)
+
+    def _after_step(self, data: Any) -> None:
+        """What follows every step: collisions, the IO's process models, pacing to the wall clock."""
+        if self._watch_contacts and (data.ncon or self._noted):
+            self._check_contacts()
         if self.io.processes:
             self.io.update(data.time)
         if self.realtime:
-            ahead_s = data.time - (time.perf_counter() - self._wall_start_s)
-            if ahead_s > 0.002:
-                time.sleep(ahead_s)
+            self._pace(data.time)
+
+    def _check_contacts(self) -> None:
+        """Note the first new contact between two bodies where neither is the robot's work (a collision).
+
+        A pair already noted is not noted again until it has come apart: the robot may back off.
+        """
+        contact, work = self._data.contact, self._work_geoms
+        touching = {(min(g1, g2), max(g1, g2))
+                    for g1, g2, dist in zip(contact.geom1.tolist(), contact.geom2.tolist(), contact.dist.tolist())
+                    if dist <= 0.0 and g1 not in work and g2 not in work}
+        self._noted &= touching  # pairs that came apart may collide again
+        new = touching - self._noted
+        if new and self.collision is None:
+            pair = min(new)
+            self._noted.add(pair)
+            robot_first = pair if self._model.geom_contype[pair[0]] == 2 else pair[::-1]  # the robot or its tool first
+            self.collision = (self._body_of_geom(robot_first[0]), self._body_of_geom(robot_first[1]))
+
+    def _body_of_geom(self, geom: int) -> str:
+        """A geom's name for people: a solid's or the floor's own name, else its body's (robot link, without prefix)."""
+        m = self._model
+        name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, geom)
+        if name:
+            return name
+        body = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(m.geom_bodyid[geom])) or "world"
+        return body.removeprefix(ROBOT_PREFIX)
+
+    def clear_collision(self) -> None:
+        """Forget the collision noted (after the controller has stopped the robot); the next contact is noted again."""
+        self.collision = None
+
+    def _pace(self, time_s: float) -> None:
+        """Wait until the wall clock catches up with simulated time (realtime=True)."""
+        ahead_s = time_s - (time.perf_counter() - self._wall_start_s)
+        if ahead_s > 0.002:
+            time.sleep(ahead_s)
 
     def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0)) -> None:
         """Put a point-like mass on the flange (com in the flange frame); the plant feels it from the next step."""

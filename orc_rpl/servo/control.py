@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -12,7 +13,10 @@ from orc_rpl.errors import UsageError
 # The ufuncs of the servo law as module names: update() runs a thousand times per simulated
 # second, and `np.subtract` is two lookups where `subtract` is one.
 add, subtract, multiply, minimum, maximum = np.add, np.subtract, np.multiply, np.minimum, np.maximum
-not_equal, copyto = np.not_equal, np.copyto
+not_equal, copyto, tanh = np.not_equal, np.copyto, np.tanh
+
+#: Below this reference speed the Coulomb feed-forward fades out (tanh): no torque step at a reversal.
+FRICTION_SMOOTH_RAD_S = 0.05
 
 
 @dataclass(frozen=True, slots=True)
@@ -119,6 +123,8 @@ class JointServo:
         self.tuning: ServoTuning | None = None  #: the task-specific tuning in use (None: `gains`)
         self._d_inertia, self._d_viscous, self._d_offset = np.zeros(n), np.zeros(n), np.zeros(n)
         self._extra, self._extra_work = np.zeros(n), np.zeros(n)
+        self._coulomb: np.ndarray | None = None   #: nominal friction of the model (set_friction), None: none
+        self._viscous: np.ndarray | None = None
 
     def reset(self) -> None:
         """Forget the integral and the signals (after a plant reset)."""
@@ -156,19 +162,61 @@ class JointServo:
         self._d_inertia, self._d_viscous, self._d_offset = d_inertia, d_viscous, d_offset
         self._steps = 0  # the next cycle schedules the gains at the measured pose
         self.tuning = tuning
-        if tuning is None:
+        self._choose_law()
+
+    def set_friction(self, coulomb_nm: Any = None, viscous_nm_s: Any = None) -> None:
+        """The model's nominal joint friction, added to the feed-forward from the next cycle; None: none.
+
+        tau += coulomb * tanh((qd_ref + position_gain * (q_ref - q)) / FRICTION_SMOOTH_RAD_S) + viscous * qd_ref:
+        the speed the loop asks for, not the measured one (a noisy speed would chatter the Coulomb term).
+        """
+        n = self.arm.n_joints
+        if coulomb_nm is None and viscous_nm_s is None:
+            self._coulomb = self._viscous = None
+        else:
+            fc, fv = (np.zeros(n) if v is None else np.array(v, dtype=float).reshape(-1) for v in (coulomb_nm, viscous_nm_s))
+            if fc.shape != (n,) or fv.shape != (n,) or not (np.all(np.isfinite(fc)) and np.all(np.isfinite(fv))):
+                raise UsageError(f"friction must be {n} finite Coulomb and {n} viscous values")
+            self._coulomb, self._viscous = fc, fv
+        self._choose_law()
+
+    def model_torque(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+        """The model's torque for a motion state: rigid-body dynamics with the control payload, plus nominal friction."""
+        tau = np.array(self._inverse_dynamics(q, qd, qdd))
+        if self._coulomb is not None:
+            tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
+        return tau
+
+    def _choose_law(self) -> None:
+        """The plain law unless a tuning or friction adds feed-forward terms."""
+        if self.tuning is None and self._coulomb is None:
             self.__dict__.pop("update", None)  # the plain law again
         else:
             self.update = self._update_tuned  # type: ignore[method-assign]
 
     def _update_tuned(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
                       q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        """`update` with the tuning's feed-forward corrections added to the torque offset for this cycle."""
+        """`update` with the tuning's and the friction's feed-forward added to the torque offset for this cycle."""
         extra, work, offset = self._extra, self._extra_work, self.torque_offset
-        multiply(self._d_inertia, qdd_ref, extra)
-        multiply(self._d_viscous, qd_ref, work)
-        add(extra, work, extra)
-        add(extra, self._d_offset, extra)
+        if self.tuning is not None:
+            multiply(self._d_inertia, qdd_ref, extra)
+            multiply(self._d_viscous, qd_ref, work)
+            add(extra, work, extra)
+            add(extra, self._d_offset, extra)
+        else:
+            extra.fill(0.0)
+        if self._coulomb is not None:
+            # the speed the loop asks for (reference plus position correction): a joint stuck short of
+            # its target still gets the Coulomb torque in the right direction
+            subtract(q_ref, q, work)
+            multiply(work, self._kp, work)
+            add(work, qd_ref, work)
+            multiply(work, 1.0 / FRICTION_SMOOTH_RAD_S, work)
+            tanh(work, work)
+            multiply(work, self._coulomb, work)
+            add(extra, work, extra)
+            multiply(qd_ref, self._viscous, work)
+            add(extra, work, extra)
         add(extra, offset, extra)
         self.torque_offset = extra
         try:

@@ -16,7 +16,8 @@ RESERVED: frozenset[str] = frozenset(
 PREDEFINED_NAMES: frozenset[str] = frozenset({"ARM", "ROBOT", "HERE", "world", "DigIn", "DigOut", "AnalogIn", "AnalogOut", "FINE"})
 
 #: Exceptions the system raises (docs/language.md section 8); exception names need no declaration.
-SYSTEM_EXCEPTIONS: tuple[str, ...] = ("NotFound", "Unreachable", "JointLimit", "Timeout", "SensorFault", "DriveFault")
+SYSTEM_EXCEPTIONS: tuple[str, ...] = ("NotFound", "Unreachable", "JointLimit", "Timeout", "SensorFault", "DriveFault",
+                                      "Collision")
 
 _MOTION_KEYWORD = re.compile(r"(?:[A-Z][A-Z0-9_]*)?MOVE")
 

@@ -12,7 +12,7 @@ from orc_rpl.world.values import BadValue, read_colour, read_lengths, read_pose,
 
 TOP_KEYS = ("robot", "world")
 ROBOT_KEYS = ("model", "pose")
-OBJECT_KEYS = ("parent", "pose", "online_frame", "tool", "model", "model_key", "frames", "paths", "spatial", "soft")
+OBJECT_KEYS = ("parent", "pose", "online_frame", "tool", "work", "model", "model_key", "frames", "paths", "spatial", "soft")
 MODEL_KEYS = ("geometry", "size", "colour", "mesh", "offset")
 #: Geometry kinds and how many sizes each takes (a mesh takes its size from the mesh file).
 GEOMETRIES = {"box": 3, "cylinder": 2, "sphere": 1, "mesh": 0}
@@ -159,6 +159,7 @@ class _Reader:
         pose = self.pose(attrs["pose"][1], parent) if "pose" in attrs else Pose(0, 0, 0, frame=parent)
         online = self.flag(attrs["online_frame"][1], "online_frame") if "online_frame" in attrs else False
         tool = self.flag(attrs["tool"][1], "tool") if "tool" in attrs else False
+        work = self.flag(attrs["work"][1], "work") if "work" in attrs else False
         if "model" in attrs and "model_key" in attrs:
             self.bad(attrs["model_key"][0], "an object has either 'model' (off-line) or 'model_key' (on-line), not both")
         model = self.model(attrs["model"][1]) if "model" in attrs else None
@@ -172,7 +173,7 @@ class _Reader:
         soft = self.soft(attrs["soft"][1], "soft") if "soft" in attrs else ()
         spatial = self.soft(attrs["spatial"][1], "spatial") if "spatial" in attrs else ()
         return WorldObject(name, parent, pose or Pose(0, 0, 0, frame=parent), online, tool, model, model_key,
-                           frames, paths, soft, spatial, self.src.location(key))
+                           frames, paths, soft, spatial, self.src.location(key), work=work)
 
     def check_attribute_names(self, owner: str, attrs: dict[str, tuple[ScalarNode, Node]]) -> None:
         """`owner.name` must name one thing: a frame, a path, a spatial or a soft attribute."""

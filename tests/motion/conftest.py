@@ -14,4 +14,4 @@ def kinematic() -> MotionLayer:
 
 @pytest.fixture
 def servo() -> MotionLayer:
-    return make_virtual_motion_layer(backend="servo")
+    return make_virtual_motion_layer(backend="servo", plant="ideal")

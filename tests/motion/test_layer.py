@@ -60,8 +60,8 @@ def _program(layer: MotionLayer) -> np.ndarray:
 
 
 def test_two_runs_give_identical_recordings() -> None:
-    a = _program(make_virtual_motion_layer(backend="servo"))
-    b = _program(make_virtual_motion_layer(backend="servo"))
+    a = _program(make_virtual_motion_layer(backend="servo", plant="ideal"))
+    b = _program(make_virtual_motion_layer(backend="servo", plant="ideal"))
     assert a.shape == b.shape and len(a) > 100
     assert np.array_equal(a, b), "the virtual robot is not deterministic: two runs of one program differ"
 
@@ -148,7 +148,7 @@ def test_bad_targets_raise_the_projects_errors(kinematic: MotionLayer, make, err
 
 
 def _corner_run(zone_m: float) -> tuple[float, float]:
-    layer = make_virtual_motion_layer(backend="servo")
+    layer = make_virtual_motion_layer(backend="servo", plant="ideal")
     corner = pose_here(layer, 0.0, 0.4, 0.0)
     end = pose_here(layer, -0.3, 0.4, 0.0)
     speeds: list[tuple[float, float]] = []

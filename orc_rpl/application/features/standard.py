@@ -17,6 +17,8 @@ STANDARD_ATTRIBUTES: tuple[AttributeSpec, ...] = (
     AttributeSpec("TIME", (TIME,), None, "requested duration of the motion"),
     AttributeSpec("LOAD", (MASS,), None, "payload carried by the tool"),
     AttributeSpec("TUNING", ("tuning",), None, "a servo tuning made by CALIBRATE"),
+    AttributeSpec("PATHCONTROL", ("bool",), None, "path velocity control on (TRUE) or off (FALSE) for this motion; "
+                  "default: ROBOT.PathControl", function_ok=False),
 )
 
 _POSITION = ("position",)
@@ -72,4 +74,5 @@ ROBOT_SIGNALS: dict[str, str] = {
     "Torque": "torque estimate of joint j (`ROBOT.Torque[j]`, N m)",
     "PosError": "position error of the TCP (m)",
     "Thermal": "thermal load of motor j (`ROBOT.Thermal[j]`, 1 = its limit)",
+    "PathControl": "path velocity control of the motions that follow (TRUE/FALSE; `ROBOT.PathControl = FALSE` sets it)",
 }

@@ -1,0 +1,173 @@
+"""The arm-control room's path velocity controller: torque-limited path following by scaling time on-line."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.errors import UsageError
+
+#: f(x, order): the joint path (order 0), its first and second derivatives by the path parameter x.
+PathFunction = Callable[[Any, int], np.ndarray]
+#: (q, dq/dx, d2q/dx2, dx/dt) -> (b1, b2) with tau = b1 * d2x/dt2 + b2: the arm controller as the
+#: backend's model sees it (rigid-body dynamics, nominal friction, the servo's integral).
+PathDynamics = Callable[[np.ndarray, np.ndarray, np.ndarray, float], tuple[np.ndarray, np.ndarray]]
+
+#: Back in step with the nominal trajectory when this close to it (path parameter, rad; its speed, rad/s).
+RESYNC_X, RESYNC_SD = 1e-7, 1e-5
+#: The least deceleration (rad/s^2 of the path parameter) of the braking profile that finishes a late path.
+STOP_DECEL_MIN = 0.1
+#: Share of the admissible deceleration a late command plans to stop at the path's end with.
+BRAKE_SHARE = 0.8
+
+
+@dataclass(frozen=True, slots=True)
+class PvcSettings:
+    """Tuning of the path velocity controller (the same for every robot; docs/motion.md)."""
+
+    torque_share: float = 0.95      #: of tau_max the path acceleration may use; the rest is the servo's feedback
+    overspeed: float = 0.03         #: path speed allowed above the nominal one at the same path point, to catch up
+    catch_up_rad_s: float = 6.0     #: bandwidth of the time-correction term (kv = 2 w, kp = w^2)
+
+    def __post_init__(self) -> None:
+        if not (0.0 < self.torque_share <= 1.0 and 0.0 <= self.overspeed <= 0.2 and self.catch_up_rad_s > 0.0):
+            raise UsageError("path velocity controller: torque_share in (0, 1], overspeed in [0, 0.2], catch_up > 0")
+
+
+class PathVelocityController:
+    """Follows one nominal trajectory x(t) on its path, slowing down where the torques would not suffice.
+
+    The nominal trajectory is given per servo step (x, dx/dt); each motion cycle `cycle(k)` either
+    returns None (the nominal rows are feasible and the controller is in step with them: use them
+    unchanged, sample for sample) or the (q, qd, qdd) rows it commands instead. Out of step, the path
+    acceleration is s'' = s''_n + kv (s'_n - s') + kp (s_n - s) (the time correction), saturated to the
+    range the torque limits allow, with s' at most (1 + overspeed) times the nominal speed at the same
+    path point; the references stay on the path f(s) whatever the time scale does.
+    """
+
+    def __init__(self, path: PathFunction, x_f: np.ndarray, sd_f: np.ndarray, sub: int, servo_period_s: float,
+                 dynamics: PathDynamics, tau_max: np.ndarray, settings: PvcSettings = PvcSettings()) -> None:
+        self.path, self.sub, self.h = path, sub, servo_period_s
+        self.x_f, self.sd_f = x_f, sd_f
+        self._sdd_f = np.append(np.diff(sd_f) / servo_period_s, 0.0)   #: nominal s'' over row i -> i+1
+        self.dynamics = dynamics
+        self.limit = np.asarray(tau_max, dtype=float) * settings.torque_share
+        self.settings = settings
+        w = settings.catch_up_rad_s
+        self._kp, self._kv = w * w, 2.0 * w
+        rising = np.concatenate([[True], np.diff(x_f) > 0.0])
+        self._x_mono, self._sd_mono = x_f[rising], sd_f[rising]
+        self._t_mono = np.nonzero(rising)[0] * servo_period_s
+        self.last_row = len(x_f) - 1
+        self.end_x = float(x_f[-1])
+        # the path at the nominal trajectory's motion-cycle rows, evaluated once: the in-step check of
+        # every cycle then costs the model's torques only
+        cycle_rows = np.arange(0, self.last_row + 1, sub)
+        self._q_rows, self._d1_rows, self._d2_rows = (path(x_f[cycle_rows], order) for order in (0, 1, 2))
+        self.x, self.sd = float(x_f[0]), float(sd_f[0])   #: the commanded path parameter and speed
+        self.in_sync = True
+        self.done = False
+        self.scaled_cycles = 0       #: cycles in which the time scale was changed (saturation avoided)
+        self.cycles = 0
+
+    # -- what the motion layer reads ----------------------------------------------------
+
+    def lag_s(self) -> float:
+        """How far behind the nominal trajectory the command is (s): the end comes this much later."""
+        if self.in_sync:
+            return 0.0
+        t_nominal = float(np.interp(self.x, self._x_mono, self._t_mono))
+        return self.cycles * self.sub * self.h - t_nominal
+
+    def admissible(self, x: float, sd: float, cycle: int | None = None) -> tuple[float, float]:
+        """The range of s'' the torque limits allow at (x, sd) (lo > hi when none does); at the nominal
+        trajectory's motion-cycle row `cycle` when given (x is then that row's)."""
+        if cycle is None:
+            path = self.path
+            q, d1, d2 = path(x, 0), path(x, 1), path(x, 2)
+        else:
+            q, d1, d2 = self._q_rows[cycle], self._d1_rows[cycle], self._d2_rows[cycle]
+        b1, b2 = self.dynamics(q, d1, d2, sd)
+        lo, hi = -math.inf, math.inf
+        for a, b, lim in zip(b1.tolist(), b2.tolist(), self.limit.tolist()):
+            if abs(a) < 1e-9:
+                continue
+            r1, r2 = (-lim - b) / a, (lim - b) / a
+            lo, hi = max(lo, min(r1, r2)), min(hi, max(r1, r2))
+        return lo, hi
+
+    # -- the motion cycle ---------------------------------------------------------------
+
+    def cycle(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """Motion cycle k (1, 2, ...) of the trajectory: None to command the nominal rows, else the rows."""
+        self.cycles = k
+        row = min(k * self.sub, self.last_row)
+        if self.in_sync and k * self.sub <= self.last_row:
+            first = (k - 1) * self.sub  # the state the cycle starts from, and its nominal s''
+            lo, hi = self.admissible(float(self.x_f[row]), float(self.sd_f[row]), k)
+            sdd = float(self._sdd_f[first]), float(self._sdd_f[row - 1])
+            if lo <= min(sdd) and max(sdd) <= hi:
+                self.x, self.sd = float(self.x_f[row]), float(self.sd_f[row])
+                self.done = row == self.last_row
+                return None
+            self.in_sync = False
+        return self._scaled(row, k * self.sub > self.last_row)
+
+    def _scaled(self, row: int, nominal_ended: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        x, sd, t_cycle = self.x, self.sd, self.sub * self.h
+        x_n, sd_n = (self.end_x, 0.0) if nominal_ended else (float(self.x_f[row]), float(self.sd_f[row]))
+        sdd_n = 0.0 if nominal_ended else float(self._sdd_f[row - 1])
+        lo, hi = self.admissible(x, sd)
+        remaining = self.end_x - x
+        braking = False
+        if nominal_ended:  # the rest of the path: up to a braking profile at half the admissible deceleration
+            a_stop = 0.5 * max(-lo, STOP_DECEL_MIN)
+            braking = sd * sd >= 2.0 * a_stop * remaining
+            # braking: the constant deceleration that stops exactly at the end (the path's end is kept)
+            wanted = -sd * sd / (2.0 * remaining) if braking else (math.sqrt(2.0 * a_stop * remaining) - sd) / t_cycle
+        else:  # the time correction
+            wanted = sdd_n + self._kv * (sd_n - sd) + self._kp * (x_n - x)
+        sdd = wanted if braking else min(max(wanted, lo), hi) if lo <= hi else 0.5 * (lo + hi)
+        if sdd != wanted:
+            self.scaled_cycles += 1
+        # never faster than (1 + overspeed) times the nominal speed where the cycle ends: keeps the
+        # speed and acceleration limits the nominal profile respects, and stops at the path's end
+        x_next = min(x + sd * t_cycle + 0.5 * sdd * t_cycle * t_cycle, self.end_x)
+        if braking or nominal_ended and x_next >= self.end_x:
+            bound = math.inf  # the braking profile, or the path ends inside this cycle
+        elif nominal_ended:
+            bound = math.sqrt(2.0 * a_stop * (self.end_x - x_next))
+        else:
+            bound = (1.0 + self.settings.overspeed) * float(np.interp(x_next, self._x_mono, self._sd_mono))
+            # and slow enough to stop at the end with the deceleration the torques allow here (with a margin):
+            # the nominal brakes harder than a heavier or colder arm can
+            bound = min(bound, math.sqrt(2.0 * BRAKE_SHARE * max(-lo, STOP_DECEL_MIN) * (self.end_x - x_next)))
+        if sd + sdd * t_cycle > bound:
+            sdd = (bound - sd) / t_cycle
+        if sd + sdd * t_cycle <= 0.0 and x_next < self.end_x:
+            # the torques cannot even hold the arm here (the model's own limit): go on along the path at
+            # the wanted rate and let the servo saturate, rather than stand still or back up
+            sdd = min(max(wanted, STOP_DECEL_MIN), bound / t_cycle) if sd <= 0.0 else -sd / t_cycle
+        taus = np.arange(1, self.sub + 1) * self.h
+        if sdd < 0.0:  # at rest from where the speed reaches zero inside the cycle
+            taus = np.minimum(taus, sd / -sdd)
+        xs = np.minimum(x + sd * taus + 0.5 * sdd * taus * taus, self.end_x)
+        sds = np.maximum(sd + sdd * taus, 0.0)
+        x_end, sd_end = float(xs[-1]), float(sds[-1])
+        if self.end_x - x_end < RESYNC_X and (nominal_ended or sd_end < RESYNC_SD):
+            xs[-1], sds[-1], x_end, sd_end = self.end_x, 0.0, self.end_x, 0.0
+            self.done = True
+        self.x, self.sd = x_end, sd_end
+        if not nominal_ended and abs(x_end - x_n) < RESYNC_X and abs(sd_end - sd_n) < RESYNC_SD:
+            self.in_sync, self.x, self.sd = True, x_n, sd_n  # back in step: the nominal rows from the next cycle
+        path = self.path
+        d1, d2 = path(xs, 1), path(xs, 2)
+        qdd = d2 * (sds * sds)[:, None] + d1 * np.where(sds > 0.0, sdd, 0.0)[:, None]
+        qd = d1 * sds[:, None]
+        if self.done:
+            qd[-1], qdd[-1] = 0.0, 0.0
+        return path(xs, 0), qd, qdd

@@ -1,0 +1,231 @@
+"""The plant room's realistic virtual robot: friction that warms up, hot windings, encoders and masses the model does not know."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.plant.cell import CellDescription
+from orc_rpl.plant.sim import SimCell, mj_step
+from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, PlantSpec, plant_spec
+
+#: The slow states (temperatures, friction) are updated every this many steps (50 ms) from the mean
+#: squared torque since the last update: their time constants are 15 s (windings) to 20 min (gearboxes).
+THERMAL_EVERY_STEPS = 50
+
+#: Rows of velocity noise drawn at once from the seeded generator (no repetition: a new block when used up).
+NOISE_BLOCK = 8192
+
+multiply, add, rint = np.multiply, np.add, np.rint
+
+
+class RealisticCell(SimCell):
+    """A SimCell whose robot is not the controller's model (see `PlantSpec` and docs/robots.md).
+
+    `q`, `qd` and `live_state()` are what the servo measures (quantised angles, noisy speeds);
+    `true_q` and `true_qd` are the plant's own. Starts cold; `warm_up()` puts it at its warm state.
+    Deterministic for a seed.
+    """
+
+    def __init__(self, robot: str | None = None, cell: CellDescription | None = None, realtime: bool = False,
+                 seed: int = 0, spec: PlantSpec | None = None, elastic: bool = False) -> None:
+        """`elastic`: elastic gears, for a robot whose plant description has a gear stiffness (off by default)."""
+        self.plant = spec if spec is not None else plant_spec(robot or (cell.robot if cell is not None else "irb2400"))
+        self.seed = int(seed)
+        if elastic and self.plant.gear_stiffness_nm_rad is None:
+            from orc_rpl.errors import UsageError
+
+            raise UsageError(f"robot {self.plant.robot!r} has no gear stiffness in its plant description")
+        self.elastic = elastic
+        super().__init__(robot, cell, realtime)
+
+    def _edited(self, spec: Any) -> Any:
+        """Elastic gears: a second hinge on each link, about the same axis, with the gear's stiffness.
+
+        The first hinge (jN, the motor's, with the rotor's armature, the friction and the encoder) and
+        the second (jN_gear, the gear's twist) turn one body in series: the rotor turns at the first
+        angle, the link at the sum, and the spring acts on the difference (a two-mass joint).
+        """
+        if not self.elastic:
+            return spec
+        import mujoco
+
+        from orc_rpl.plant.cell import ROBOT_PREFIX
+
+        p = self.plant
+        for i, (k, damping) in enumerate(zip(p.gear_stiffness_nm_rad, p.gear_damping_nm_s)):  # type: ignore[arg-type]
+            joint = spec.joint(f"{ROBOT_PREFIX}j{i + 1}")
+            joint.parent.add_joint(name=f"{ROBOT_PREFIX}j{i + 1}_gear", type=mujoco.mjtJoint.mjJNT_HINGE,
+                                   axis=list(joint.axis), pos=list(joint.pos), stiffness=k, damping=damping)
+        return spec
+
+    @property
+    def link_q(self) -> np.ndarray:
+        """The links' angles (rad): the motors' plus the gears' twist (the motors' when the gears are rigid)."""
+        q = self.true_q
+        if self.elastic:
+            q = q + self._data.qpos[self._qpos + 1]
+        return q
+
+    # -- set-up ------------------------------------------------------------------------
+
+    def _setup(self) -> None:
+        """Arrays of the realistic plant, made once the model is compiled (called from reset the first time)."""
+        p, m, n = self.plant, self._model, self.n_joints
+        if p.n_joints != n:
+            from orc_rpl.errors import UsageError
+
+            raise UsageError(f"the plant description of {self.robot!r} has {p.n_joints} joints, the robot {n}")
+        bodies = [int(m.jnt_bodyid[m.dof_jntid[d]]) for d in self._qvel]
+        for body, factor in zip(bodies, p.link_mass_factors):
+            m.body_mass[body] *= factor
+            m.body_inertia[body] *= factor
+        self._hidden_flange_kg = p.unmodelled_flange_mass_kg
+        self._coulomb = np.array(p.coulomb_nm) * p.plant_coulomb_factor
+        self._viscous = np.array(p.viscous_nm_s) * p.plant_viscous_factor
+        self._k_amp = np.array(p.torque_per_amp_nm_a)
+        self._r_ohm = np.array(p.winding_resistance_ohm) * p.plant_resistance_factor
+        self._w_rth = np.array(p.winding_rth_k_w) * p.plant_winding_rth_factor
+        dt = THERMAL_EVERY_STEPS * self.timestep_s
+        self._w_decay = np.exp(-dt / (np.array(p.winding_time_constant_s) * p.plant_winding_time_factor))
+        self._g_rth = np.array(p.gear_rth_k_w)
+        self._g_decay = float(np.exp(-dt / p.gear_time_constant_s))
+        self._rad_per_count = 2.0 * np.pi / p.encoder_counts_per_rev
+        self._count_per_rad = 1.0 / self._rad_per_count
+        self._tau_sq_sum = np.zeros(n)
+        self._work = np.zeros(n)
+        self._q_meas = np.zeros(n)
+        self._qd_meas = np.zeros(n)
+        self._q_meas_view = self._q_meas.view()
+        self._qd_meas_view = self._qd_meas.view()
+        for view in (self._q_meas_view, self._qd_meas_view):
+            view.flags.writeable = False
+        self.set_payload(0.0)
+
+    # -- state -------------------------------------------------------------------------
+
+    @property
+    def q(self) -> np.ndarray:
+        """Measured joint angles (rad): the encoder's, quantised; a copy."""
+        return self._q_meas.copy()
+
+    @property
+    def qd(self) -> np.ndarray:
+        """Measured joint speeds (rad/s), with the encoder's noise; a copy."""
+        return self._qd_meas.copy()
+
+    @property
+    def true_q(self) -> np.ndarray:
+        """The plant's own joint angles (rad), which no controller can read; a copy."""
+        return self._data.qpos[self._qpos]
+
+    @property
+    def true_qd(self) -> np.ndarray:
+        """The plant's own joint speeds (rad/s); a copy."""
+        return self._data.qvel[self._qvel]
+
+    def live_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """Read-only views of the measured (q, qd), updated step by step."""
+        return self._q_meas_view, self._qd_meas_view
+
+    @property
+    def winding_temperature_c(self) -> np.ndarray:
+        """Each motor's winding temperature (C)."""
+        return self.plant.ambient_c + self.winding_rise_k
+
+    @property
+    def friction_factor(self) -> np.ndarray:
+        """Friction now over warm friction, per joint (cold_friction_factor at a cold start, 1.0 warm)."""
+        p = self.plant
+        return 1.0 + (p.cold_friction_factor - 1.0) * np.exp(-self.gear_rise_k / p.warm_rise_k)
+
+    def friction_nm(self) -> tuple[np.ndarray, np.ndarray]:
+        """The plant's (Coulomb N m, viscous N m s/rad) friction now."""
+        f = self.friction_factor
+        return self._coulomb * f, self._viscous * f
+
+    # -- stepping ----------------------------------------------------------------------
+
+    def reset(self, q: Any = None, qd: Any = None) -> None:
+        """Back to time 0 at q, at rest; temperatures kept (a reset is not a night's cooling: see `cool_down`)."""
+        if not hasattr(self, "_tau_sq_sum"):
+            self._setup()
+            self.cool_down()
+        super().reset(q, qd)
+        self._rng = np.random.default_rng(self.seed)
+        self._noise = self._rng.standard_normal((NOISE_BLOCK, self.n_joints)) * self.plant.velocity_noise_rad_s
+        self._noise_row = 0
+        self._steps = 0
+        self._tau_sq_sum[:] = 0.0
+        self._measure()
+
+    def cool_down(self) -> None:
+        """A cold start: windings and gearboxes at ambient, friction at its cold value."""
+        self.winding_rise_k = np.zeros(self.n_joints)
+        self.gear_rise_k = np.zeros(self.n_joints)
+        self._apply_friction()
+
+    def warm_up(self, gear_rise_k: float = 30.0) -> None:
+        """A robot that has run a while: gearboxes `gear_rise_k` above ambient (friction about warm)."""
+        self.gear_rise_k = np.full(self.n_joints, float(gear_rise_k))
+        self._apply_friction()
+
+    def step(self, tau_nm: np.ndarray) -> None:
+        """Apply motor torques for one timestep, advance the cell, update what the servo measures."""
+        data = self._data
+        self._ctrl[:] = tau_nm
+        mj_step(self._model, data)
+        work, tau = self._work, data.actuator_force
+        multiply(tau, tau, work)
+        add(self._tau_sq_sum, work, self._tau_sq_sum)
+        self._steps += 1
+        if self._steps % THERMAL_EVERY_STEPS == 0:
+            self._heat()
+        self._measure()
+        self._after_step(data)
+
+    def _measure(self) -> None:
+        """Encoder quantisation and velocity noise on the plant's state (no allocation)."""
+        data, qm, qdm = self._data, self._q_meas, self._qd_meas
+        if self._q_live is not None:
+            multiply(self._q_live, self._count_per_rad, qm)
+            add(self._qd_live, self._noise[self._noise_row], qdm)
+        else:
+            multiply(data.qpos[self._qpos], self._count_per_rad, qm)
+            add(data.qvel[self._qvel], self._noise[self._noise_row], qdm)
+        rint(qm, qm)
+        multiply(qm, self._rad_per_count, qm)
+        self._noise_row += 1
+        if self._noise_row == NOISE_BLOCK:
+            self._noise = self._rng.standard_normal((NOISE_BLOCK, self.n_joints)) * self.plant.velocity_noise_rad_s
+            self._noise_row = 0
+
+    def _heat(self) -> None:
+        """Windings and gearboxes over the last THERMAL_EVERY_STEPS steps; friction follows the gearboxes."""
+        p = self.plant
+        mean_tau_sq = self._tau_sq_sum / THERMAL_EVERY_STEPS
+        self._tau_sq_sum[:] = 0.0
+        resistance = self._r_ohm * (1.0 + COPPER_TEMPCO_1_K * (p.ambient_c + self.winding_rise_k - 20.0))
+        copper_w = resistance * mean_tau_sq / (self._k_amp * self._k_amp)
+        self.winding_rise_k = self._w_decay * self.winding_rise_k + (1.0 - self._w_decay) * self._w_rth * copper_w
+        qd = np.abs(self.true_qd)
+        heat_w = self._coulomb_now * qd + self._viscous_now * qd * qd + p.gear_motor_heat_share * copper_w
+        self.gear_rise_k = self._g_decay * self.gear_rise_k + (1.0 - self._g_decay) * self._g_rth * heat_w
+        self._apply_friction()
+
+    def _apply_friction(self) -> None:
+        """Friction for the gearboxes' temperature, written into the model (no recompile needed)."""
+        self._coulomb_now, self._viscous_now = self.friction_nm()
+        m = self._model
+        if self._contiguous:
+            m.dof_frictionloss[: self.n_joints] = self._coulomb_now
+            m.dof_damping[: self.n_joints] = self._viscous_now
+        else:
+            m.dof_frictionloss[self._qvel] = self._coulomb_now
+            m.dof_damping[self._qvel] = self._viscous_now
+
+    def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0)) -> None:
+        """The payload on the flange, plus the dress pack the controller's model does not have."""
+        super().set_payload(mass_kg + self._hidden_flange_kg, com_m)
+        self.payload_kg = float(mass_kg)

@@ -1,0 +1,59 @@
+"""The plant room's cell made from a world model: every object with a shape becomes a solid the robot can touch."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from orc_rpl.errors import UsageError
+from orc_rpl.plant.cell import CellDescription, Solid
+from orc_rpl.world.world import World
+
+#: Colour names a world model may use, as RGBA.
+COLOURS: dict[str, tuple[float, float, float, float]] = {
+    "grey": (0.6, 0.6, 0.62, 1.0), "gray": (0.6, 0.6, 0.62, 1.0), "orange": (0.95, 0.5, 0.1, 1.0),
+    "red": (0.8, 0.15, 0.1, 1.0), "green": (0.2, 0.65, 0.25, 1.0), "blue": (0.15, 0.35, 0.8, 1.0),
+    "yellow": (0.95, 0.85, 0.2, 1.0), "black": (0.1, 0.1, 0.1, 1.0), "white": (0.95, 0.95, 0.95, 1.0),
+    "brown": (0.55, 0.4, 0.25, 1.0), "silver": (0.75, 0.75, 0.78, 1.0),
+}
+SHAPES = {"box": 3, "cylinder": 2, "sphere": 1}  #: geometry -> number of sizes it takes
+
+
+def cell_from_world(world: World, robot: str | None = None) -> CellDescription:
+    """The simulated cell of a world model: its shaped objects as solids around its robot, contacts on.
+
+    The scene's origin is the robot's base (the controller's kinematics start there); the world's
+    objects are placed relative to it. Objects without a shape (frames only) and meshes are left out
+    (a mesh is for pictures, not contacts).
+    """
+    entry = world.robot
+    name = robot or (entry.model if entry is not None else "irb2400")
+    base = np.eye(4)
+    if entry is not None:
+        base = entry.pose.matrix()
+        if not np.allclose(base[:3, :3], np.eye(3), atol=1e-9):
+            raise UsageError(f"{world.path}: the simulated cell puts the robot upright; its base may only be moved, not turned")
+    solids = []
+    for obj in world.objects:
+        model = obj.model
+        if model is None or model.geometry not in SHAPES:
+            continue
+        if len(model.size_m) != SHAPES[model.geometry] or min(model.size_m) <= 0.0:
+            raise UsageError(f"{world.path}: object '{obj.name}': a {model.geometry} needs {SHAPES[model.geometry]} "
+                             f"positive sizes, got {model.size_m}")
+        on_flange = "flange" in world.ancestors(obj.name)
+        frame = world.relative_pose(obj.name, "flange").matrix() if on_flange else np.linalg.inv(base) @ world.world_pose(obj.name).matrix()
+        centre = frame @ (model.offset.matrix() if model.offset is not None else np.eye(4))
+        solids.append(Solid(obj.name, model.geometry, tuple(model.size_m), tuple(float(v) for v in centre[:3, 3]),
+                            tuple(float(v) for v in centre[:3, :3].reshape(-1)), on_flange, obj.work,
+                            _rgba(model.colour)))
+    return CellDescription(robot=name, solids=tuple(solids), contacts=True,
+                           notes=(f"made from {world.path}",))
+
+
+def _rgba(colour: object) -> tuple[float, float, float, float]:
+    if isinstance(colour, str):
+        return COLOURS.get(colour.lower(), COLOURS["grey"])
+    if isinstance(colour, tuple) and len(colour) in (3, 4):
+        values = tuple(float(v) for v in colour)
+        return values if len(values) == 4 else (*values, 1.0)  # type: ignore[return-value]
+    return COLOURS["grey"]
