@@ -88,6 +88,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from orc_rpl.commands.run import simulated_plant
     from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.sim_io import load_script, script_path
     from orc_rpl.motion.sensors import SensorManager
@@ -99,7 +100,7 @@ def _run(args: argparse.Namespace) -> int:
     if args.port is not None:
         robot = PendantRobot(bus_robot.connect(args, record=False))  # a real (or emulated) arm on a servo bus
     else:
-        robot = PendantRobot(CellRobot.virtual(args.robot, backend=args.backend, plant=args.plant or "realistic",
+        robot = PendantRobot(CellRobot.virtual(args.robot, backend=args.backend, plant=simulated_plant(args, args.robot),
                                                seed=args.seed))
         # A simulated session touches no device unless asked (the manager INSTALL would otherwise make for this robot).
         robot.sensors = SensorManager(allow_devices=args.allow_devices)  # type: ignore[attr-defined]
@@ -145,3 +146,4 @@ def _run_script(session: object, lines: Iterable[str], message: str) -> int:
         sys.stderr.write(f"orc pendant: unsaved edits of {session.editor.path} are kept in its journal "  # type: ignore[attr-defined]
                          "(:save writes the program)\n")
     return 1 if failed else 0
+

@@ -205,8 +205,9 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     if args.port is not None:
         robot = bus_robot.connect(args, record)
     else:
-        robot = CellRobot.virtual(robot=cell.robot if cell is not None else args.robot, realtime=paced, record=record,
-                                  plant=args.plant or "realistic", seed=args.seed, cell=cell)
+        name = cell.robot if cell is not None else args.robot
+        robot = CellRobot.virtual(robot=name, realtime=paced, record=record, plant=simulated_plant(args, name),
+                                  seed=args.seed, cell=cell)
         robot.sensors.allow_devices = args.allow_devices  # a simulated run touches no device unless asked
 
     def out(line: str) -> None:
@@ -276,3 +277,16 @@ def _run_until_done(executive: Any, timeout_s: float | None) -> str:
     if limit is not None and limit.reached and executive.status == "paused":
         return f"--timeout {timeout_s:g} s (simulated)"
     return ""
+
+
+def simulated_plant(args: argparse.Namespace, robot: str) -> str:
+    """--plant, or the robot's default: realistic where it has a plant description (said when it has none)."""
+    from orc_rpl.robot.plants import PLANTS, default_plant
+
+    if args.plant is not None:
+        return str(args.plant)
+    plant = default_plant(robot)
+    if plant != "realistic":
+        sys.stderr.write(f"orc: robot {robot!r} has no realistic plant description yet "
+                         f"(robots with one: {', '.join(sorted(PLANTS))}): running on the ideal plant\n")
+    return plant

@@ -114,3 +114,8 @@ def plant_spec(robot: str) -> PlantSpec:
     except KeyError:
         raise UsageError(f"robot {robot!r} has no realistic plant description (robots with one: "
                          f"{', '.join(sorted(PLANTS))}); use --plant ideal") from None
+
+
+def default_plant(robot: str) -> str:
+    """The plant a simulated run gets when none is asked for: realistic where the robot has a description."""
+    return "realistic" if robot in PLANTS else "ideal"
