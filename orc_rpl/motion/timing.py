@@ -94,7 +94,7 @@ def _toppra() -> Any:
             return np.array([0.0, self._p.length])
 
     class SpeedBound(toppra.constraint.LinearConstraint):
-        """Joint and TCP speed limits as a pure bound on x = sd^2 (NOTES.md: no Cartesian constraint in toppra)."""
+        """Joint and TCP speed limits as a pure bound on x = sd^2 (toppra has no Cartesian velocity constraint)."""
 
         def __init__(self, xmax_at: Callable[[np.ndarray], np.ndarray], dof: int) -> None:
             super().__init__()

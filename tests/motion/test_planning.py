@@ -14,7 +14,7 @@ from orc_rpl.world.pose import Pose
 from .motion_helpers import pose_here
 
 #: toppra's collocation holds the limits at grid points; between them the constant-acceleration
-#: profile can exceed them slightly (NOTES.md: about 1 % for torque, velocity a bit more on curved paths)
+#: profile can exceed them slightly (measured: about 1 % for torque, velocity a bit more on curved paths)
 MARGIN = 0.03
 
 
