@@ -49,6 +49,8 @@ def parse_amount(text: str, rotation: bool) -> float:
     if dimension not in (wanted, dim_of(1.0)):
         raise JogError(f"the amount {text!r} must be {'an angle (deg)' if rotation else 'a length (mm)'}")
     number = magnitude(value)
+    if not math.isfinite(number):  # `-1e999mm`: a number, but no distance the robot can go
+        raise JogError(f"the amount {text!r} is not a finite number; write it like +10mm or -5deg")
     return -number if body.startswith("-") else number
 
 

@@ -116,3 +116,11 @@ def test_no_surprises_goto_help_and_the_jog_space(tmp_path) -> None:
     assert ":quit!" in run_line(session, ":help quit!").text
     run_line(session, ":jog world z +1mm")
     assert (session.jogger.space_label(), session.jogger.axis_label()) == ("world", "z")
+
+
+def test_a_jog_amount_that_is_not_finite_is_refused_and_nothing_moves(tmp_path) -> None:
+    session = session_on(tmp_path)
+    before = session.robot.joints()
+    outcome = run_line(session, ":jog tool z -1e999mm")
+    assert outcome.error and "is not a finite number" in outcome.text
+    assert session.robot.joints() == before
