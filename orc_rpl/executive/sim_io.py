@@ -106,36 +106,67 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
     if not isinstance(entries, list):
         raise UsageError(f"IO script '{path}': expected a list under 'events:'")
     events = []
+    place = _Places(path, text)
     for i, entry in enumerate(entries, 1):
         try:
             events.append(_event(entry, io, tcp))
         except (UsageError, RunError, SourceError, ValueError, KeyError, TypeError, AttributeError, OverflowError) as error:
-            raise UsageError(f"IO script '{path}', event {i}: {_reason(error)}") from None
+            raise UsageError(f"{place.of('events', i)}IO script event {i}: {_reason(error)}") from None
     script = IOScript(events)
     io.add_process(script)
-    where = "weld_guns"
+    where, section, index = "weld_guns", "weld_guns", 0
     try:
         for i, entry in enumerate(_entries(data, "weld_guns"), 1):
-            where = f"weld gun {i}"
+            where, index = f"weld gun {i}", i
             script.weld_guns.append(_weld_gun(entry, io, tcp))
-        where = "parts"
+        where, section, index = "parts", "parts", 0
         for i, entry in enumerate(_entries(data, "parts"), 1):
-            where = f"parts {i}"
+            where, index = f"parts {i}", i
             script.parts.append(_parts(entry, io, set_payload))
-        where = "castings"
+        where, section, index = "castings", "castings", 0
         for i, entry in enumerate(_entries(data, "castings"), 1):
-            where = f"casting {i}"
+            where, index = f"casting {i}", i
             script.castings.append(_casting(entry, tcp))
     except (UsageError, RunError, SourceError, ValueError, KeyError, TypeError, AttributeError, OverflowError) as error:
-        raise UsageError(f"IO script '{path}', {where}: {_reason(error)}") from None
+        raise UsageError(f"{place.of(section, index)}IO script {where}: {_reason(error)}") from None
     for process in (*script.weld_guns, *script.parts, *script.castings):
         io.add_process(process)
     if isinstance(data, dict) and "seam" in data:
         try:
             io.add_process(seam_process(data["seam"] or {}))
         except (UsageError, ValueError, TypeError, KeyError, AttributeError, OverflowError) as error:
-            raise UsageError(f"IO script '{path}', seam: {_reason(error)}") from None
+            raise UsageError(f"{place.of('seam', 0)}IO script seam: {_reason(error)}") from None
     return script
+
+
+class _Places:
+    """Where a script's sections and entries stand, as a `file:line:col: ` prefix for its error messages."""
+
+    def __init__(self, path: str | Path, text: str) -> None:
+        from ruamel.yaml import YAML
+
+        self.path = path
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                self.root: Any = YAML(typ="rt").compose(text)
+        except Exception:  # the safe load read it; a composer that cannot is no reason to lose the message
+            self.root = None
+
+    def of(self, section: str, index: int) -> str:
+        """`file:line:col: ` of entry `index` (1-based; 0: the section itself), or of the file when unknown."""
+        node = None
+        for key, value in getattr(self.root, "value", ()) if isinstance(getattr(self.root, "value", None), list) else ():
+            if getattr(key, "value", None) == section:
+                node = key if index == 0 else value
+                break
+        items = getattr(node, "value", None)
+        if index > 0 and isinstance(items, list) and index <= len(items) and not isinstance(items[index - 1], tuple):
+            node = items[index - 1]
+        mark = getattr(node, "start_mark", None)
+        if mark is None:
+            return f"{self.path}:1:1: "
+        return f"{self.path}:{mark.line + 1}:{mark.column + 1}: "
 
 
 def _reason(error: Exception) -> str:

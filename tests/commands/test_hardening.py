@@ -384,3 +384,16 @@ def test_a_conversion_killed_between_its_renames_is_detected_by_the_next_command
     assert code == 0 and world.exists() and not (tmp_path / ".out.rpl.converting").exists()
     assert orc(capsys, "check", str(online))[0] == 0
     assert sorted(p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")) == []
+
+
+@pytest.mark.parametrize("script, where, message", [
+    ("events:\n  - at: 1s\n    set: DigIn[1]\n    value: 1\n  - at: [1]\n    set: DigIn[2]\n", "5:5", "IO script event 2: not a number"),
+    ("weld_guns:\n  - close: [1, 2]\n", "2:5", "IO script weld gun 1: a weld gun has close"),
+], ids=["event", "weld-gun"])
+def test_a_sidecar_mistake_is_reported_at_its_line_and_column(tmp_path, monkeypatch, capsys, script, where, message) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "p.rpl").write_text("WAIT 0.1s\n", encoding="utf-8")
+    (tmp_path / "p.sim.yaml").write_text(script, encoding="utf-8")
+    assert main(["run", "p.rpl", "--plant", "ideal"]) == 2
+    err = capsys.readouterr().err
+    assert f"p.sim.yaml:{where}: {message}" in err and "Traceback" not in err
