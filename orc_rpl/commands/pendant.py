@@ -8,6 +8,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from orc_rpl.commands import bus_robot
+from orc_rpl.commands.run import add_cell_options
 from orc_rpl.errors import OrcError, UsageError
 from orc_rpl.syntax.files import interrupted_mark
 
@@ -25,12 +26,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--backend", choices=("servo", "kinematic"), default="servo",
                         help="servo: MuJoCo cell with servo loops (default); kinematic: fast, no :snapshot")
     bus_robot.add_options(parser)
-    parser.add_argument("--allow-devices", action="store_true",
-                        help="let the program open the serial devices its PORT attributes name (default: none is opened)")
-    parser.add_argument("--plant", choices=("realistic", "ideal"), default=None,
-                        help="realistic: friction, motor heat, encoders, masses off the model (default); "
-                             "ideal: the controller's own model, exactly (simulation only: not with --port)")
-    parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
+    add_cell_options(parser)
     recovery = parser.add_mutually_exclusive_group()
     recovery.add_argument("--recover", action="store_true", help="take unsaved edits from the journal without asking")
     recovery.add_argument("--discard", action="store_true", help="discard unsaved edits in the journal without asking")

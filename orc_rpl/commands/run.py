@@ -41,12 +41,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--statement-budget", metavar="N", type=statement_budget, default=1_000_000,
                         help="stop a program that runs N statements without the robot moving or time passing "
                              "(default 1000000; 0: no budget)")
-    parser.add_argument("--allow-devices", action="store_true",
-                        help="let the program open the serial devices its PORT attributes name (default: none is opened)")
-    parser.add_argument("--plant", choices=("realistic", "ideal"), default=None,
-                        help="realistic: friction, motor heat, encoders, masses off the model (default); "
-                             "ideal: the controller's own model, exactly (simulation only: not with --port)")
-    parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
+    add_cell_options(parser)
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
     view = parser.add_argument_group("3D view and video (the [view] extra)")
@@ -277,6 +272,16 @@ def _run_until_done(executive: Any, timeout_s: float | None) -> str:
     if limit is not None and limit.reached and executive.status == "paused":
         return f"--timeout {timeout_s:g} s (simulated)"
     return ""
+
+
+def add_cell_options(parser: argparse.ArgumentParser) -> None:
+    """--allow-devices, --plant and --seed: what the simulated cell is made of (orc run and orc pendant)."""
+    parser.add_argument("--allow-devices", action="store_true",
+                        help="let the program open the serial devices its PORT attributes name (default: none is opened)")
+    parser.add_argument("--plant", choices=("realistic", "ideal"), default=None,
+                        help="realistic: friction, motor heat, encoders, masses off the model (default); "
+                             "ideal: the controller's own model, exactly (simulation only: not with --port)")
+    parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
 
 
 def simulated_plant(args: argparse.Namespace, robot: str) -> str:
