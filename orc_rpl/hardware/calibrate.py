@@ -66,7 +66,7 @@ def calibrate(bus: ServoBus, spec: RobotSpec, bus_name: str, record_s: float | N
 
     out.write(f"The torque of {spec.name}'s servos is off: the arm can be moved by hand.\n"
               "1. Put every joint in the middle of its range, the gripper closed"
-              + (f" (recording in 1 s)\n" if record_s is not None else ", then press Enter\n"))
+              + (" (recording in 1 s)\n" if record_s is not None else ", then press Enter\n"))
     out.flush()
     if record_s is not None:
         time.sleep(1.0)

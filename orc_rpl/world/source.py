@@ -12,7 +12,7 @@ from ruamel.yaml import YAML
 from ruamel.yaml import nodes as _rt_nodes
 from ruamel.yaml.error import MarkedYAMLError
 from ruamel.yaml.reader import ReaderError
-from ruamel.yaml.resolver import BaseResolver as _RtResolver, implicit_resolvers as _RT_IMPLICIT
+from ruamel.yaml.resolver import implicit_resolvers as _RT_IMPLICIT
 
 from orc_rpl.errors import Diagnostic, Location, SourceError
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from orc_rpl.application.declarations import AttributeSpec, FunctionSpec, MotionSpec, ParamSpec
 from orc_rpl.application.registry import Registry
-from orc_rpl.syntax.units import ACCELERATION, ANGLE, DIMENSIONLESS, FORCE, LENGTH, MASS, TIME, VELOCITY
+from orc_rpl.syntax.units import ACCELERATION, ANGLE, DIMENSIONLESS, LENGTH, MASS, TIME, VELOCITY
 
 ORIGIN = "standard"
 
