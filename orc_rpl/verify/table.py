@@ -43,8 +43,7 @@ def _clearance(row: Row) -> str:
     """The nearest approach, the line of its motion and its change against the baseline."""
     if row.clearance_mm is None:
         return "> 500 mm" if row.measured else ""
-    line = row.clearance_at.rpartition(":")[2]
-    text = f"{row.clearance_mm:.0f} mm @{line}"
+    text = f"{row.clearance_mm:.0f} mm" + (f" @{row.clearance_at.rpartition(':')[2]}" if row.clearance_at else "")
     if row.baseline_clearance_mm is not None and round(row.clearance_mm - row.baseline_clearance_mm) != 0:
         text += f" ({row.clearance_mm - row.baseline_clearance_mm:+.0f})"
     return f"[bold red]{text} COLLISION[/]" if row.clearance_mm < 0 else text

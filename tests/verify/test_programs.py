@@ -27,6 +27,25 @@ def test_an_expectation_of_two_words_is_refused_with_its_line() -> None:
         read_expectation(Path("p.rpl"), "-- a program\n-- expect: Unreachable or NotFound\n")
 
 
+def test_process_conditions_are_read_one_a_line() -> None:
+    text = "-- process: welds_good >= 4\n-- process: parts = Light, Heavy\n# process: burr_left_mm<0.05\nPRINT 1\n"
+    conditions = read_expectation(Path("p.rpl"), text).process
+    assert [(c.name, c.op, c.value, c.line) for c in conditions] == [
+        ("welds_good", ">=", 4.0, 1), ("parts", "=", "Light,Heavy", 2), ("burr_left_mm", "<", 0.05, 3)]
+    assert conditions[1].failure({"parts": "Light,Heavy"}) is None
+    assert conditions[0].failure({"welds_good": 3}) == "expected process welds_good >= 4 (header line 1), got 3"
+
+
+@pytest.mark.parametrize("line, message", [
+    ("-- process: spatter < 2", r"p.rpl:1: 'process:' names an unknown figure 'spatter'; known: welds, "),
+    ("-- process: welds_good about 4", r"p.rpl:1: 'process:' takes NAME OP VALUE"),
+    ("-- process: parts < cube", r"p.rpl:1: 'process: parts <' needs a number, got 'cube'"),
+])
+def test_a_bad_process_condition_is_refused_with_its_line(line: str, message: str) -> None:
+    with pytest.raises(UsageError, match=message):
+        read_expectation(Path("p.rpl"), line + "\n")
+
+
 @pytest.mark.parametrize("outcome, status, exception, met", [
     ("finished", "finished", None, True),
     ("finished", "failed", "Unreachable", False),

@@ -109,3 +109,15 @@ def test_a_process_section_becomes_columns_of_the_table() -> None:
     assert record["m"] == "1" and record["status"] == "finished" and record["cycle_time_s"] == 2.0
     assert record["process.identifications.0.part"] == "heavy"
     assert record["process.identifications.0.payload_kg"] == 4.98
+    assert record["figure.parts"] == "heavy" and record["clearance_mm"] is None  # no margins section: not measured
+
+
+def test_the_margins_become_columns_with_the_line_of_their_motion() -> None:
+    near = {"clearance_mm": 31.5, "file": "p.rpl", "line": 7, "column": 1, "robot_body": "link6", "obstacle": "fence",
+            "time_s": 2.0}
+    joint = {"joint_margin_deg": 9.5, "joint": 5, "file": "p.rpl", "line": 4, "column": 1}
+    summary = {"status": "finished", "cycle_time_s": 2.0, "motions": 3, "warnings": [], "error": None,
+               "margins": {"clearance": near, "joint_margin": joint, "motions": []}}
+    record = record_of(0, grid(["m=1"], None, [])[0], RunOutcome(0, summary, "", ""), 1, None)
+    assert (record["clearance_mm"], record["clearance_line"], record["clearance_bodies"]) == (31.5, 7, "link6/fence")
+    assert (record["joint_margin_deg"], record["joint_margin_line"]) == (9.5, 4)

@@ -11,7 +11,13 @@ from pathlib import Path
 
 import pytest
 
+from tests.plant.test_world_scene import WORLD
 from tests.verify.conftest import ROOT, SUBSET, alone, dask_cluster, orc, same_as_alone
+
+#: 80 mm above the block of WORLD (line 3) and back up.
+NEAR_THE_BLOCK = ("MOVE ARM TO POSE(900mm, 0, 800mm, 0, 180deg, 0)\nLMOVE ARM TO POSE(900mm, 0, 700mm, 0, 180deg, 0)\n"
+                  "LMOVE ARM TO POSE(900mm, 0, 560mm, 0, 180deg, 0) WITH SPEED = 0.2mps\n"
+                  "LMOVE ARM TO POSE(900mm, 0, 800mm, 0, 180deg, 0)\n")
 
 
 @pytest.mark.sim
@@ -37,7 +43,8 @@ def test_verify_matches_each_program_run_alone_and_judges_it(extra_programs: dic
     assert rows["ur5e_only.rpl"]["verdict"] == "skipped"
     collided = rows["collides.rpl"]
     assert collided["status"] == "finished" and collided["verdict"] == "FAIL" and collided["clearance_mm"] < 0
-    assert collided["reasons"][0].startswith("collision: robot/") and "table_top" in collided["reasons"][0]
+    assert collided["reasons"][0].startswith("collision: link") and "to table_top at " in collided["reasons"][0]
+    assert collided["clearance_at"] == f"{extra_programs['collides.rpl']}:4", "the LMOVE into the table"
     assert all(rows[Path(shown).name]["clearance_mm"] > 20 for shown in SUBSET)
     assert rows[Path(slower).name]["verdict"] == "FAIL"
     assert rows[Path(slower).name]["reasons"][0].startswith("10.0 % slower than the baseline")
@@ -61,6 +68,24 @@ def test_verify_on_a_separate_dask_cluster_on_loopback_gives_the_same_rows(tmp_p
     for row in rows:
         same_as_alone(row, alone(ROOT / row["program"]))
         assert row["verdict"] == "ok" and row["attempts"] == 1
+
+
+@pytest.mark.sim
+def test_verify_measures_clearance_in_the_cell_of_the_world_given(tmp_path: Path) -> None:
+    (tmp_path / "cell.yaml").write_text(WORLD, encoding="utf-8")
+    (tmp_path / "near.rpl").write_text(NEAR_THE_BLOCK, encoding="utf-8")
+    result = orc("verify", "near.rpl", "--world", "cell.yaml", "--workers", "1", "--min-clearance", "100",
+                 "--json", "r.json", "--junit", "j.xml", cwd=tmp_path)
+    assert result.returncode == 1, result.stderr
+    row = json.loads((tmp_path / "r.json").read_text())["runs"][0]
+    assert row["clearance_bodies"] == ["link5", "block"] and row["clearance_at"] in ("near.rpl:3", "near.rpl:4")
+    assert 75.0 < row["clearance_mm"] < 85.0
+    assert row["reasons"] == [f"near miss: {row['clearance_mm']:.1f} mm, link5 to block at {row['clearance_at']} "
+                              f"(t = {row['clearance_time_s']:.2f} s) (below 100 mm)"]
+    case = ET.parse(tmp_path / "j.xml").getroot().find("testcase")
+    assert case is not None
+    properties = {p.get("name"): p.get("value") for p in case.iter("property")}
+    assert properties["clearance_mm"] == f"{row['clearance_mm']:.3f}" and properties["clearance_at"] == row["clearance_at"]
 
 
 def test_ctrl_c_cancels_the_remaining_runs_and_keeps_the_finished_ones(tmp_path: Path) -> None:
