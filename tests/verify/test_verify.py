@@ -70,6 +70,26 @@ def test_verify_on_a_separate_dask_cluster_on_loopback_gives_the_same_rows(tmp_p
         assert row["verdict"] == "ok" and row["attempts"] == 1
 
 
+@pytest.mark.slow
+def test_verify_over_all_of_programs_gives_what_each_program_gives_alone(tmp_path: Path) -> None:
+    result = orc("verify", "programs/", "--workers", "2", "--json", str(tmp_path / "r.json"))
+    assert result.returncode in (0, 1), result.stderr
+    rows = json.loads((tmp_path / "r.json").read_text())["runs"]
+    assert sorted({row["program"] for row in rows}) == sorted(
+        path.relative_to(ROOT).as_posix() for path in (ROOT / "programs").rglob("*") if path.suffix in (".rpl", ".orl"))
+    with_process = 0
+    for row in rows:
+        summary = alone(ROOT / row["program"], row["robot"], margins=True)
+        same_as_alone(row, summary)
+        assert row["process"] == summary.get("process"), row["program"]
+        with_process += summary.get("process") is not None
+        near = (summary.get("margins") or {}).get("clearance")
+        assert row["clearance_mm"] == (near["clearance_mm"] if near else None), row["program"]
+        if near:
+            assert row["clearance_at"] == f"{row['program']}:{near['line']}"
+    assert with_process >= 5, "the application programs report their process outcomes"
+
+
 @pytest.mark.sim
 def test_verify_measures_clearance_in_the_cell_of_the_world_given(tmp_path: Path) -> None:
     (tmp_path / "cell.yaml").write_text(WORLD, encoding="utf-8")
