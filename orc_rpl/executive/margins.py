@@ -63,7 +63,7 @@ class MarginWatch:
         if statement is None:
             statement = self.statements[key] = _Statement(span)
         self.clearance.sample(key, self._robot.time_s())
-        q = np.asarray(self._robot.joints())
+        q = self._robot.layer.current_q()  # the joints as the controller measures them
         n = min(len(q), len(self._q_min))
         margins = np.minimum(q[:n] - self._q_min[:n], self._q_max[:n] - q[:n])
         joint = int(np.argmin(margins))

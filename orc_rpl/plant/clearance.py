@@ -68,6 +68,7 @@ class ClearanceMeter:
         fixed = [g for g in range(model.ngeom) if root[body_of[g]] != robot_root_body and weld[body_of[g]] == 0
                  and model.geom_type[g] != mujoco.mjtGeom.mjGEOM_PLANE and g not in ignored]
         self.robot_geoms = np.array(robot, dtype=int)
+        self._names: dict[int, tuple[str, str]] = {}  #: geom -> (name, body for people), looked up once
         self.pairs = np.array([(a, b) for a in robot for b in fixed], dtype=int).reshape(-1, 2)
 
     def measure(self, time_s: float = 0.0) -> Approach | None:
@@ -86,8 +87,14 @@ class ClearanceMeter:
                 best, which = distance, int(i)
         if which < 0:
             return None
-        near, far = int(a[which]), int(b[which])
-        return Approach(float(best), _name(m, near), _name(m, far), time_s, _body(m, near), _body(m, far))
+        (near, near_body), (far, far_body) = self._named(int(a[which])), self._named(int(b[which]))
+        return Approach(float(best), near, far, time_s, near_body, far_body)
+
+    def _named(self, geom: int) -> tuple[str, str]:
+        names = self._names.get(geom)
+        if names is None:
+            names = self._names[geom] = (_name(self.model, geom), _body(self.model, geom))
+        return names
 
 
 def robot_root(model: Any, prefix: str = ROBOT_PREFIX) -> int:
