@@ -24,7 +24,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         description="Run every .rpl and .orl program found under PATHS on the simulated cell, each exactly as "
                     "`orc run` runs it, on a Dask cluster (a local one on 127.0.0.1 by default), and print a table. "
                     "A program's header comments may say what it must do: `-- expect: Unreachable`, "
-                    "`-- robots: irb2400, ur5e`, `-- process: welds_good = 4`. Exit 1 when a program does other "
+                    "`-- robots: irb2400, ur5e`, `-- expect: welds_good = 4`. Exit 1 when a program does other "
                     "than expected, collides, runs slower than its baseline by more than the threshold or its "
                     "process outcomes are worse; 2 on usage errors; 130 when interrupted.")
     parser.add_argument("paths", nargs="*", metavar="PATHS", default=["."], help="program files or folders (default .)")

@@ -87,12 +87,12 @@ def against_baseline(now: dict[str, Any], before: dict[str, Any], tolerance_pct:
 
 _OPERATORS: dict[str, Callable[[Any, Any], bool]] = {
     "<=": operator.le, ">=": operator.ge, "!=": operator.ne, "=": operator.eq, "<": operator.lt, ">": operator.gt}
-_CONDITION = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\s*(<=|>=|!=|=|<|>)\s*(.+?)\s*$")
+_CONDITION = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\s*(<=|>=|!=|=|<|>)\s*([^=<>!\s].*?)\s*$")
 
 
 @dataclass(frozen=True, slots=True)
 class Condition:
-    """`-- process: welds_good = 4` in a program's header: a figure, a comparison and a value."""
+    """`-- expect: welds_good = 4` in a program's header: a figure, a comparison and a value."""
 
     name: str
     op: str
@@ -118,14 +118,15 @@ def parse_condition(text: str, line: int) -> Condition:
     """A header's condition; ValueError with what is wrong (the caller names the file and line)."""
     match = _CONDITION.match(text)
     if match is None:
-        raise ValueError(f"'process:' takes NAME OP VALUE (OP one of =, !=, <, <=, >, >=), got {text!r}")
+        raise ValueError(f"'expect:' with a comparison takes NAME OP VALUE (OP one of =, !=, <, <=, >, >=), "
+                         f"got {text!r}")
     name, op, value = match.groups()
     if name not in BY_NAME:
-        raise ValueError(f"'process:' names an unknown figure {name!r}; known: {', '.join(BY_NAME)}")
+        raise ValueError(f"'expect:' names an unknown process figure {name!r}; known: {', '.join(BY_NAME)}")
     try:
         number: float | str = float(value)
     except ValueError:
         number = value.replace(" ", "")  # parts: `cube, cylinder` is the figure `cube,cylinder`
         if op not in ("=", "!="):
-            raise ValueError(f"'process: {name} {op}' needs a number, got {value!r}") from None
+            raise ValueError(f"'expect: {name} {op}' needs a number, got {value!r}") from None
     return Condition(name, op, number, line)

@@ -16,8 +16,9 @@ SUFFIXES = (".rpl", ".orl")
 STATUSES = ("finished", "stopped", "failed", "rejected")
 
 #: `-- expect: Unreachable` (on-line) or `# robots: irb2400, ur5e` (off-line) among the leading comment lines, and
-#: `-- process: welds_good = 4` (one condition on the process outcomes a line).
-_HEADER = re.compile(r"^(?:--|#)\s*(expect|robots|process)\s*:\s*(.*?)\s*$")
+#: `-- expect: welds_good = 4` (a condition on the process outcomes, one a line).
+_HEADER = re.compile(r"^(?:--|#)\s*(expect|robots)\s*:\s*(.*?)\s*$")
+_OPERATOR = re.compile(r"[=<>!]")
 _WORD = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
@@ -47,7 +48,8 @@ class Found:
 
 
 def read_expectation(path: Path, text: str) -> Expectation:
-    """The `expect:` and `robots:` lines of the comment block that opens the program (a UsageError naming the line)."""
+    """The `expect:` and `robots:` lines of the comment block that opens the program (a UsageError naming the line).
+    An `expect:` with a comparison (`welds_good = 4`) is a condition on the process figures; one word, the outcome."""
     outcome, robots, where = "finished", (), 0
     process: list[Condition] = []
     for number, line in enumerate(text.splitlines(), start=1):
@@ -60,16 +62,17 @@ def read_expectation(path: Path, text: str) -> Expectation:
         if match is None:
             continue
         key, value = match.groups()
-        if key == "expect":
-            if not _WORD.match(value):
-                raise UsageError(f"{path}:{number}: 'expect:' takes one word: {', '.join(STATUSES)} "
-                                 f"or the name of an exception such as Unreachable, got {value!r}")
-            outcome, where = value, number
-        elif key == "process":
+        if key == "expect" and _OPERATOR.search(value):
             try:
                 process.append(parse_condition(value, number))
             except ValueError as error:
                 raise UsageError(f"{path}:{number}: {error}") from None
+        elif key == "expect":
+            if not _WORD.match(value):
+                raise UsageError(f"{path}:{number}: 'expect:' takes one word: {', '.join(STATUSES)} "
+                                 f"or the name of an exception such as Unreachable; or a condition on a process "
+                                 f"figure such as welds_good = 4; got {value!r}")
+            outcome, where = value, number
         else:
             names = tuple(name.strip() for name in value.split(","))
             if not all(_WORD.match(name) for name in names):

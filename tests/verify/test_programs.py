@@ -28,8 +28,10 @@ def test_an_expectation_of_two_words_is_refused_with_its_line() -> None:
 
 
 def test_process_conditions_are_read_one_a_line() -> None:
-    text = "-- process: welds_good >= 4\n-- process: parts = Light, Heavy\n# process: burr_left_mm<0.05\nPRINT 1\n"
-    conditions = read_expectation(Path("p.rpl"), text).process
+    text = "-- expect: welds_good >= 4\n-- expect: parts = Light, Heavy\n# expect: burr_left_mm<0.05\nPRINT 1\n"
+    expectation = read_expectation(Path("p.rpl"), text)
+    assert expectation.outcome == "finished", "a condition leaves the expected outcome as it was"
+    conditions = expectation.process
     assert [(c.name, c.op, c.value, c.line) for c in conditions] == [
         ("welds_good", ">=", 4.0, 1), ("parts", "=", "Light,Heavy", 2), ("burr_left_mm", "<", 0.05, 3)]
     assert conditions[1].failure({"parts": "Light,Heavy"}) is None
@@ -37,9 +39,10 @@ def test_process_conditions_are_read_one_a_line() -> None:
 
 
 @pytest.mark.parametrize("line, message", [
-    ("-- process: spatter < 2", r"p.rpl:1: 'process:' names an unknown figure 'spatter'; known: welds, "),
-    ("-- process: welds_good about 4", r"p.rpl:1: 'process:' takes NAME OP VALUE"),
-    ("-- process: parts < cube", r"p.rpl:1: 'process: parts <' needs a number, got 'cube'"),
+    ("-- expect: spatter < 2", r"p.rpl:1: 'expect:' names an unknown process figure 'spatter'; known: welds, "),
+    ("-- expect: welds_good =< 4", r"p.rpl:1: 'expect:' with a comparison takes NAME OP VALUE"),
+    ("-- expect: welds_good about 4", r"p.rpl:1: 'expect:' takes one word: .* or a condition on a process figure"),
+    ("-- expect: parts < cube", r"p.rpl:1: 'expect: parts <' needs a number, got 'cube'"),
 ])
 def test_a_bad_process_condition_is_refused_with_its_line(line: str, message: str) -> None:
     with pytest.raises(UsageError, match=message):
