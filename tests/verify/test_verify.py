@@ -108,6 +108,30 @@ def test_verify_measures_clearance_in_the_cell_of_the_world_given(tmp_path: Path
     assert properties["clearance_mm"] == f"{row['clearance_mm']:.3f}" and properties["clearance_at"] == row["clearance_at"]
 
 
+@pytest.mark.sim
+def test_process_outcomes_are_judged_against_the_header_and_the_baseline(tmp_path: Path) -> None:
+    source = ROOT / "programs/online/thesis_3_1_deburring.rpl"
+    header = "-- expect: burr_left_mm <= 0.2\n-- expect: bulges = 3\n"
+    (tmp_path / "deburr.rpl").write_text(header + source.read_text(encoding="utf-8"), encoding="utf-8")
+    (tmp_path / "deburr.sim.yaml").write_text(source.with_suffix(".sim.yaml").read_text(encoding="utf-8"))
+    reference = alone(source)["process"]
+    key = "deburr.rpl [irb2400]"
+    baseline = {"version": 1, "runs": {key: {"cycle_time_s": 100.0, "process": {"bulges_within_tolerance": 3}}}}
+    (tmp_path / "base.json").write_text(json.dumps(baseline), encoding="utf-8")
+    result = orc("verify", "deburr.rpl", "--workers", "1", "--baseline", "base.json", "--json", "r.json",
+                 "--save-baseline", "new.json", "--junit", "j.xml", cwd=tmp_path)
+    assert result.returncode == 1, result.stderr
+    row = json.loads((tmp_path / "r.json").read_text())["runs"][0]
+    bulges = len(reference["bulges"])
+    assert row["process"] == reference and row["process_figures"]["bulges"] == bulges == 2
+    assert row["reasons"] == ["expected process bulges = 3 (header line 2), got 2",
+                              "process bulges_within_tolerance: 2, 3 in the baseline"]
+    saved = json.loads((tmp_path / "new.json").read_text())["runs"][key]["process"]
+    assert saved == row["process_figures"] and saved["burr_left_mm"] <= 0.2
+    properties = {p.get("name"): p.get("value") for p in ET.parse(tmp_path / "j.xml").getroot().iter("property")}
+    assert properties["process.bulges"] == "2"
+
+
 def test_ctrl_c_cancels_the_remaining_runs_and_keeps_the_finished_ones(tmp_path: Path) -> None:
     programs = [SUBSET[0], "programs/online/demo_thermal.rpl", "programs/online/demo_pallet.rpl"]
     process = subprocess.Popen([sys.executable, "-m", "orc_rpl", "verify", *programs, "--workers", "1",
