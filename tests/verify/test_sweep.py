@@ -7,10 +7,12 @@ import json
 from pathlib import Path
 
 import pytest
+from matplotlib import image
 
 from orc_rpl.cli import main
 from orc_rpl.commands.many_runs import run_accepts
 from orc_rpl.errors import UsageError
+from orc_rpl.verify.plot import plot_outcomes
 from orc_rpl.verify.sweep import Variation, grid, record_of, split_values
 from orc_rpl.verify.task import RunOutcome
 from tests.verify.conftest import alone, orc
@@ -110,6 +112,16 @@ def test_a_process_section_becomes_columns_of_the_table() -> None:
     assert record["process.identifications.0.part"] == "heavy"
     assert record["process.identifications.0.payload_kg"] == 4.98
     assert record["figure.parts"] == "heavy" and record["clearance_mm"] is None  # no margins section: not measured
+
+
+def test_each_outcome_chosen_gets_its_panel(tmp_path: Path) -> None:
+    records = [{"v": v, "seed": seed, "cycle_time_s": 2.0 / float(v[:-3]) + seed, "clearance_mm": 10.0 * seed,
+                "status": "finished"} for v in ("1mps", "2mps") for seed in (0, 1)]
+    records.append({"v": "3mps", "seed": 0, "cycle_time_s": None, "status": "failed"})
+    assert plot_outcomes(records, "v", ["cycle_time_s"], [], tmp_path / "one.png", "t") == 4
+    assert plot_outcomes(records, "v", ["cycle_time_s", "clearance_mm"], [], tmp_path / "two.png", "t") == 8
+    one, two = image.imread(tmp_path / "one.png"), image.imread(tmp_path / "two.png")
+    assert two.shape[0] > 1.7 * one.shape[0] and two.shape[1] == one.shape[1]
 
 
 def test_the_margins_become_columns_with_the_line_of_their_motion() -> None:
