@@ -39,6 +39,7 @@ class Row:
     clearance_bodies: tuple[str, str] | None = None  #: the robot's link (or tool) and the cell's object
     clearance_time_s: float | None = None
     measured: bool = False                    #: margins were measured (a run that moved; clearance None: > 500 mm)
+    motion_margins: tuple[dict[str, Any], ...] = ()  #: every motion statement's clearance and joint margin (its line)
     baseline_clearance_mm: float | None = None
     process: Any = None                       #: the run summary's `process` section, when the run has one
     process_figures: dict[str, Any] | None = None  #: its comparable figures (verify.outcomes)
@@ -60,7 +61,7 @@ class Row:
 
     def as_json(self) -> dict[str, Any]:
         data = asdict(self)
-        data["reasons"] = list(self.reasons)
+        data["reasons"], data["motion_margins"] = list(self.reasons), list(self.motion_margins)
         return data
 
 
@@ -78,7 +79,9 @@ def _margins(summary: dict[str, Any], program: str) -> dict[str, Any]:
     section = summary.get("margins")
     if not isinstance(section, dict) or not section.get("motions"):
         return {}
-    fields: dict[str, Any] = {"measured": True}
+    fields: dict[str, Any] = {"measured": True, "motion_margins": tuple(
+        {**{k: v for k, v in motion.items() if k != "file"}, "at": f"{program}:{motion['line']}"}
+        for motion in section["motions"])}
     near, joint = section.get("clearance"), section.get("joint_margin")
     if near is not None:
         fields.update(clearance_mm=near["clearance_mm"], clearance_at=f"{program}:{near['line']}",

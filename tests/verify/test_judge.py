@@ -27,7 +27,7 @@ def _margins(clearance_mm: float) -> dict:
     near = {"clearance_mm": clearance_mm, "file": "/abs/p.rpl", "line": 3, "column": 1, "robot_body": "link5",
             "obstacle": "table_top", "time_s": 1.0}
     joint = {"joint_margin_deg": 12.5, "joint": 4, "file": "/abs/p.rpl", "line": 2, "column": 1}
-    return {"clearance": near, "joint_margin": joint, "motions": [{**near, **joint}]}
+    return {"clearance": near, "joint_margin": joint, "motions": [{**joint, **near}]}
 
 
 def test_a_program_with_a_check_error_is_rejected_with_its_message() -> None:
@@ -50,6 +50,8 @@ def test_clearance_fails_collisions_and_near_misses(clearance_mm: float, minimum
     assert row.verdict == verdict and row.reasons == ((reason,) if reason else ())
     assert (row.clearance_at, row.clearance_bodies, row.margin_at, row.margin_joint) == \
         ("p.rpl:3", ("link5", "table_top"), "p.rpl:2", 4)
+    [motion] = row.as_json()["motion_margins"]
+    assert (motion["at"], motion["clearance_mm"], motion["joint_margin_deg"]) == ("p.rpl:3", clearance_mm, 12.5)
 
 
 def test_clearance_against_the_baseline_is_shown_and_fails_only_beyond_the_drop_asked() -> None:
