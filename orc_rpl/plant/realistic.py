@@ -17,6 +17,9 @@ THERMAL_EVERY_STEPS = 50
 #: Rows of velocity noise drawn at once from the seeded generator (no repetition: a new block when used up).
 NOISE_BLOCK = 8192
 
+#: The drives' inputs (MuJoCo's input signature of a pid actuator): position, velocity and feed-forward set-points.
+DRIVE_INPUTS = 1 | 2 | 4
+
 multiply, add, rint = np.multiply, np.add, np.rint
 
 
@@ -41,18 +44,34 @@ class RealisticCell(SimCell):
         super().__init__(robot, cell, realtime)
 
     def _edited(self, spec: Any) -> Any:
-        """Elastic gears: a second hinge on each link, about the same axis, with the gear's stiffness.
+        """The drives as MuJoCo PID actuators, and elastic gears when asked for.
 
+        Drives: each motor is a `pid` actuator with position, velocity and feed-forward inputs, so the
+        servo's loops can run in C inside mj_step (`set_drive_gains`, `drive`); with its gains at zero
+        (`torque_mode`, the state after reset) it is a plain torque motor: the force is the feed-forward
+        input, saturated at the motor's limit. The integrator is MuJoCo's Euler (joint damping still
+        implicit): the drive's torque is then computed from the state at the start of each step and held
+        over it, as a digital drive does, and equals the Python servo law's (implicitfast would treat the
+        drive's velocity gain implicitly: a different, unphysical loop).
+
+        Elastic gears: a second hinge on each link, about the same axis, with the gear's stiffness.
         The first hinge (jN, the motor's, with the rotor's armature, the friction and the encoder) and
         the second (jN_gear, the gear's twist) turn one body in series: the rotor turns at the first
         angle, the link at the sum, and the spring acts on the difference (a two-mass joint).
         """
-        if not self.elastic:
-            return spec
         import mujoco
 
         from orc_rpl.plant.cell import ROBOT_PREFIX
 
+        spec.option.integrator = mujoco.mjtIntegrator.mjINT_EULER
+        for actuator in spec.actuators:
+            if actuator.name.startswith(ROBOT_PREFIX):
+                low, high = list(actuator.forcerange)
+                # non-zero gains at compile time: MuJoCo gives the actuator its integral state only then
+                actuator.set_to_pid(kp=1.0, kv=1.0, ki=1.0, imax=1.0, ctrlspec=int(DRIVE_INPUTS))
+                actuator.forcelimited, actuator.forcerange = True, [low, high]
+        if not self.elastic:
+            return spec
         p = self.plant
         for i, (k, damping) in enumerate(zip(p.gear_stiffness_nm_rad, p.gear_damping_nm_s)):  # type: ignore[arg-type]
             joint = spec.joint(f"{ROBOT_PREFIX}j{i + 1}")
@@ -101,6 +120,8 @@ class RealisticCell(SimCell):
         self._qd_meas_view = self._qd_meas.view()
         for view in (self._q_meas_view, self._qd_meas_view):
             view.flags.writeable = False
+        self._setup_drives()
+        self.torque_mode()
         self.set_payload(0.0)
 
     # -- state -------------------------------------------------------------------------
@@ -154,9 +175,9 @@ class RealisticCell(SimCell):
             self.cool_down()
         super().reset(q, qd)
         self._rng = np.random.default_rng(self.seed)
-        self._noise = self._rng.standard_normal((NOISE_BLOCK, self.n_joints)) * self.plant.velocity_noise_rad_s
+        self._noise = self._new_noise()
         self._noise_row = 0
-        self._steps = 0
+        self._steps = self._heated_at = 0
         self._tau_sq_sum[:] = 0.0
         self._measure()
 
@@ -172,21 +193,141 @@ class RealisticCell(SimCell):
         self._apply_friction()
 
     def step(self, tau_nm: np.ndarray) -> None:
-        """Apply motor torques for one timestep, advance the cell, update what the servo measures."""
+        """Apply motor torques for one timestep, advance the cell, update what the servo measures.
+
+        The drives must be in torque mode (`torque_mode`, their state after a reset): the torque is
+        their feed-forward input.
+        """
         data = self._data
-        self._ctrl[:] = tau_nm
+        self._ff_in[:] = tau_nm
         mj_step(self._model, data)
-        work, tau = self._work, data.actuator_force
-        multiply(tau, tau, work)
-        add(self._tau_sq_sum, work, self._tau_sq_sum)
-        self._steps += 1
-        if self._steps % THERMAL_EVERY_STEPS == 0:
-            self._heat()
+        self._copper()
+        self._next_noise_row()
         self._measure()
         self._after_step(data)
 
+    def _copper(self) -> None:
+        """The copper losses of the last step for the thermal model; the slow states every THERMAL_EVERY_STEPS."""
+        work, tau = self._work, self._force
+        multiply(tau, tau, work)
+        add(self._tau_sq_sum, work, self._tau_sq_sum)
+        self._steps += 1
+        if self._steps - self._heated_at == THERMAL_EVERY_STEPS:
+            self._heat()
+
+    # -- the drives' loops in C --------------------------------------------------------
+
+    def _setup_drives(self) -> None:
+        """Views on the drives' inputs, gains and integrals (MuJoCo's own arrays: written in place)."""
+        from orc_rpl.errors import UsageError
+
+        m, d, n = self._model, self._data, self.n_joints
+        if not (np.array_equal(m.actuator_ctrladr[:n], 3 * np.arange(n)) and np.array_equal(m.actuator_actadr[:n], np.arange(n))):
+            raise UsageError(f"robot {self.robot!r}: its drives must be the cell's first actuators")
+        self._inputs_flat = d.ctrl[: 3 * n]
+        self._ff_in = d.ctrl[2 : 3 * n : 3]
+        self._integral_state = d.act[:n]
+        self._force = d.actuator_force[:n]
+        self._ki = m.actuator_gainprm[:n, 0]
+        self._minus_kp = m.actuator_biasprm[:n, 1]
+        self._minus_kd = m.actuator_biasprm[:n, 2]
+        self._integral_state_max = m.actuator_dynprm[:n, 0]
+        self._inputs, self._forces = np.zeros((0, n, 3)), np.zeros((0, n))
+        self._old_integral = np.zeros(n)
+
+    def torque_mode(self) -> None:
+        """Drives as torque motors: gains and integral at zero, the force is the feed-forward input."""
+        for view in (self._ki, self._minus_kp, self._minus_kd, self._integral_state_max, self._integral_state):
+            view[:] = 0.0
+
+    def set_drive_gains(self, kp_nm_rad: np.ndarray, kd_nm_s: np.ndarray, ki_nm_rad_s: np.ndarray,
+                        integral_max_nm: np.ndarray) -> None:
+        """The drives' PID gains from the next step (per joint): tau = kp e + kd (qd_ref - qd) + ki * int(e) + ff.
+
+        The integral torque ki * int(e) is kept across a change of ki (its state is rescaled) and
+        limited to +-integral_max_nm; a joint with ki = 0 has none.
+        """
+        ki, state, state_max = self._ki, self._integral_state, self._integral_state_max
+        multiply(state, ki, state)  # the integral torque, kept
+        ki[:] = ki_nm_rad_s
+        np.negative(kp_nm_rad, out=self._minus_kp)
+        np.negative(kd_nm_s, out=self._minus_kd)
+        if True in (ki <= 0.0).tolist():
+            positive = ki > 0.0
+            np.divide(state, ki, out=state, where=positive)
+            state[~positive] = 0.0
+            np.divide(integral_max_nm, ki, out=state_max, where=positive)
+            state_max[~positive] = 0.0
+        else:
+            np.divide(state, ki, state)
+            np.divide(integral_max_nm, ki, state_max)
+
+    def integral_nm(self) -> np.ndarray:
+        """The drives' integral torque ki * int(e) now (N m)."""
+        return self._integral_state * self._ki
+
+    def set_integral_nm(self, torque_nm: np.ndarray) -> None:
+        """Set the drives' integral torque (a hand-over from the Python servo law); zero where ki is."""
+        state = self._integral_state
+        state[:] = 0.0
+        np.divide(torque_nm, self._ki, out=state, where=self._ki > 0.0)
+
+    def noise_rows(self, n_steps: int) -> np.ndarray:
+        """The speed noise the servo reads during the next n_steps steps (one row a step, the current first)."""
+        end = self._noise_row + n_steps
+        if end >= len(self._noise):
+            self._noise = np.concatenate([self._noise[self._noise_row:], self._new_noise()])
+            self._noise_row, end = 0, n_steps
+        return self._noise[self._noise_row:end]
+
+    def drive(self, position_rows: np.ndarray, velocity_rows: np.ndarray, ff_rows: np.ndarray,
+              each_step: Any = None) -> None:
+        """Run the drives' loops in C for len(position_rows) steps with these set-points, one row a step.
+
+        What the servo measures is updated at the end (and after every step when `each_step`, a
+        callable, is given: it is called after every step).
+        """
+        n_steps = len(position_rows)
+        self.noise_rows(n_steps)  # the rows the measurements of these steps read exist
+        inputs, forces = self._inputs, self._forces
+        if inputs.shape[0] != n_steps:
+            inputs = self._inputs = np.zeros((n_steps, self.n_joints, 3))
+            forces = self._forces = np.zeros((n_steps, self.n_joints))
+        inputs[:, :, 0], inputs[:, :, 1], inputs[:, :, 2] = position_rows, velocity_rows, ff_rows
+        model, data, flat, force = self._model, self._data, self._inputs_flat, self._force
+        after = self._after_step if (self._watch_contacts or self.io.processes or self.realtime) else None
+        for row, applied in zip(inputs.reshape(n_steps, -1), forces):
+            flat[:] = row
+            mj_step(model, data)
+            applied[:] = force
+            if after is not None:
+                after(data)
+            if each_step is not None:
+                self._noise_row += 1
+                self._measure()
+                each_step()
+        # the copper losses of the call; the slow states once THERMAL_EVERY_STEPS have passed
+        multiply(forces, forces, forces)
+        add(self._tau_sq_sum, forces.sum(axis=0), self._tau_sq_sum)
+        self._steps += n_steps
+        if self._steps - self._heated_at >= THERMAL_EVERY_STEPS:
+            self._heat(self._steps - self._heated_at)
+        if each_step is None:
+            self._noise_row += n_steps
+            self._measure()
+
+    def _next_noise_row(self) -> None:
+        """On to the next row of noise (the next measurement's), drawing a new block at the end of this one."""
+        self._noise_row += 1
+        if self._noise_row == len(self._noise):
+            self._noise, self._noise_row = self._new_noise(), 0
+
+    def _new_noise(self) -> np.ndarray:
+        """The next block of speed noise from the seeded generator."""
+        return self._rng.standard_normal((NOISE_BLOCK, self.n_joints)) * self.plant.velocity_noise_rad_s
+
     def _measure(self) -> None:
-        """Encoder quantisation and velocity noise on the plant's state (no allocation)."""
+        """Encoder quantisation and velocity noise (the current row) on the plant's state (no allocation)."""
         data, qm, qdm = self._data, self._q_meas, self._qd_meas
         if self._q_live is not None:
             multiply(self._q_live, self._count_per_rad, qm)
@@ -196,22 +337,22 @@ class RealisticCell(SimCell):
             add(data.qvel[self._qvel], self._noise[self._noise_row], qdm)
         rint(qm, qm)
         multiply(qm, self._rad_per_count, qm)
-        self._noise_row += 1
-        if self._noise_row == NOISE_BLOCK:
-            self._noise = self._rng.standard_normal((NOISE_BLOCK, self.n_joints)) * self.plant.velocity_noise_rad_s
-            self._noise_row = 0
 
-    def _heat(self) -> None:
-        """Windings and gearboxes over the last THERMAL_EVERY_STEPS steps; friction follows the gearboxes."""
+    def _heat(self, n_steps: int = THERMAL_EVERY_STEPS) -> None:
+        """Windings and gearboxes over the last n_steps steps; friction follows the gearboxes."""
         p = self.plant
-        mean_tau_sq = self._tau_sq_sum / THERMAL_EVERY_STEPS
+        mean_tau_sq = self._tau_sq_sum / n_steps
         self._tau_sq_sum[:] = 0.0
+        self._heated_at = self._steps
+        w_decay, g_decay = self._w_decay, self._g_decay
+        if n_steps != THERMAL_EVERY_STEPS:  # a drive call ended the period (whole motion cycles)
+            w_decay, g_decay = w_decay ** (n_steps / THERMAL_EVERY_STEPS), g_decay ** (n_steps / THERMAL_EVERY_STEPS)
         resistance = self._r_ohm * (1.0 + COPPER_TEMPCO_1_K * (p.ambient_c + self.winding_rise_k - 20.0))
         copper_w = resistance * mean_tau_sq / (self._k_amp * self._k_amp)
-        self.winding_rise_k = self._w_decay * self.winding_rise_k + (1.0 - self._w_decay) * self._w_rth * copper_w
+        self.winding_rise_k = w_decay * self.winding_rise_k + (1.0 - w_decay) * self._w_rth * copper_w
         qd = np.abs(self.true_qd)
         heat_w = self._coulomb_now * qd + self._viscous_now * qd * qd + p.gear_motor_heat_share * copper_w
-        self.gear_rise_k = self._g_decay * self.gear_rise_k + (1.0 - self._g_decay) * self._g_rth * heat_w
+        self.gear_rise_k = g_decay * self.gear_rise_k + (1.0 - g_decay) * self._g_rth * heat_w
         self._apply_friction()
 
     def _apply_friction(self) -> None:
