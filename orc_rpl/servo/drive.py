@@ -46,7 +46,6 @@ class CompiledDrives:
         self.engaged = True
         q, _ = self.cell.live_state()
         self._schedule(q)
-        self.cell.set_integral_nm(self.servo.integral - self._kv * self._ibw * self.servo.position_error)
 
     def release(self) -> None:
         """Hand back to the Python law: the servo's integral from the drives', the drives as torque motors."""
@@ -70,6 +69,12 @@ class CompiledDrives:
         multiply(kv, self._pid_i, pid_i)
         multiply(kv, self._ibw, self._kv_ibw)
         self.cell.set_drive_gains(pid_p, kv, pid_i, self._integral_max)
+        # The integral torque of the Python law is kept across the new kv, not the PID's ki * int(e):
+        # its kv ki e part changes with kv (unchecked, it drifts by about 10 N m over a fast move)
+        work = self._work
+        multiply(self._kv_ibw, servo.position_error, work)
+        subtract(servo.integral, work, work)
+        self.cell.set_integral_nm(work)
 
     def run(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, each_step: Any = None) -> None:
         """One call of the servo loop: len(q_ref) steps of per-step references (rows), the drives in C."""
@@ -101,13 +106,15 @@ class CompiledDrives:
         if servo.tuning is not None:
             ff += servo._d_inertia * qdd_ref + servo._d_viscous * qd_ref + servo._d_offset
         add(ff, servo.torque_offset, ff)
-        multiply(cell.noise_rows(n_steps), self._kv, work)
+        noise = cell.noise_rows(n_steps)
+        multiply(noise, self._kv, work)
         subtract(ff, work, ff)   # the velocity loop reads the noisy speed
         state = cell._integral_state
         self._integral_start[:] = state
+        integral_before, q_before, qd_before = servo.integral.copy(), cell.true_q, cell.true_qd
         if each_step is None:
             cell.drive(q_ref, qd_ref, ff)
-            self._signals(q_ref[-1], qd_ref[-1])
+            self._signals(q_ref[-1], qd_ref[-1], False)
         else:
             row = [0]
 
@@ -118,11 +125,19 @@ class CompiledDrives:
 
             cell.drive(q_ref, qd_ref, ff, step)
         servo._steps += n_steps
+        # The Python law's integral over the call, from the drives' states: it sums h (qd_ref - qd + kp e)
+        # step by step, and with MuJoCo's semi-implicit Euler sum(h qd_k) = q_n - q_0 - h (qd_n - qd_0)
+        # and sum(h e_k) is the drives' integral state's change (the noise the law reads is known)
+        h = servo.period_s
+        q_after, qd_after = cell.true_q, cell.true_qd
+        increment = (qd_ref.sum(axis=0) - noise.sum(axis=0)) * h - (q_after - q_before) + h * (qd_after - qd_before)
+        increment += self._kp * (state - self._integral_start)
+        integral = integral_before + self._kv_ibw * increment
         if True in servo.saturated.tolist():
-            # The Python law's anti-windup, once a cycle: a motor that ended the cycle saturated keeps
-            # the integral state it had at the start
-            np.copyto(state, self._integral_start, where=servo.saturated)
-            self._integral_now()
+            # the anti-windup, once a call: a motor that ended it saturated keeps its integral
+            np.copyto(integral, integral_before, where=servo.saturated)
+        np.clip(integral, servo._integral_min, servo._integral_max, out=integral)
+        servo.integral = integral
 
     def _integral_now(self) -> None:
         """servo.integral: the Python law's integral torque I = kv ki e + ki_pid * integral(e)."""
@@ -132,10 +147,11 @@ class CompiledDrives:
         add(integral, work, integral)
         servo.integral = integral
 
-    def _signals(self, q_ref: np.ndarray, qd_ref: np.ndarray) -> None:
+    def _signals(self, q_ref: np.ndarray, qd_ref: np.ndarray, integral: bool = True) -> None:
         """The servo's internal signals after a step, as the Python law shows them (measured state).
 
-        position_error, integral, torque and saturated; velocity_error is the Python law's only.
+        position_error, integral (unless False: the end of a call sets it), torque and saturated;
+        velocity_error is the Python law's only.
         """
         servo, cell = self.servo, self.cell
         q, _ = cell.live_state()
@@ -144,7 +160,8 @@ class CompiledDrives:
         multiply(qd_ref, servo.period_s, error)
         add(error, q_ref, error)
         subtract(error, q, error)
-        self._integral_now()
+        if integral:
+            self._integral_now()
         tau = servo.torque
         tau[:] = cell._force
         np.abs(tau, self._tau_abs)
