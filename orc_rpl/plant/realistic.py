@@ -20,6 +20,9 @@ NOISE_BLOCK = 8192
 #: The drives' inputs (MuJoCo's input signature of a pid actuator): position, velocity and feed-forward set-points.
 DRIVE_INPUTS = 1 | 2 | 4
 
+#: The drives' measurement of each winding (1 sigma, seeded): terminal voltage (V) and current (A).
+VOLTAGE_NOISE_V, CURRENT_NOISE_A = 0.05, 0.02
+
 multiply, add, rint = np.multiply, np.add, np.rint
 
 
@@ -155,6 +158,21 @@ class RealisticCell(SimCell):
         """Each motor's winding temperature (C)."""
         return self.plant.ambient_c + self.winding_rise_k
 
+    def winding_measurement(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """What each drive measures of its winding now: (terminal voltage V, current A, joint speed rad/s).
+
+        The winding is a resistance R20 (1 + 0.00393 (T - 20 C)) with the back-EMF k * speed (k the
+        torque per ampere: SI units, joint side); no inductance (a 4 ms cycle is long against the
+        electrical time constant). Voltage and current carry seeded noise (VOLTAGE_NOISE_V,
+        CURRENT_NOISE_A, 1 sigma); the speed is the one the servo reads.
+        """
+        current = self._force / self._k_amp
+        resistance = self._r_ohm * (1.0 + COPPER_TEMPCO_1_K * (self.plant.ambient_c + self.winding_rise_k - 20.0))
+        speed = self._qd_meas.copy()
+        voltage = resistance * current + self._k_amp * self.true_qd
+        noise = self._drive_rng.standard_normal((2, self.n_joints))
+        return voltage + VOLTAGE_NOISE_V * noise[0], current + CURRENT_NOISE_A * noise[1], speed
+
     @property
     def friction_factor(self) -> np.ndarray:
         """Friction now over warm friction, per joint (cold_friction_factor at a cold start, 1.0 warm)."""
@@ -175,6 +193,7 @@ class RealisticCell(SimCell):
             self.cool_down()
         super().reset(q, qd)
         self._rng = np.random.default_rng(self.seed)
+        self._drive_rng = np.random.default_rng([self.seed, 1])  # its own stream: the speed noise is unchanged
         self._noise = self._new_noise()
         self._noise_row = 0
         self._steps = self._heated_at = 0
