@@ -73,6 +73,11 @@ class ServoBackend:
             cell.clear_collision()
         return hit
 
+    def set_drives(self, on: bool) -> None:
+        """Drives on, or off with the brakes engaged (the OFF mode)."""
+        self.loop.set_drives(on)
+        self._state = self.loop.state()
+
     def set_control_payload(self, mass_kg: float) -> None:
         """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
         self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)

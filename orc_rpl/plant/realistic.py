@@ -377,13 +377,13 @@ class RealisticCell(SimCell):
     def _apply_friction(self) -> None:
         """Friction for the gearboxes' temperature, written into the model (no recompile needed)."""
         self._coulomb_now, self._viscous_now = self.friction_nm()
-        m = self._model
-        if self._contiguous:
-            m.dof_frictionloss[: self.n_joints] = self._coulomb_now
-            m.dof_damping[: self.n_joints] = self._viscous_now
-        else:
-            m.dof_frictionloss[self._qvel] = self._coulomb_now
-            m.dof_damping[self._qvel] = self._viscous_now
+        self._model.dof_damping[self._qvel] = self._viscous_now
+        self._apply_joint_friction(self._coulomb_now)
+
+    def set_brakes(self, engaged: bool) -> None:
+        """Engage or release the brakes (see SimCell.set_brakes), on top of the joints' own friction now."""
+        super().set_brakes(engaged)
+        self._apply_joint_friction(self._coulomb_now)
 
     def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0)) -> None:
         """The payload on the flange, plus the dress pack the controller's model does not have."""

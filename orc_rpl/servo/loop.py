@@ -52,6 +52,20 @@ class ServoLoop:
         # the Python law (`JointServo.update`) is the reference and drives every other cell.
         self.drives = CompiledDrives(self.servo, self.cell) if hasattr(self.cell, "drive") else None
         self.compiled_law = self.drives is not None  #: False: the Python law, step by step
+        self.drives_on = True  #: False: no torque, the brakes hold the joints (set_drives)
+
+    def set_drives(self, on: bool) -> None:
+        """Switch the drives off (no torque, the brakes engaged) or on again (brakes released, the servo
+        starts afresh from where the arm is: the caller's next references should start there)."""
+        on = bool(on)
+        if on == self.drives_on:
+            return
+        if self.drives is not None:
+            self.drives.release()   # the cell's drives as plain torque motors
+        self.servo.reset()
+        self._no_torque = np.zeros(self.arm.n_joints)
+        self.cell.set_brakes(not on)
+        self.drives_on = on
 
     def use_compiled_law(self, on: bool) -> None:
         """Run the servo law in the drives (C) or in Python, from the next step; a bumpless hand-over."""
@@ -67,6 +81,12 @@ class ServoLoop:
         """Advance the plant by n_steps servo periods towards the reference; return the measured state."""
         q_ref, qd_ref, qdd_ref = self._checked_references(q_ref, qd_ref, qdd_ref, n_steps)
         callbacks = self.on_step
+        if not self.drives_on:  # the references are ignored: the brakes hold the arm
+            for _ in range(len(q_ref)):
+                self.cell.step(self._no_torque)
+                for callback in callbacks:
+                    callback()
+            return self.state()
         if self.compiled_law:
             self.drives.run(q_ref, qd_ref, qdd_ref, self._each_step if callbacks else None)  # type: ignore[union-attr]
             return self.state()
