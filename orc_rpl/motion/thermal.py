@@ -135,18 +135,13 @@ class WindingTemperature:
 
     def _sample(self, voltage_v: np.ndarray, current_a: np.ndarray, speed_rad_s: np.ndarray) -> None:
         """One sample of the drives' measurement: calibration at the cold start, then the correction."""
-        i = np.where(np.abs(current_a) >= MIN_CURRENT_A, current_a, 0.0)
-        ohm_a2, a2 = (voltage_v - self._k * speed_rad_s) * i, i * i   # R i^2 and i^2 of this sample
-        cold = (self.rise_k < CALIBRATE_BELOW_K) & ~self._calibrated & ~self._uncalibrated
-        if cold.any():  # R20 from the resistance at the model's (known, near ambient) temperature
-            at_20 = 1.0 + self._tempco * (self._ambient_c + self.rise_k - 20.0)
-            self._cal_num += np.where(cold, ohm_a2 / at_20, 0.0)
-            self._cal_den += np.where(cold, a2, 0.0)
-        warm = ~cold & ~self._calibrated
-        self._calibrated |= warm & (self._cal_den >= CALIBRATION_MIN_A2)
-        self._uncalibrated |= warm & (self._cal_den < CALIBRATION_MIN_A2)  # too little current: the model alone
-        self._num += np.where(self._calibrated, ohm_a2, 0.0)
-        self._den += np.where(self._calibrated, a2, 0.0)
+        i = current_a * (np.abs(current_a) >= MIN_CURRENT_A)
+        ohm_a2 = (voltage_v - self._k * speed_rad_s) * i   # R i^2 of this sample
+        a2 = i * i
+        if self._calibrating:
+            self._calibrate(ohm_a2, a2)
+        self._num += ohm_a2 * self._calibrated
+        self._den += a2 * self._calibrated
         self._samples += 1
         if self._samples % SAMPLES_PER_CORRECTION == 0:
             measured = self._den > 0.0
@@ -156,6 +151,17 @@ class WindingTemperature:
             gain = self._den / (self._den + CORRECTION_A2)
             self.rise_k += np.where(measured, gain * (rise - self.rise_k), 0.0)
             self._num[:], self._den[:] = 0.0, 0.0
+
+    def _calibrate(self, ohm_a2: np.ndarray, a2: np.ndarray) -> None:
+        """R20 from the resistance at the model's (known, near ambient) temperature, while the winding is cold."""
+        cold = (self.rise_k < CALIBRATE_BELOW_K) & ~self._calibrated & ~self._uncalibrated
+        at_20 = 1.0 + self._tempco * (self._ambient_c + self.rise_k - 20.0)
+        self._cal_num += np.where(cold, ohm_a2 / at_20, 0.0)
+        self._cal_den += np.where(cold, a2, 0.0)
+        warm = ~cold & ~self._calibrated & ~self._uncalibrated
+        self._calibrated |= warm & (self._cal_den >= CALIBRATION_MIN_A2)
+        self._uncalibrated |= warm & (self._cal_den < CALIBRATION_MIN_A2)  # too little current: the model alone
+        self._calibrating = not bool(np.all(self._calibrated | self._uncalibrated))
 
     @property
     def r20_ohm(self) -> np.ndarray:
@@ -169,3 +175,4 @@ class WindingTemperature:
         self._cycles = self._samples = 0
         self._cal_num, self._cal_den, self._num, self._den = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
         self._calibrated, self._uncalibrated = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
+        self._calibrating = True

@@ -260,14 +260,17 @@ class RealisticCell(SimCell):
             view[:] = 0.0
 
     def set_drive_gains(self, kp_nm_rad: np.ndarray, kd_nm_s: np.ndarray, ki_nm_rad_s: np.ndarray,
-                        integral_max_nm: np.ndarray) -> None:
+                        integral_max_nm: np.ndarray, integral_nm: np.ndarray | None = None) -> None:
         """The drives' PID gains from the next step (per joint): tau = kp e + kd (qd_ref - qd) + ki * int(e) + ff.
 
-        The integral torque ki * int(e) is kept across a change of ki (its state is rescaled) and
-        limited to +-integral_max_nm; a joint with ki = 0 has none.
+        The integral torque ki * int(e) becomes `integral_nm` (None: it is kept across the change of
+        ki) and is limited to +-integral_max_nm; a joint with ki = 0 has none.
         """
         ki, state, state_max = self._ki, self._integral_state, self._integral_state_max
-        multiply(state, ki, state)  # the integral torque, kept
+        if integral_nm is None:
+            multiply(state, ki, state)  # the integral torque, kept
+        else:
+            state[:] = integral_nm
         ki[:] = ki_nm_rad_s
         np.negative(kp_nm_rad, out=self._minus_kp)
         np.negative(kd_nm_s, out=self._minus_kd)
@@ -280,6 +283,12 @@ class RealisticCell(SimCell):
         else:
             np.divide(state, ki, state)
             np.divide(integral_max_nm, ki, state_max)
+
+    def true_live_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """The plant's own (q, qd) as read-only views that follow it step by step (copies if its joints are not contiguous)."""
+        if self._q_live is not None:
+            return self._q_live, self._qd_live
+        return self.true_q, self.true_qd
 
     def integral_nm(self) -> np.ndarray:
         """The drives' integral torque ki * int(e) now (N m)."""

@@ -68,13 +68,12 @@ class CompiledDrives:
         multiply(kv, self._pid_p, pid_p)
         multiply(kv, self._pid_i, pid_i)
         multiply(kv, self._ibw, self._kv_ibw)
-        self.cell.set_drive_gains(pid_p, kv, pid_i, self._integral_max)
         # The integral torque of the Python law is kept across the new kv, not the PID's ki * int(e):
         # its kv ki e part changes with kv (unchecked, it drifts by about 10 N m over a fast move)
         work = self._work
         multiply(self._kv_ibw, servo.position_error, work)
         subtract(servo.integral, work, work)
-        self.cell.set_integral_nm(work)
+        self.cell.set_drive_gains(pid_p, kv, pid_i, self._integral_max, work)
 
     def run(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, each_step: Any = None) -> None:
         """One call of the servo loop: len(q_ref) steps of per-step references (rows), the drives in C."""
@@ -111,7 +110,8 @@ class CompiledDrives:
         subtract(ff, work, ff)   # the velocity loop reads the noisy speed
         state = cell._integral_state
         self._integral_start[:] = state
-        integral_before, q_before, qd_before = servo.integral.copy(), cell.true_q, cell.true_qd
+        true_q, true_qd = cell.true_live_state()
+        integral_before, q_before, qd_before = servo.integral.copy(), true_q.copy(), true_qd.copy()
         if each_step is None:
             cell.drive(q_ref, qd_ref, ff)
             self._signals(q_ref[-1], qd_ref[-1], False)
@@ -128,15 +128,26 @@ class CompiledDrives:
         # The Python law's integral over the call, from the drives' states: it sums h (qd_ref - qd + kp e)
         # step by step, and with MuJoCo's semi-implicit Euler sum(h qd_k) = q_n - q_0 - h (qd_n - qd_0)
         # and sum(h e_k) is the drives' integral state's change (the noise the law reads is known)
-        h = servo.period_s
-        q_after, qd_after = cell.true_q, cell.true_qd
-        increment = (qd_ref.sum(axis=0) - noise.sum(axis=0)) * h - (q_after - q_before) + h * (qd_after - qd_before)
-        increment += self._kp * (state - self._integral_start)
-        integral = integral_before + self._kv_ibw * increment
+        h, work = servo.period_s, self._rows
+        true_q, true_qd = cell.true_live_state()
+        subtract(qd_ref, noise, work)
+        increment = np.add.reduce(work, 0)
+        subtract(true_qd, qd_before, qd_before)
+        add(increment, qd_before, increment)
+        multiply(increment, h, increment)
+        subtract(true_q, q_before, q_before)
+        subtract(increment, q_before, increment)
+        subtract(state, self._integral_start, q_before)
+        multiply(q_before, self._kp, q_before)
+        add(increment, q_before, increment)
+        multiply(increment, self._kv_ibw, increment)
+        integral = integral_before
         if True in servo.saturated.tolist():
             # the anti-windup, once a call: a motor that ended it saturated keeps its integral
-            np.copyto(integral, integral_before, where=servo.saturated)
-        np.clip(integral, servo._integral_min, servo._integral_max, out=integral)
+            increment[servo.saturated] = 0.0
+        add(integral, increment, integral)
+        np.minimum(integral, servo._integral_max, out=integral)
+        np.maximum(integral, servo._integral_min, out=integral)
         servo.integral = integral
 
     def _integral_now(self) -> None:
