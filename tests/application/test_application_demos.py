@@ -20,9 +20,8 @@ DEMOS = {
     "programs/online/thesis_2_5_identmove.rpl": ["identified: Nut"],
     "programs/offline/spot_welding.orl": ["spots welded: 5"],
 }
-#: demos run on the ideal plant: identification from torques and weld timing on the realistic plant are another issue's
-IDEAL_PLANT = {"programs/online/demo_identify_parts.rpl", "programs/online/thesis_2_5_identmove.rpl",
-               "programs/online/demo_spot_welding.rpl", "programs/offline/spot_welding.orl"}
+#: demos run on the ideal plant: identification from torques on the realistic plant are another issue's
+IDEAL_PLANT = {"programs/online/demo_identify_parts.rpl", "programs/online/thesis_2_5_identmove.rpl"}
 
 
 @pytest.mark.sim

@@ -25,8 +25,7 @@ def _run(program: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], *ext
 
 @pytest.mark.sim
 def test_spot_welds_are_in_the_summary_with_their_quality(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    # the ideal plant: weld timing on the realistic plant is another issue's
-    code, result, out, err = _run(PROGRAMS / "demo_spot_welding.rpl", tmp_path, capsys, "--plant", "ideal")
+    code, result, out, err = _run(PROGRAMS / "demo_spot_welding.rpl", tmp_path, capsys)
     assert code == 0, err
     welds = result["process"]["welds"]
     assert len(welds) == 6 and all(w["good"] for w in welds)

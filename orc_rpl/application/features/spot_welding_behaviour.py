@@ -27,6 +27,11 @@ WELD_OK_MARGIN_S = 1.0
 #: few mm/s and a few hundredths of a mm for some 30 ms after the reference has stopped.
 MAX_SPEED_M_S = 0.02
 MAX_OFFSET_M = 0.001
+#: The TCP stands still from the first motion cycle whose speed is below half of MAX_SPEED, once the speed over
+#: this window (two motion cycles, as a welder measures) is below MAX_SPEED and every cycle since stayed slow.
+STILL_WINDOW_S = 0.008
+#: A gun without a measured settling waits at most this long after the reference's end for the TCP to stand still.
+SETTLE_WAIT_S = 0.1
 
 
 class WeldFault(MotionFault):
@@ -71,6 +76,9 @@ class SpotGun:
         self.max_speed_m_s = _limit(attrs.get("MAX_SPEED"), VELOCITY, "MAX_SPEED", "20mm/s", MAX_SPEED_M_S)
         self.max_offset_m = _limit(attrs.get("MAX_OFFSET"), LENGTH, "MAX_OFFSET", "1mm", MAX_OFFSET_M)
         self.welds = 0
+        self.settle_s: float | None = None  #: from the reference's end until the TCP stood still, last weld
+        self.signals: list[float] = []      #: controller times of the close signals
+        self.stops: list[float] = []        #: controller times the TCP was seen still, per weld
 
     def Close(self) -> None:  # noqa: N802 - the language's method names
         self._context.write(self.close_channel, 1)
@@ -110,13 +118,51 @@ def weldmove(call: MotionCall) -> Iterator[Any]:
         yield None
     if ticket.done and ticket.outcome == "fault":
         raise ticket.error if ticket.error is not None else BehaviourError("the move failed")
-    gun.Close()  # the gun closes REACTION from now: when the motion ends
+    # The reference ends REACTION after the signal; the arm stands still a little later (its servo and gears
+    # settle). With the settling measured on an earlier weld, the gun is closed that much later, so it closes
+    # as the TCP stops; the first weld of a gun closes it when the TCP is seen still and measures the settling.
+    # (a motion shorter than REACTION signals at its end)
+    reference_end_s = ticket.signalled_s + (0.0 if ticket.done else gun.reaction_s)
+    positions = [(robot.time_s(), _position(robot.tcp_pose(call.tool)))]
+    still_s: float | None = None
+
+    slow_from: list[float] = []  # the start of the cycle since which the TCP has been slow
+
+    def watch() -> None:
+        nonlocal still_s
+        positions.append((robot.time_s(), _position(robot.tcp_pose(call.tool))))
+        if still_s is not None or positions[-1][0] < reference_end_s - 1e-9:
+            return
+        if _speed_before(positions, 1e-6) >= 0.5 * gun.max_speed_m_s:
+            slow_from.clear()
+        elif not slow_from:
+            slow_from.append(positions[-2][0])
+        if slow_from and _speed_before(positions) < gun.max_speed_m_s:
+            still_s = slow_from[0]  # confirmed over a welder's window: the TCP stood still from there on
+    if gun.settle_s is None:
+        while still_s is None and robot.time_s() < reference_end_s + SETTLE_WAIT_S:
+            yield None
+            watch()
+    else:
+        while robot.time_s() < ticket.signalled_s + gun.settle_s - 1e-9:
+            yield None
+            watch()
+    gun.Close()  # the gun closes REACTION from now: when the TCP stands still
+    gun.signals.append(robot.time_s())
     closes_at = robot.time_s() + gun.reaction_s
     while robot.time_s() < closes_at - 1e-9:
         yield None
-    closed = _position(robot.tcp_pose(call.tool))
+        watch()
+    closed = positions[-1][1]
     yield None  # the TCP over the first cycle the gun holds the sheet: its speed and where it is
-    last = _position(robot.tcp_pose(call.tool))
+    watch()
+    last = positions[-1][1]
+    while still_s is None and robot.time_s() < reference_end_s + SETTLE_WAIT_S:
+        yield None
+        watch()
+    if still_s is not None:  # what this motion's settling was: the next weld's prediction
+        gun.settle_s = max(0.0, still_s - reference_end_s)
+        gun.stops.append(still_s)
     speed = math.dist(last, closed) / robot.dt_s
     log = process_log(robot)
     offset = math.dist(last, (target.x, target.y, target.z)) if type(target) is Pose else 0.0
@@ -153,6 +199,16 @@ def weldmove(call: MotionCall) -> Iterator[Any]:
     gun.Open()
     gun.welds += 1
     log.welds.append(WeldRecord(gun.name, closes_at, last, speed, offset, True))
+
+
+def _speed_before(positions: list[tuple[float, tuple[float, float, float]]], window_s: float = STILL_WINDOW_S) -> float:
+    """The TCP's speed over the last `window_s` (m/s); infinite until that much has been watched."""
+    now_s, here = positions[-1]
+    for then_s, there in reversed(positions[:-1]):
+        if now_s - then_s >= window_s - 1e-9:
+            return math.dist(here, there) / (now_s - then_s)
+    return math.inf
+
 
 
 def _position(pose: Pose) -> tuple[float, float, float]:
