@@ -79,7 +79,6 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
     y = tau - tau0                                           # (windows, joints)
     if reference is not None:
         y = y - np.array([t - np.asarray(inverse_dynamics(q, v, a, 0.0), dtype=float) for q, v, a, t in reference])
-        qd = qd - np.array([v for _, v, _, _ in reference], dtype=float)  # friction acts on the speed difference
     k = len(rows)
     # unknowns: m, c_1..c_n, b_1..b_n; equation (w, j): y = m d + c_j + b_j qd_j
     a = np.zeros((k * n, 1 + 2 * n))
