@@ -52,21 +52,22 @@ def test_close_signal_rises_reaction_before_the_motion_ends_on_the_recording_rob
     robot.io.add_process(lambda io, t: closes.append(t) if io.dig_out[3] and (not closes or closes[-1] < 0) else
                          closes.append(-t) if not io.dig_out[3] and closes and closes[-1] > 0 else None)
     gun = WeldGunProcess(3, 2, 0.08, 0.15)
-    # the first weld of a gun measures when the arm stands still after its reference ends; the second is the thesis'
+    # the first weld of each kind (ShortMove or not) measures when the arm stands still after its reference
+    # ends; the third is the thesis' (this robot stops dead at the reference's end)
     executive, tickets = run("WELDMOVE gun TO POSE(1000mm, 0, 600mm, 0, 180deg, 0) WITH TIME = 0.3s\n"
-                             "WELDMOVE gun TO POSE(1000mm, 50mm, 600mm, 0, 180deg, 0) WITH TIME = 0.3s\n", robot, gun)
+                             "WELDMOVE gun TO POSE(1000mm, 50mm, 600mm, 0, 180deg, 0) WITH TIME = 0.3s\n"
+                             "WELDMOVE gun TO POSE(1000mm, 100mm, 600mm, 0, 180deg, 0) WITH TIME = 0.3s\n", robot, gun)
     assert executive.status == "finished", executive.report()
-    (first_request, first), (request, ticket) = tickets
+    (_, first), _, (request, ticket) = tickets
     rises = [t for t in closes if t > 0]
-    assert len(gun.welds) == 2 and len(rises) == 2
-    first_end = first.signalled_s + 0.08
-    assert first_end - 1e-9 <= rises[0] <= first_end + 0.08 + robot.dt_s  # after the stop is seen
-    assert request.signal_before_end_s == pytest.approx(0.08) and request.zone_m == 0.0
-    motion_end = ticket.signalled_s + 0.08  # T_d
-    started_s = gun.welds[0].closed_s + 0.15  # about when the first WELDMOVE let the second go
-    assert abs(ticket.signalled_s - (motion_end - 0.08)) <= robot.dt_s + 1e-9 and motion_end > started_s
-    assert abs(rises[1] - ticket.signalled_s) <= robot.dt_s + 1e-9  # the gun's output follows within a cycle
-    assert abs(gun.welds[1].closed_s - motion_end) <= robot.dt_s + 1e-9
+    assert len(gun.welds) == 3 and len(rises) == 3
+    first_end = first.signalled_s + 0.088
+    assert first_end - 1e-9 <= rises[0] <= first_end + 0.008 + robot.dt_s + 1e-9  # once the stop is seen
+    # the motion signals 8 ms early (a TCP may stop before its reference ends); the gun's signal waits for T_d - tau
+    assert request.signal_before_end_s == pytest.approx(0.088) and request.zone_m == 0.0
+    motion_end = ticket.signalled_s + 0.088  # T_d
+    assert abs(rises[2] - (motion_end - 0.08)) <= robot.dt_s + 1e-9  # the gun's output at T_d - REACTION
+    assert abs(gun.welds[2].closed_s - motion_end) <= robot.dt_s + 1e-9
     assert not robot.io.dig_out[3]  # opened after the weld
 
 
@@ -136,11 +137,12 @@ def _run_on_cell(body: str, gun: WeldGunProcess, plant: str = "realistic", trace
 
 
 def _still_after(trace: list[tuple[float, tuple[float, float, float]]], from_s: float) -> float:
-    """The first time at or after `from_s` the TCP's speed over the last 8 ms is below 10 mm/s."""
-    for i, (t, p) in enumerate(trace):
-        if t >= from_s - 1e-9:
-            t0, p0 = next((u, q) for u, q in reversed(trace[:i]) if t - u >= 0.008 - 1e-9)
-            if math.dist(p, p0) / (t - t0) < 0.01:
+    """The first time from 8 ms before `from_s` on from which the TCP stays slower than 5 mm/s for 8 ms."""
+    slow = [math.dist(p, q) / (t - u) < 0.005 for (u, q), (t, p) in zip(trace, trace[1:])]
+    for i, (t, _) in enumerate(trace[:-1]):
+        if t >= from_s - 0.008 - 1e-9:
+            ahead = [ok for (u, _), ok in zip(trace[i:], slow[i:]) if u < t + 0.008 - 1e-9]
+            if len(ahead) == 2 and all(ahead):
                 return t
     raise AssertionError("the TCP never stood still")
 
@@ -157,8 +159,10 @@ def test_spots_welded_at_their_positions_gun_closed_as_the_tcp_stops_faster_than
     assert len(gun.welds) == len(welds) == 4
     for i, ((request, ticket), weld) in enumerate(zip(welds, gun.welds)):
         stop_s = _still_after(trace, ticket.handles[0].t_end_s)
-        # the first weld measures the arm's settling (its gun closes after the stop); later ones close on it
-        assert -robot.dt_s - 1e-9 <= weld.closed_s - stop_s <= (0.08 if i == 0 else 0.0) + robot.dt_s + 1e-9
+        # the first weld (all are ShortMoves) measures the arm's settling: its gun is signalled once the stop is
+        # seen (8 ms of slow TCP) and closes REACTION later; later ones close on the stop, within one motion cycle
+        # (the settling predicted from the weld before) and the plant step in which the gun sees its output
+        assert -robot.dt_s - 1e-9 <= weld.closed_s - stop_s <= (0.088 if i == 0 else 0.0) + robot.dt_s + 0.001 + 1e-9
         assert math.dist(weld.position_m, (request.target.x, request.target.y, request.target.z)) < 0.5e-3
         assert not weld.moving
     assert all(t.handles[0].short for _, t in welds[1:])  # 50 mm apart: ShortMoves
