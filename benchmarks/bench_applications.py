@@ -98,6 +98,24 @@ def _lift(robot: CellRobot, via: Pose, speed: float | None, mass: float) -> list
     return list(ticket.recording)
 
 
+def tare_drift(warm: bool) -> dict[str, float]:
+    """One realistic robot (cold, or warmed up: gearboxes 30 K above ambient), a tare lift toward TopPos, then
+    0, 0.3, 0.9, 2 and 0 kg one after the other: the largest error of the tared estimate, and its drift (a
+    least-squares line through the errors against the time since the tare, kg/s)."""
+    robot = CellRobot.virtual(plant="realistic")
+    if warm:
+        robot.layer.backend.loop.cell.warm_up()  # type: ignore[attr-defined]
+    tare = _lift(robot, VIAS[0], None, 0.0)
+    tare_s, ages, errors = robot.time_s(), [], []
+    for mass in (0.0, 0.3, 0.9, 2.0, 0.0):
+        samples = _lift(robot, VIAS[0], None, mass)
+        ages.append(samples[0].time_s - tare_s)
+        errors.append(estimate(samples, robot.inverse_dynamics, tare).mass_kg - mass)
+    label = "warm" if warm else "cold"
+    return {f"ident_{label}_max_error_kg": round(max(abs(e) for e in errors), 3),
+            f"ident_{label}_drift_kg_s": round(float(np.polyfit(ages, errors, 1)[0]), 4)}
+
+
 def perturbed(samples: list[Sample], rng: np.random.Generator, scale: float) -> list[Sample]:
     n = len(samples[0].torque)
     error = rng.uniform(-1, 1, n) * ENVELOPE_NM * scale
@@ -157,6 +175,9 @@ def identification(trials: int, seed: int, plant: str) -> dict[str, float]:
         figures[f"{label}_false_confident"] = wrong
         figures[f"{label}_baseline_correct_pct"] = round(100.0 * baseline_correct / trials, 2)
         figures[f"{label}_max_sigma_kg"] = round(worst_sigma, 3)
+    if plant == "realistic":
+        figures.update(tare_drift(warm=False))
+        figures.update(tare_drift(warm=True))
     return figures
 
 
