@@ -1,29 +1,34 @@
-"""Application benchmark: part identification (IDENTMOVE) over seeded trials, and the process figures of the demos.
+"""Application benchmark: part identification (IDENTMOVE) over seeded trials, and the process figures of the demos,
+on the realistic plant and then on the ideal one (its keys prefixed `ideal_`).
 
 Run: python benchmarks/bench_applications.py [--trials 1000] [--seed 1]
 
-Identification. The motion toward the via point is simulated on the MuJoCo cell (ideal plant: no friction,
-no noise) for every combination of part mass (0, 0.3, 0.9, 2 kg: the demo's kinds), speed (the joints'
-limits, 0.5 m/s, 0.3 m/s) and via point (the demo's TopPos, 300, 150 and 100 mm above the pick), recording
-q, q-dot and the motor torques over 0.2 s as IDENTMOVE does. Each trial takes one recording at random and
-perturbs its torques with seeded draws inside the documented envelope: per joint a constant model error and
-a Coulomb friction change (each uniform in +-ENVELOPE_NM, the friction with the sign of the joint's
-velocity), a viscous friction change (uniform in +-ENVELOPE_NM per rad/s) and white noise of NOISE_NM per
-sample. The trial classifies the estimate with limits half way between the kinds' masses, as the demo does,
-and is confident only when payload_estimation.confidence trusts it. Printed: ident_correct_pct (among
-confident answers, target >= 99), ident_abstain_pct (target <= 5), ident_false_confident (target 0), and in
-the same run the estimator that IDENTMOVE used before (least squares over the samples, no friction, no
-offsets, always answering): ident_baseline_correct_pct; and the same trials with the model error and
-friction changes ten times larger (outside the envelope): ident_outside_*.
+Identification. The motion toward the via point is simulated on the MuJoCo cell for every combination of part
+mass (0, 0.3, 0.9, 2 kg: the demo's kinds), speed (the joints' limits, 0.5 m/s, 0.3 m/s) and via point (the
+demo's TopPos, 300, 150 and 100 mm above the pick), recording q, q-dot and the motor torques over 0.2 s as
+IDENTMOVE does. On the realistic plant (friction, noise, elasticity, the unknown dress pack, a cold start) each
+via point and speed is one robot: a tare lift with nothing held, then the four masses one after the other, each
+estimated with the tare; on the ideal plant each recording is a fresh robot, without a tare. Each trial takes
+one recording at random and perturbs its torques with seeded draws inside the documented envelope: per joint a
+constant model error and a Coulomb friction change (each uniform in +-ENVELOPE_NM, the friction with the sign of
+the joint's velocity), a viscous friction change (uniform in +-ENVELOPE_NM per rad/s) and white noise of
+NOISE_NM per sample (the tare gets noise only). The trial classifies the estimate with limits half way between
+the kinds' masses, as the demo does, and is confident only when payload_estimation.confidence trusts it.
+Printed: ident_correct_pct (among confident answers, target >= 99), ident_abstain_pct (target <= 5),
+ident_false_confident (target 0), and in the same run the estimator that IDENTMOVE used before (least squares
+over the samples, no friction, no offsets, no tare, always answering): ident_baseline_correct_pct; and the same
+trials with the model error and friction changes ten times larger (outside the envelope): ident_outside_*.
+On the realistic plant also the tared estimate's error on one robot lifting 0, 0.3, 0.9, 2, 0 kg after a tare,
+cold and warmed up: ident_{cold,warm}_max_error_kg and its drift against the time since the tare (kg/s).
 
-Process figures on the ideal plant (the realistic plant is not in this build): the demos' outcomes as
-`orc run` reports them in its summary's process section (deburr_plain_left_mm: the bulge a single
-force-controlled pass leaves, measured by CatchBulge with max_passes = 0; spot_saving_per_spot_s: the
-demo against MOVE, Close, WAIT UNTIL WELD_OK, Open per spot; spot_signal_error_ms: the largest distance
-between the gun closing and the end of its motion's reference; seam_tuned_gain_pct: the RMS reduction of the
-thesis weld with Tracking's gain against TRACKMOVE's standard gain); and CALIBRATE's settling (12 kg the program did
-not declare, a 50 mm approach at 1.5 m/s) with the default gains, the fixed 1.5x boost alone and the
-identified tuning: calibrate_vs_boost_settle_pct is what the identification adds to the boost.
+Process figures: the demos' outcomes as `orc run --plant P` reports them in its summary's process section
+(deburr_plain_left_mm: the bulge a single force-controlled pass leaves, measured by CatchBulge with
+max_passes = 0; spot_saving_per_spot_s: the demo against MOVE, Close, WAIT UNTIL WELD_OK, Open per spot;
+spot_signal_error_ms: per weld after the first, the close signal's time minus the TCP's stop (as WELDMOVE
+defines it, measured on the TCP every motion cycle) minus REACTION, the largest; seam_tuned_gain_pct: the RMS
+reduction of the thesis weld with Tracking's gain against TRACKMOVE's standard gain); and CALIBRATE's settling
+(12 kg the program did not declare, a 50 mm approach at 1.5 m/s) with the default gains, the fixed 1.5x boost
+alone and the identified tuning: calibrate_vs_boost_settle_pct is what the identification adds to the boost.
 """
 
 from __future__ import annotations
