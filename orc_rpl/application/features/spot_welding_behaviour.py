@@ -4,6 +4,10 @@
         if (ShortMotion) ShortMove(Pos, Par, Act); else Move(Pos, Par, Act);
         Wait(Act->MoveSignal);      -- signalled by an action at t >= T_d - tau
         Gun->Close(); Gun->Weld(); Gun->WaitWelding(); Gun->Open();
+
+T_d is where the TCP stops, not where its reference ends: a real arm settles after its reference (servo,
+elastic gears, friction). The first weld of a gun with each kind of move waits for the stop and measures how
+far it lies from the reference's end; later ones close the gun that much later (see `weldmove`).
 """
 
 from __future__ import annotations
