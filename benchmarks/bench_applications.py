@@ -18,7 +18,7 @@ Printed: ident_correct_pct (among confident answers, target >= 99), ident_abstai
 ident_false_confident (target 0), and in the same run the estimator that IDENTMOVE used before (least squares
 over the samples, no friction, no offsets, no tare, always answering): ident_baseline_correct_pct; and the same
 trials with the model error and friction changes ten times larger (outside the envelope): ident_outside_*.
-On the realistic plant also the tared estimate's error on one robot lifting 0, 0.3, 0.9, 2, 0 kg after a tare,
+On the realistic plant also what an empty gripper's estimate reads without a tare (ident_untared_empty_*_kg), the tared estimate's error on one robot lifting 0, 0.3, 0.9, 2, 0 kg after a tare,
 cold and warmed up: ident_{cold,warm}_max_error_kg and its drift against the time since the tare (kg/s).
 
 Process figures: the demos' outcomes as `orc run --plant P` reports them in its summary's process section
@@ -180,7 +180,10 @@ def identification(trials: int, seed: int, plant: str) -> dict[str, float]:
         figures[f"{label}_false_confident"] = wrong
         figures[f"{label}_baseline_correct_pct"] = round(100.0 * baseline_correct / trials, 2)
         figures[f"{label}_max_sigma_kg"] = round(worst_sigma, 3)
-    if plant == "realistic":
+    if plant == "realistic":  # what the model's own errors read as without a tare: an empty gripper's estimate
+        empty = [estimate(samples, robot.inverse_dynamics).mass_kg for mass, samples, robot, _ in base if mass == 0.0]
+        figures["ident_untared_empty_min_kg"] = round(min(empty), 2)
+        figures["ident_untared_empty_max_kg"] = round(max(empty), 2)
         figures.update(tare_drift(warm=False))
         figures.update(tare_drift(warm=True))
     return figures

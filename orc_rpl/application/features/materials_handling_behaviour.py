@@ -15,8 +15,8 @@ final motion is sent while the robot still moves toward the via point, so it ble
 
 The tare. The controller's model of the arm is not the arm: a dress pack it does not know, friction that is
 twice its nominal value on a cold gearbox, link masses a few percent off. Along one path these errors are the
-same lift after lift, but they read as kilograms (the realistic IRB 2400 reads an empty gripper as 13.6 to
-16.5 kg, depending on the via point and the speed). An IDENTMOVE made while every Gripper is open holds
+same lift after lift, but they read as kilograms (the realistic IRB 2400 reads an empty gripper as 11 to
+21 kg, depending on the via point and the speed: docs/applications.md, "The tare"). An IDENTMOVE made while every Gripper is open holds
 nothing by construction: it is the path's tare, its estimate is kept per path (start, via point, speed, tool)
 and the user's FUNC is given 0 kg. Later IDENTMOVEs along the same path take the tare's torques off theirs,
 window by window (payload_estimation.estimate with `tare`). One without a tare trusts the model as it is: on
