@@ -6,7 +6,8 @@ import dataclasses
 from typing import Any
 
 from orc_rpl.application.registry import Registry, default_registry
-from orc_rpl.application.runtime import BehaviourError, Fine, FunctionParam, InstallContext, MotionCall, MotionRequest
+from orc_rpl.application.runtime import (BehaviourError, Fine, FunctionParam, InstallContext, MotionCall, MotionRequest,
+                                        attached)
 from orc_rpl.application.standard_functions import IMPLEMENTATIONS
 from orc_rpl.syntax.limits import MAX_DURATION_S
 from orc_rpl.syntax.units import ACCELERATION, ANGLE, LENGTH, MASS, TIME, VELOCITY, Quantity
@@ -137,17 +138,21 @@ class Gripper:
             self._angles_rad = {False: _angle(attrs["OPEN"], "OPEN"), True: _angle(attrs["CLOSED"], "CLOSED")}
             self._current_a = float(attrs.get("GRIP_CURRENT", 0.5))
         self._closed = False
+        self._state = attached(context.robot, "grippers_closed", dict) if context.robot is not None else {}
+        self._state[context.name] = False  # what IDENTMOVE asks: is anything held?
 
     def _servo_to(self, closed: bool) -> None:
         self._context.robot.drive_gripper(int(self._servo), self._angles_rad[closed], self._current_a)
         self._closed = closed
 
     def Open(self) -> None:  # noqa: N802 - the language's method names
+        self._state[self._context.name] = False
         if self._servo is not None:
             return self._servo_to(False)
         self._context.write(self._channel, 0)
 
     def Close(self) -> None:  # noqa: N802
+        self._state[self._context.name] = True
         if self._servo is not None:
             return self._servo_to(True)
         self._context.write(self._channel, 1)

@@ -20,9 +20,9 @@ DEMOS = {
     "programs/online/thesis_2_5_identmove.rpl": ["identified: Nut"],
     "programs/offline/spot_welding.orl": ["spots welded: 5"],
 }
-#: demos run on the ideal plant: identification from torques and weld timing on the realistic plant are another issue's
-IDEAL_PLANT = {"programs/online/demo_identify_parts.rpl", "programs/online/thesis_2_5_identmove.rpl",
-               "programs/online/demo_spot_welding.rpl", "programs/offline/spot_welding.orl"}
+#: the identification demos' exact prints are the ideal plant's: on the realistic plant a cold arm's friction falls
+#: as it warms, which a part's estimate cannot tell from its weight (a part may come out uncertain: below)
+IDEAL_PLANT = {"programs/online/demo_identify_parts.rpl", "programs/online/thesis_2_5_identmove.rpl"}
 
 
 @pytest.mark.sim
@@ -40,6 +40,21 @@ def test_demo_runs_to_completion_deterministically(name: str, capsys: pytest.Cap
         result.pop("wall_s", None)
         results.append({k: v for k, v in result.items() if "wall" not in k})
     assert results[0] == results[1]
+
+
+@pytest.mark.sim
+def test_identification_demos_never_give_a_wrong_part_on_the_realistic_plant(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["run", str(ROOT / "programs/online/demo_identify_parts.rpl")])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    lines = out.splitlines()
+    right = ["part 1 is Light", "part 2 is Heavy", "part 3 is Medium"]  # the script's parts: 0.3, 2 and 0.9 kg
+    assert len(lines) == 4 and all(line in (good, good.split(" is ")[0] + " is uncertain: rejected")
+                                   for line, good in zip(lines, right))
+    assert lines[3] == f"heavy parts: {int(lines[1] == right[1])}"
+    code = main(["run", str(ROOT / "programs/online/thesis_2_5_identmove.rpl")])
+    out, err = capsys.readouterr()
+    assert (code, out) == (0, "identified: Nut\n") or (code == 1 and "IdentUncertain" in err), err
 
 
 def test_script_installs_weld_guns_and_parts(tmp_path: Path) -> None:

@@ -180,9 +180,12 @@ def test_the_thesis_programs_run_and_are_deterministic() -> None:
     assert results[0] == results[1]
     assert 0.01 <= results[0][0] <= 0.1
     source = (PROGRAMS / "online" / "thesis_2_3_auto_tuning.rpl").read_text()
-    executive = Executive(parse(source, "a.rpl"), RecordingRobot(), path="a.rpl", source=source, output=lambda line: None)
+    prints: list[str] = []
+    executive = Executive(parse(source, "a.rpl"), RecordingRobot(), path="a.rpl", source=source, output=prints.append)
     executive.run()
     assert executive.status == "finished", executive.report()
+    g = executive.machine.globals  # the demo prints what it computed
+    assert prints == [f"optimal speed: {g['OptSpeed'].value:g} m/s tracking gain: {round(g['OptTrack'].get('Gain'), 3):g}"]
 
 
 def test_the_seam_section_of_a_sim_script(tmp_path: Path) -> None:

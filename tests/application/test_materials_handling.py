@@ -101,7 +101,9 @@ def test_three_masses_identified_from_simulated_torques_without_stopping_at_the_
     from orc_rpl.executive.cell_robot import CellRobot
 
     source = textwrap.dedent(PROGRAM)
-    robot = CellRobot.virtual(plant="ideal")  # identification on the realistic plant is another issue's
+    # the ideal plant: PROGRAM makes no tare lift, and without one the realistic arm's own model errors read as
+    # kilograms (docs/applications.md, "The tare"); this test is about the blend through the via point
+    robot = CellRobot.virtual(plant="ideal")
     tickets = []
     submit = robot.submit
 
@@ -163,11 +165,21 @@ DEMO = (PROGRAMS / "demo_identify_parts.rpl").read_text()
 DEMO_PRINTS = ["part 1 is Light", "part 2 is Heavy", "part 3 is Medium", "heavy parts: 1"]
 
 
+def parts_identified(robot):  # type: ignore[no-untyped-def]
+    """The identifications of the parts (the demo's first lift, with the gripper open, is its path's tare)."""
+    records = robot.process_log.identifications
+    assert records[0].part == "NoObject (tare)"
+    return records[1:]
+
+
 def run_demo_on_cell(source: str, masses: list[float]):  # type: ignore[no-untyped-def]
     """The demo program on the simulated cell with these parts; the robot and the prints (it must finish)."""
     from orc_rpl.executive.cell_robot import CellRobot
 
-    robot = CellRobot.virtual(plant="ideal")  # identification on the realistic plant is another issue's
+    # the ideal plant: these tests hold the demo to exact answers for slow moves, near via points and a heavy part;
+    # on the realistic plant a cold arm's friction falls between the tare and the lift and some parts come out
+    # uncertain (test_identification_demos_never_give_a_wrong_part_on_the_realistic_plant)
+    robot = CellRobot.virtual(plant="ideal")
     prints: list[str] = []
     executive = Executive(parse(source, "demo.rpl"), robot, path="demo.rpl", source=source, output=prints.append)
     robot.io.add_process(PartSupply(1, masses, robot.set_plant_payload))
@@ -187,7 +199,7 @@ def test_slow_moves_and_near_via_points_identify_every_part_on_the_cell(change: 
     assert source != DEMO
     robot, prints = run_demo_on_cell(source, [0.3, 2.0, 0.9])
     assert prints == DEMO_PRINTS
-    for record, mass in zip(robot.process_log.identifications, (0.3, 2.0, 0.9)):
+    for record, mass in zip(parts_identified(robot), (0.3, 2.0, 0.9)):
         assert abs(record.payload_kg - mass) < 3 * record.sigma_kg + 0.02 and record.confidence > 0.99
 
 
@@ -195,4 +207,4 @@ def test_slow_moves_and_near_via_points_identify_every_part_on_the_cell(change: 
 def test_a_part_heavier_than_every_kind_is_still_the_heaviest_kind() -> None:
     robot, prints = run_demo_on_cell(DEMO, [5.0, 0.0, 0.9])
     assert prints[:3] == ["part 1 is Heavy", "part 2 is NoObject", "part 3 is Medium"]
-    assert robot.process_log.identifications[0].payload_kg == pytest.approx(5.0, abs=0.15)
+    assert parts_identified(robot)[0].payload_kg == pytest.approx(5.0, abs=0.15)

@@ -55,9 +55,20 @@ class PayloadEstimate:
     windows: int
 
 
-def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[float]]) -> PayloadEstimate:
-    """The payload from samples (time_s, q, qd, torque) and the controller's model `inverse_dynamics(q, qd, qdd, kg)`."""
-    rows = _windows(samples)
+def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[float]],
+             tare: Sequence[Any] | None = None) -> PayloadEstimate:
+    """The payload from samples (time_s, q, qd, torque) and the controller's model `inverse_dynamics(q, qd, qdd, kg)`.
+
+    With `tare` (the same lift recorded holding nothing), window k of the tare is taken off window k of the
+    recording: what the model gets wrong along the path (friction, masses it does not know) cancels, and the
+    payload is fitted to what is left; a window clean in only one of the two is left out."""
+    if tare is None:
+        rows = _windows(samples)
+        reference = None
+    else:
+        both = [(a, b) for a, b in zip(_windows(samples, keep=True), _windows(tare, keep=True))
+                if a is not None and b is not None]
+        rows, reference = [a for a, _ in both], [b for _, b in both]
     if not rows:
         return PayloadEstimate(0.0, math.inf, 0)
     n = len(rows[0][0])
@@ -66,6 +77,8 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
     tau = np.array([t for _, _, _, t in rows], dtype=float)
     qd = np.array([v for _, v, _, _ in rows], dtype=float)
     y = tau - tau0                                           # (windows, joints)
+    if reference is not None:
+        y = y - np.array([t - np.asarray(inverse_dynamics(q, v, a, 0.0), dtype=float) for q, v, a, t in reference])
     k = len(rows)
     # unknowns: m, c_1..c_n, b_1..b_n; equation (w, j): y = m d + c_j + b_j qd_j
     a = np.zeros((k * n, 1 + 2 * n))
@@ -90,22 +103,27 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
     return PayloadEstimate(float(theta[0]), float(math.sqrt(max(covariance[0, 0], 0.0))), k)
 
 
-def _windows(samples: Sequence[Any]) -> list[tuple[tuple[float, ...], tuple[float, ...], tuple[float, ...], np.ndarray]]:
+def _windows(samples: Sequence[Any], keep: bool = False) -> list[Any]:
     """(q, qd, qdd, mean torque) per clean window: q at its middle, qd its mean, qdd the velocity change across it
     over its length, against the torque between the samples (the mean of each cycle's two ends: the motor
     torque is sampled at the cycle's boundaries, the velocity changes in between). A window in which the
     acceleration switches (its per-cycle accelerations spread by more than SWITCH_RAD_S2 plus a tenth of
-    their size) is left out: there the servo's torque and the measured motion do not average alike."""
+    their size) is left out: there the servo's torque and the measured motion do not average alike (with
+    `keep`, it is None in its place, so two recordings' windows stay paired by index)."""
     out = []
     for start in range(0, len(samples) - WINDOW, WINDOW):
         window = samples[start: start + WINDOW + 1]
         t = np.array([s.time_s for s in window])
         if np.any(np.diff(t) <= 0):
+            if keep:
+                out.append(None)
             continue
         qd = np.array([s.qd for s in window], dtype=float)
         per_cycle = np.diff(qd, axis=0) / np.diff(t)[:, None]
         spread = per_cycle.max(axis=0) - per_cycle.min(axis=0)
         if np.any(spread > SWITCH_RAD_S2 + 0.1 * np.abs(per_cycle).max(axis=0)):
+            if keep:
+                out.append(None)
             continue
         qdd = tuple(((qd[-1] - qd[0]) / (t[-1] - t[0])).tolist())
         torques = np.array([s.torque for s in window], dtype=float)

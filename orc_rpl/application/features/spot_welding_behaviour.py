@@ -4,6 +4,10 @@
         if (ShortMotion) ShortMove(Pos, Par, Act); else Move(Pos, Par, Act);
         Wait(Act->MoveSignal);      -- signalled by an action at t >= T_d - tau
         Gun->Close(); Gun->Weld(); Gun->WaitWelding(); Gun->Open();
+
+T_d is where the TCP stops, not where its reference ends: a real arm settles after its reference (servo,
+elastic gears, friction). The first weld of a gun with each kind of move waits for the stop and measures how
+far it lies from the reference's end; later ones close the gun that much later (see `weldmove`).
 """
 
 from __future__ import annotations
@@ -27,6 +31,16 @@ WELD_OK_MARGIN_S = 1.0
 #: few mm/s and a few hundredths of a mm for some 30 ms after the reference has stopped.
 MAX_SPEED_M_S = 0.02
 MAX_OFFSET_M = 0.001
+#: The TCP stands still from the start of the first motion cycle from which its speed stays below STILL_SHARE
+#: of MAX_SPEED for this long (two motion cycles: the window over which a welder measures; the share leaves
+#: the welder's window, which reaches back into the last faster cycles, below MAX_SPEED).
+STILL_WINDOW_S = 0.008
+STILL_SHARE = 0.25
+#: The motion signals this much earlier than REACTION before its end: a TCP that stops before its reference
+#: ends (the servo's lag taken up in the last cycles) gets its gun closed on time too.
+EARLY_S = 0.008
+#: A gun without a measured settling waits at most this long after the reference's end for the TCP to stand still.
+SETTLE_WAIT_S = 0.1
 
 
 class WeldFault(MotionFault):
@@ -71,6 +85,10 @@ class SpotGun:
         self.max_speed_m_s = _limit(attrs.get("MAX_SPEED"), VELOCITY, "MAX_SPEED", "20mm/s", MAX_SPEED_M_S)
         self.max_offset_m = _limit(attrs.get("MAX_OFFSET"), LENGTH, "MAX_OFFSET", "1mm", MAX_OFFSET_M)
         self.welds = 0
+        #: from the reference's end until the TCP stood still (< 0: before), last weld, for ShortMoves and others
+        self.settle_s: dict[bool, float] = {}
+        self.signals: list[float] = []      #: controller times of the close signals
+        self.stops: list[float] = []        #: controller times the TCP was seen still, per weld
 
     def Close(self) -> None:  # noqa: N802 - the language's method names
         self._context.write(self.close_channel, 1)
@@ -103,20 +121,60 @@ def weldmove(call: MotionCall) -> Iterator[Any]:
         keyword=call.keyword, kind=base.kind, target=target, via=base.via, tool=base.tool,
         speed_m_s=base.speed_m_s, speed_fraction=base.speed_fraction, accel_fraction=base.accel_fraction,
         zone_m=0.0, time_s=base.time_s, load_kg=base.load_kg, tuning=base.tuning, short=short,
-        signal_before_end_s=gun.reaction_s,
+        signal_before_end_s=gun.reaction_s + EARLY_S,
     )
     ticket = yield request
     while ticket.signalled_s is None and not ticket.done:  # Wait(Act->MoveSignal)
         yield None
     if ticket.done and ticket.outcome == "fault":
         raise ticket.error if ticket.error is not None else BehaviourError("the move failed")
-    gun.Close()  # the gun closes REACTION from now: when the motion ends
+    # The reference ends REACTION after the signal; the arm stands still a little later (its servo and gears
+    # settle). With the settling measured on an earlier weld of the same kind (ShortMove or not), the gun is
+    # closed that much later, so it closes as the TCP stops; the first weld of each kind closes it when the TCP
+    # is seen still and measures the settling.
+    # (a motion shorter than REACTION signals at its end)
+    reference_end_s = ticket.signalled_s + (0.0 if ticket.done else gun.reaction_s + EARLY_S)
+    positions = [(robot.time_s(), _position(robot.tcp_pose(call.tool)))]
+    still_s: float | None = None
+
+    slow_from: list[float] = []  # the start of the cycle since which the TCP has been slow
+
+    def watch() -> None:
+        nonlocal still_s
+        positions.append((robot.time_s(), _position(robot.tcp_pose(call.tool))))
+        if still_s is not None or positions[-1][0] < reference_end_s - EARLY_S - 1e-9:
+            return
+        if _speed_before(positions, 1e-6) >= STILL_SHARE * gun.max_speed_m_s:
+            slow_from.clear()
+        elif not slow_from:
+            slow_from.append(positions[-2][0])
+        if slow_from and positions[-1][0] - slow_from[0] >= STILL_WINDOW_S - 1e-9:
+            still_s = slow_from[0]  # slow over a welder's window: the TCP stood still from there on
+    settle_s = gun.settle_s.get(short)
+    if settle_s is None:
+        while still_s is None and robot.time_s() < reference_end_s + SETTLE_WAIT_S:
+            yield None
+            watch()
+    else:
+        while robot.time_s() < reference_end_s - gun.reaction_s + settle_s - 1e-9:
+            yield None
+            watch()
+    gun.Close()  # the gun closes REACTION from now: when the TCP stands still
+    gun.signals.append(robot.time_s())
     closes_at = robot.time_s() + gun.reaction_s
     while robot.time_s() < closes_at - 1e-9:
         yield None
-    closed = _position(robot.tcp_pose(call.tool))
+        watch()
+    closed = positions[-1][1]
     yield None  # the TCP over the first cycle the gun holds the sheet: its speed and where it is
-    last = _position(robot.tcp_pose(call.tool))
+    watch()
+    last = positions[-1][1]
+    while still_s is None and robot.time_s() < reference_end_s + SETTLE_WAIT_S:
+        yield None
+        watch()
+    if still_s is not None:  # what this motion's settling was: the next weld's prediction
+        gun.settle_s[short] = max(-EARLY_S, still_s - reference_end_s)
+        gun.stops.append(still_s)
     speed = math.dist(last, closed) / robot.dt_s
     log = process_log(robot)
     offset = math.dist(last, (target.x, target.y, target.z)) if type(target) is Pose else 0.0
@@ -153,6 +211,16 @@ def weldmove(call: MotionCall) -> Iterator[Any]:
     gun.Open()
     gun.welds += 1
     log.welds.append(WeldRecord(gun.name, closes_at, last, speed, offset, True))
+
+
+def _speed_before(positions: list[tuple[float, tuple[float, float, float]]], window_s: float = STILL_WINDOW_S) -> float:
+    """The TCP's speed over the last `window_s` (m/s); infinite until that much has been watched."""
+    now_s, here = positions[-1]
+    for then_s, there in reversed(positions[:-1]):
+        if now_s - then_s >= window_s - 1e-9:
+            return math.dist(here, there) / (now_s - then_s)
+    return math.inf
+
 
 
 def _position(pose: Pose) -> tuple[float, float, float]:
