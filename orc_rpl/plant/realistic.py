@@ -176,7 +176,7 @@ class RealisticCell(SimCell):
         data = self._data
         self._ctrl[:] = tau_nm
         mj_step(self._model, data)
-        work, tau = self._work, data.actuator_force
+        work, tau = self._work, data.actuator_force[: self.n_joints]  # the external axes' drives come after
         multiply(tau, tau, work)
         add(self._tau_sq_sum, work, self._tau_sq_sum)
         self._steps += 1
