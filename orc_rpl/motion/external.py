@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -121,12 +121,19 @@ def external_axes_of(world: World) -> ExternalAxes | None:
     return ExternalAxes(limits, {n: a.home_si for n, a in axes.items()})  # type: ignore[union-attr]
 
 
-def coordinated_motion(world: World, frame: str, start: np.ndarray, target: np.ndarray, axes_from: Mapping[str, float],
-                       axes_to: Mapping[str, float], tool: np.ndarray | None = None) -> FunctionMotion:
-    """A straight TCP path relative to `frame` (a moving frame, or an object on one) while the axes move.
+def world_frame_in_base(world: World, frame: str) -> Callable[[Mapping[str, float]], np.ndarray]:
+    """A frame of the world (on a moving frame) in the robot's base frame, for given axis values."""
+    return lambda values: world.with_axes(values).relative_pose(frame, "robot").matrix()
 
-    `start` and `target` are 4x4 TCP poses in `frame`; the motion is in the robot's base frame, which the
-    track may carry: at path coordinate s the base, the frame and the TCP are where the axes are at s.
+
+def coordinated_motion(frame_in_base: Callable[[Mapping[str, float]], np.ndarray], start: np.ndarray, target: np.ndarray,
+                       axes_from: Mapping[str, float], axes_to: Mapping[str, float],
+                       tool: np.ndarray | None = None) -> FunctionMotion:
+    """A straight TCP path relative to a frame on a moving frame while the axes move (coordinated motion).
+
+    `start` and `target` are 4x4 TCP poses in that frame, `frame_in_base(values)` the frame in the robot's base
+    frame (which a track may carry) when the axes are at `values`: at path coordinate s the base, the frame
+    and the TCP are where the axes are at s.
     """
     slerp = Slerp([0.0, 1.0], Rotation.from_matrix(np.stack([start[:3, :3], target[:3, :3]])))
     cache: dict[float, Pose] = {}
@@ -138,7 +145,7 @@ def coordinated_motion(world: World, frame: str, start: np.ndarray, target: np.n
             rel = np.eye(4)
             rel[:3, :3] = slerp([s]).as_matrix()[0]
             rel[:3, 3] = start[:3, 3] + (target[:3, 3] - start[:3, 3]) * s
-            in_base = world.with_axes(values).relative_pose(frame, "robot").matrix() @ rel
+            in_base = frame_in_base(values) @ rel
             found = cache[s] = Pose.from_matrix(in_base)
         return found
 

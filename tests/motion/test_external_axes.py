@@ -12,7 +12,7 @@ import pytest
 from orc_rpl.arm.external import AxisLimits, ExternalAxisStage, StagedPathVelocityController, combine
 from orc_rpl.errors import UsageError
 from orc_rpl.motion import CartesianMotion, Params, make_virtual_motion_layer
-from orc_rpl.motion.external import coordinated_motion, external_axes_of, shortest_time_s
+from orc_rpl.motion.external import coordinated_motion, external_axes_of, shortest_time_s, world_frame_in_base
 from orc_rpl.plant.world_scene import cell_from_world
 from orc_rpl.world import load_world
 from orc_rpl.world.pose import Pose
@@ -38,7 +38,7 @@ def test_the_tcp_follows_the_seam_on_the_turning_plate_within_half_a_millimetre(
     a = world.relative_pose("plate.seam_start", "plate").matrix()
     b = world.relative_pose("plate.seam_end", "plate").matrix()
     targets = {"turn": math.pi / 2, "track": 0.2}
-    motion = coordinated_motion(world, "plate", a, b, {"turn": 0.0, "track": 0.0}, targets, tool)
+    motion = coordinated_motion(world_frame_in_base(world, "plate"), a, b, {"turn": 0.0, "track": 0.0}, targets, tool)
     h = layer.external.request(layer, motion, Params(), targets)
     p0, p1 = a[:3, 3], b[:3, 3]
     worst = 0.0
