@@ -245,7 +245,10 @@ class Machine:
         world = self.robot.tcp_pose(self.last_tool)
         pose = world if frame == "world" else Pose.from_matrix(np.linalg.inv(self.frame_matrix(frame)) @ world.matrix(), frame)
         # below a picometre and a picoradian is rounding noise of the transforms: PRINT HERE.z shows 0.2 m, not 0.19999999999999996 m
-        return Pose(*(round(v, 12) + 0.0 for v in (pose.x, pose.y, pose.z, pose.a, pose.b, pose.c)), frame=pose.frame)
+        world_model = self.options.cell_world
+        axes = () if world_model is None else tuple(sorted(
+            (k, round(v, 12) + 0.0) for k, v in self.axis_values().items() if world_model.object(k).axis.joint != "conveyor"))
+        return Pose(*(round(v, 12) + 0.0 for v in (pose.x, pose.y, pose.z, pose.a, pose.b, pose.c)), frame=pose.frame, axes=axes)
 
     # -- IO --------------------------------------------------------------------------------
 
