@@ -39,13 +39,13 @@ def check_file(path: str, registry=None, world: str | None = None) -> tuple[str 
         return text, check_offline(program, model, path, text, registry)
     if world is not None:  # an on-line program reads the soft and spatial attributes of the world it travels with
         from orc_rpl.transform.checks import load_world_file
-        from orc_rpl.transform.loading import world_attributes
+        from orc_rpl.transform.loading import moving_frames, world_attributes
 
         try:
             model = load_world_file(world)
         except SourceError as error:
             return error.source, error.diagnostics
-        return text, check_program(program, path, registry, world_attributes(model))
+        return text, check_program(program, path, registry, world_attributes(model), moving_frames(model))
     return text, check_program(program, path, registry)
 
 

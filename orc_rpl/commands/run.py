@@ -102,8 +102,9 @@ def check(program: Any, path: str, registry: Any, attributes: Any = None, cell_w
     ones; `cell_world`: the cell's world model, whose moving frames and external axes a program may name."""
     from orc_rpl.checking.checker import check_program
 
-    moving = None if cell_world is None else {n: cell_world.object(n).axis.joint for n in cell_world.moving_frames()}
-    return check_program(program, path, registry, attributes, moving)
+    from orc_rpl.transform.loading import moving_frames
+
+    return check_program(program, path, registry, attributes, None if cell_world is None else moving_frames(cell_world))
 
 
 def _fail_usage(message: str) -> int:

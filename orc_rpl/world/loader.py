@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 from orc_rpl.errors import Diagnostic, SourceError
@@ -9,7 +10,8 @@ from orc_rpl.world.axes import read_axis
 from orc_rpl.world.objects import FLANGE, NAME_RE, PREDEFINED, ROBOT as ROBOT_NAME, ModelAttributes, PathAttribute, Position, RobotEntry, WorldObject
 from orc_rpl.world.pose import WORLD, Pose
 from orc_rpl.world.source import MappingNode, Node, ScalarNode, SequenceNode, SourceText, did_you_mean
-from orc_rpl.world.values import BadValue, read_colour, read_lengths, read_pose, read_soft
+from orc_rpl.syntax.units import ANGLE, LENGTH, Quantity, magnitude
+from orc_rpl.world.values import BadValue, read_colour, read_lengths, read_number, read_pose, read_soft
 
 TOP_KEYS = ("robot", "world")
 ROBOT_KEYS = ("model", "pose", "parent")
@@ -43,6 +45,7 @@ class _Reader:
         self.src = src
         self.diags: list[Diagnostic] = []
         self.robot_parent_node: Node | None = None
+        self.axis_refs: list[tuple[ScalarNode, Node, object]] = []   #: positions' axis values, checked at the end
 
     def bad(self, node: Node | None, message: str, hint: str = "") -> None:
         self.diags.append(self.src.diagnostic(node, message, hint))
@@ -216,9 +219,30 @@ class _Reader:
     def frames(self, owner: str, node: Node) -> tuple[Position, ...]:
         out = []
         for key, value in self.entries(node, "frames"):
+            axes: tuple[tuple[str, float], ...] = ()
+            if isinstance(value, SequenceNode) and len(value.value) == 7 and isinstance(value.value[6], MappingNode):
+                # [x, y, z, a, b, c, {track: 200mm}]: a position carrying external-axis values
+                axes = self.axis_values(value.value[6])
+                value = type(value)(value.tag, value.value[:6], value.start_mark, value.end_mark, flow_style=value.flow_style)
             pose = self.pose(value, owner)
             if pose is not None:
-                out.append(Position(key.value, pose, self.src.location(key)))
+                out.append(Position(key.value, dataclasses.replace(pose, axes=axes), self.src.location(key)))
+        return tuple(out)
+
+    def axis_values(self, node: MappingNode) -> tuple[tuple[str, float], ...]:
+        """`{track: 200mm, turn: 90deg}`: the external-axis values of a position, in the order written (checked
+        against the moving frames once every object is read)."""
+        out = []
+        for key, value in node.value:
+            if not self.check_name(key, "axis"):
+                continue
+            try:
+                number = read_number(value, f"the value of axis '{key.value}'")
+            except BadValue as exc:
+                self.diags.append(exc.diagnostic(self.src))
+                continue
+            out.append((key.value, float(magnitude(number))))
+            self.axis_refs.append((key, value, number))
         return tuple(out)
 
     def paths(self, owner: str, node: Node, frames: tuple[Position, ...]) -> tuple[PathAttribute, ...]:
@@ -334,6 +358,15 @@ class _Reader:
                          did_you_mean(robot.parent, list(by_name)) or "the robot rides on an object of the world (a track)")
             elif name in (ROBOT_NAME, FLANGE):
                 self.bad(node, f"the robot cannot ride on '{robot.parent}', which hangs on the robot itself")
+        axes = {o.name: o.axis for o in objects if o.axis is not None and o.axis.joint != "conveyor"}
+        for key, value, number in self.axis_refs:
+            axis = axes.get(key.value)
+            if axis is None:
+                self.bad(key, f"unknown external axis '{key.value}'",
+                         did_you_mean(key.value, list(axes)) or "an axis is an object with 'axis:' (not a conveyor)")
+            elif isinstance(number, Quantity) and number.dim != (ANGLE if axis.rotary else LENGTH):
+                self.bad(value, f"axis '{key.value}' is {'rotary' if axis.rotary else 'linear'}: its value is "
+                         f"{'an angle' if axis.rotary else 'a length'}, got '{value.value}'")
         for obj in objects:
             if obj.axis is None:
                 continue
