@@ -133,6 +133,8 @@ def run(args: argparse.Namespace) -> int:
                       {"--log": args.log, "--plot": args.plot, "--summary-json": args.summary_json})
         # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
+        if args.world is None and not is_offline(args.file):
+            world_file = _declared_cell(args.file)  # an on-line program's `-- world: FILE` line names its cell
         source, program, attributes = load_program_and_attributes(args.file, world_file)
         program = override_constants(program, args.set)
         cell = None if is_offline(args.file) or args.port is not None else _world_cell(world_file, args.robot)
@@ -179,6 +181,18 @@ def _world_cell(world_file: str | None, robot: str) -> Any:
     if robot not in ("irb2400", model):  # --robot's default gives way to the world's robot
         raise UsageError(f"--robot {robot} differs from the robot of the world model '{world_file}' ({model})")
     return cell_from_world(world, model)
+
+
+def _declared_cell(path: str) -> str | None:
+    from orc_rpl.syntax.files import declared_cell
+    from orc_rpl.syntax.reading import read_text
+
+    try:
+        text = read_text(path, "program")
+    except OrcError:
+        return None  # reading the program reports it
+    cell = declared_cell(path, text)
+    return None if cell is None else str(cell)
 
 
 def _moving_world(world_file: str | None) -> Any:

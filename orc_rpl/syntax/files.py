@@ -64,6 +64,17 @@ def parse_file(path: str | Path) -> tuple[str, n.Program]:
     return text, parse_text(text, path)
 
 
+def declared_cell(path: str | Path, text: str) -> Path | None:
+    """The cell an on-line program runs in, named by a `-- world: FILE` line among its leading comments (relative to
+    the program), or None; `--world FILE` given to a command takes its place."""
+    comments = []
+    for line in text.splitlines():
+        if not line.startswith("--"):
+            break
+        comments.append("#" + line[2:])
+    return declared_world(path, "\n".join(comments)) if comments else None
+
+
 def declared_world(path: str | Path, text: str) -> Path | None:
     """The world named by a `# world: FILE` line among the program's leading comments (relative to the program).
 
