@@ -99,7 +99,8 @@ class CellRobot:
             self.io.update(self.layer.now_s())
 
     def pending(self) -> int:
-        return self.layer.pending()
+        external = self.layer.external
+        return self.layer.pending() + int(external is not None and external.solo is not None)  # axes moving alone
 
     def stop(self) -> None:
         if not self.layer.idle():

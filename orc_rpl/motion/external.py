@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation, Slerp
 
 from orc_rpl.arm.external import AxisLimits, ExternalAxisStage
 from orc_rpl.errors import UsageError
-from orc_rpl.motion.specs import FunctionMotion, Motion, Params
+from orc_rpl.motion.specs import FunctionMotion, Motion, MoveStatus, Params
 from orc_rpl.world.pose import Pose
 from orc_rpl.world.world import World
 
@@ -25,6 +25,12 @@ from orc_rpl.world.world import World
 DX = 1e-4
 #: Margin on an axis' shortest time (speed and acceleration limits) when it sets a move's least duration.
 TIME_MARGIN = 1.15
+
+
+def solo_time_s(distance: float, limits: AxisLimits) -> float:
+    """The duration of a cosine profile over `distance` within a speed and an acceleration limit."""
+    d = abs(distance)
+    return max(math.pi * d / (2.0 * limits.speed_si), math.pi * math.sqrt(d / (2.0 * limits.acceleration_si)))
 
 
 def shortest_time_s(distance: float, limits: AxisLimits) -> float:
@@ -43,6 +49,9 @@ class ExternalAxes:
         self.planned = dict(home)                       #: where the axes are when every accepted move is done
         self.moves: dict[int, tuple[dict[str, float], dict[str, float]]] = {}   #: move id -> (from, to)
         self._last: tuple[float, float] | None = None   #: path state at the last cycle's end (x, s')
+        #: a move of the axes alone while the arm stands (a jog, a positioner turned under a still TCP):
+        #: (handle, start values, end values, elapsed s, duration s), timed by the axes' own limits
+        self.solo: tuple[Any, dict[str, float], dict[str, float], float, float] | None = None
 
     def request(self, layer: Any, motion: Motion, params: Params, targets: Mapping[str, float],
                 actions: Any = None) -> Any:
@@ -59,9 +68,20 @@ class ExternalAxes:
         handle = layer.move(motion, params, actions)
         if handle.done:
             self.moves.pop(handle.id, None)
+            if handle.status is MoveStatus.READY and end != start:  # the arm has nowhere to go: the axes move alone
+                handle.done, handle.status = False, MoveStatus.SPAWNED
+                self.move_alone(handle, end)
         else:
             self.planned = end
         return handle
+
+    def move_alone(self, handle: Any, targets: Mapping[str, float]) -> None:
+        """Move axes while the arm stands still (from where they will be); `handle` is done when they arrive."""
+        start = dict(self.planned)
+        end = {**start, **{k: float(v) for k, v in targets.items()}}
+        duration = max((solo_time_s(end[k] - start[k], self.limits[k]) for k in end), default=0.0)
+        self.solo = (handle, start, end, 0.0, max(duration, 1e-9))  # handle None: nobody waits (a jog)
+        self.planned = end
 
     # -- in the motion cycle -----------------------------------------------------------
 
@@ -100,11 +120,33 @@ class ExternalAxes:
             return
         if x is None or not stages:
             self._last = None
+            if x is None and self.solo is not None:
+                drive(self._solo_step(period_s), period_s)
+                return
             drive({}, period_s)
             return
         sdd = 0.0 if self._last is None else (sd - self._last[1]) / period_s
         self._last = (x, sd)
         drive({s.name: s.reference(x, sd, sdd) for s in stages}, period_s)
+
+    def _solo_step(self, period_s: float) -> dict[str, tuple[float, float, float]]:
+        """The references of a move of the axes alone at the end of this cycle: a cosine profile in time."""
+        assert self.solo is not None
+        handle, start, end, elapsed, duration = self.solo
+        t = min(elapsed + period_s, duration)
+        w = math.pi / duration
+        out = {}
+        for name in end:
+            d = end[name] - start[name]
+            out[name] = (start[name] + 0.5 * d * (1.0 - math.cos(w * t)), 0.5 * d * w * math.sin(w * t),
+                         0.5 * d * w * w * math.cos(w * t))
+        if t >= duration:
+            self.solo = None
+            if handle is not None:
+                handle.done, handle.status = True, MoveStatus.READY
+        else:
+            self.solo = (handle, start, end, t, duration)
+        return out
 
     def finished(self, move_id: int) -> None:
         """A move is done: forget its axis profile."""
