@@ -15,7 +15,7 @@ import numpy as np
 #: Prefix of every axis element in the built scene ("axis/turn").
 AXIS_PREFIX = "axis/"
 #: Closed-loop bandwidth of an axis drive (rad/s): critically damped, kp = m w^2, kv = 2 m w.
-DRIVE_BANDWIDTH_RAD_S = 200.0
+DRIVE_BANDWIDTH_RAD_S = 300.0
 
 
 @dataclass(frozen=True, slots=True)
