@@ -143,13 +143,14 @@ class MotionPipeline:
         """A path velocity controller for a trajectory timed along its path, when its first move asks for one."""
         dynamics = getattr(self.backend, "path_dynamics", None)
         self._stages = self.external.stages(traj, handles) if self.external is not None and traj.kind == "path" else []
+        wanted = handles[0].params.path_velocity if handles else None
+        arm_control = self.path_velocity_control if wanted is None else wanted
         if self._stages:  # external axes in the same path coordinate: the combined range (thesis fig. 5.6)
             return StagedPathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
-                                                dynamics, self.kin.arm.tau_max, self._stages)
+                                                dynamics if arm_control else None, self.kin.arm.tau_max, self._stages)
         if traj.kind != "path" or dynamics is None or not handles:
             return None
-        wanted = handles[0].params.path_velocity
-        if not (self.path_velocity_control if wanted is None else wanted):
+        if not arm_control:
             return None
         return PathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
                                       dynamics, self.kin.arm.tau_max)
