@@ -27,7 +27,7 @@ class AxisLimits:
 
     speed_si: float
     acceleration_si: float
-    lag_s: float = 0.0   #: its drive's time lag: how long after its reference the axis follows a ramp uncompensated
+    lag_s: float = 0.0   #: how long after its reference the axis follows (what its drive's lead leaves; 0: none)
 
 
 class ExternalAxisStage:
@@ -78,6 +78,10 @@ class StagedPathVelocityController(PathVelocityController):
     def admissible(self, x: float, sd: float, cycle: int | None = None) -> tuple[float, float]:
         arm = super().admissible(x, sd, cycle)
         return combine([arm, *(stage.admissible(x, sd) for stage in self.stages)])
+
+    def lag_s(self) -> float:
+        """The time lag through the stages: the largest of the arm's and each axis' own (thesis 5.3)."""
+        return max(super().lag_s(), *(stage.lag_s() for stage in self.stages))
 
 
 def _no_dynamics(q: np.ndarray, d1: np.ndarray, d2: np.ndarray, sd: float) -> tuple[np.ndarray, np.ndarray]:

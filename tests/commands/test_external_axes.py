@@ -9,20 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from orc_rpl.cli import main
 from orc_rpl.errors import SourceError
 from orc_rpl.world import loads_world
+from tests.commands.test_hardening import orc
 from tests.conftest import ROOT
 
 CELL = ROOT / "worlds" / "positioner_cell.yaml"
-
-
-def orc(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str]:
-    code = main(list(argv))
-    captured = capsys.readouterr()
-    text = captured.out + captured.err
-    assert "Traceback" not in text and "internal error" not in text, text
-    return code, text
 
 
 def test_the_positioner_demo_ends_on_the_seam_of_the_turned_plate(capsys: pytest.CaptureFixture[str]) -> None:
