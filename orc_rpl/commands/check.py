@@ -22,9 +22,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
 
 def _cell_of(path: str, text: str) -> str | None:
     """The cell named by an on-line program's `-- world: FILE` line, or None."""
-    from orc_rpl.syntax.files import declared_cell
-
-    cell = declared_cell(path, text)
+    cell = declared_world(path, text)
     return None if cell is None else str(cell)
 
 
@@ -45,7 +43,10 @@ def check_file(path: str, registry=None, world: str | None = None) -> tuple[str 
         except SourceError as error:
             return error.source, error.diagnostics
         return text, check_offline(program, model, path, text, registry)
-    world = world if world is not None else _cell_of(path, text)
+    try:
+        world = world if world is not None else _cell_of(path, text)
+    except SourceError as error:  # a `-- world:` line naming no world model
+        return error.source, error.diagnostics
     if world is not None:  # an on-line program reads the soft and spatial attributes of the world it travels with
         from orc_rpl.transform.checks import load_world_file
         from orc_rpl.transform.loading import moving_frames, world_attributes

@@ -115,7 +115,7 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
-    from orc_rpl.syntax.files import is_offline
+    from orc_rpl.syntax.files import declared_world, is_offline
     from orc_rpl.transform.loading import load_program_and_attributes
     from orc_rpl.transform.overrides import override_constants
 
@@ -139,6 +139,11 @@ def run(args: argparse.Namespace) -> int:
         program = override_constants(program, args.set)
         cell = None if is_offline(args.file) or args.port is not None else _world_cell(world_file, args.robot)
         cell_world = _moving_world(world_file) if cell is not None else None
+        if is_offline(args.file) and args.port is None:
+            # an off-line program whose world has a track or a positioner runs in that world's cell
+            offline_world = world_file or declared_world(args.file, source)
+            cell_world = _moving_world(str(offline_world) if offline_world is not None else None)
+            cell = _world_cell(str(offline_world), args.robot) if cell_world is not None else None
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
@@ -184,14 +189,14 @@ def _world_cell(world_file: str | None, robot: str) -> Any:
 
 
 def _declared_cell(path: str) -> str | None:
-    from orc_rpl.syntax.files import declared_cell
+    from orc_rpl.syntax.files import declared_world
     from orc_rpl.syntax.reading import read_text
 
     try:
         text = read_text(path, "program")
     except OrcError:
         return None  # reading the program reports it
-    cell = declared_cell(path, text)
+    cell = declared_world(path, text)
     return None if cell is None else str(cell)
 
 

@@ -36,6 +36,12 @@ def test_the_track_demo_reaches_the_station_with_the_track_moved(capsys: pytest.
     assert track == pytest.approx(0.35, abs=1e-4)
 
 
+def test_an_offline_program_with_a_positioner_runs_in_its_worlds_cell(capsys: pytest.CaptureFixture[str]) -> None:
+    code, text = orc(capsys, "run", str(ROOT / "programs/offline/positioner.orl"))
+    assert code == 0, text
+    assert "final TCP: (950.0, 100.0, 480.0) mm" in text
+
+
 BAD = """\
 FRAME plate = POSE(0, 0, 0, 0, 0, 0) IN turn
 POS a = AXES(POSE(100mm, 50mm, 30mm, 0, 180deg, 0), trun = 90deg)
