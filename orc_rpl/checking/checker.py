@@ -453,16 +453,24 @@ def _describe(expr: n.Expression) -> str:
 
 
 def check_program(program: n.Program, path: str = "<input>", registry: Registry | None = None,
-                  world_attributes: Mapping[str, Mapping[str, object]] | None = None) -> list[Diagnostic]:
+                  world_attributes: Mapping[str, Mapping[str, object]] | None = None,
+                  moving_frames: Mapping[str, str] | None = None) -> list[Diagnostic]:
     """Every static error of a program, in file order (empty when the program is clean).
 
     `world_attributes` (object -> soft and spatial attributes) are the program's world: `pallet.next_row` is checked
-    against it; without it such a field is an error.
+    against it; without it such a field is an error. `moving_frames` (name -> linear, rotary or conveyor) are the
+    cell's moving frames: frames a program may name (`FRAME part = POSE(...) IN turn`) and, but for conveyors, the
+    external axes AXES(p, ...) may give values to; None when the cell is not known (axis names are not checked).
     """
     registry = registry or default_registry()
     checker = Checker(path, registry)
     checker.types.world_attributes = world_attributes or {}
-    scope = Scope(parent=builtin_scope(list(registry.functions)))
+    builtins = builtin_scope(list(registry.functions))
+    if moving_frames is not None:
+        checker.types.external_axes = {k: v for k, v in moving_frames.items() if v != "conveyor"}
+        for name in moving_frames:
+            builtins.symbols[name] = Symbol(name, "frame", StaticType("frame", frame=WORLD))
+    scope = Scope(parent=builtins)
     checker.collect(program.body, scope, top_level=True)
     checker.check_body(program.body, scope, WORLD)
     checker.finish(scope)

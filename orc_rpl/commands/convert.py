@@ -70,7 +70,7 @@ def convert(args: argparse.Namespace) -> dict[str, str]:
             outputs[args.online_world] = job.world.dump()
         return outputs
     world = load_world_file(args.world) if args.world and Path(args.world).exists() else None
-    _refuse_check_errors(program, text, args.file, None)
+    _refuse_check_errors(program, text, args.file, None, world)
     job = to_offline(program, world, args.file, move_declarations=True)
     result = job.program
     if args.world:
@@ -84,14 +84,18 @@ def convert(args: argparse.Namespace) -> dict[str, str]:
     return outputs
 
 
-def _refuse_check_errors(program: n.Program, text: str, path: str, world) -> None:  # type: ignore[no-untyped-def]
-    """A program `orc check` rejects is not converted: its errors, as `orc check` prints them."""
+def _refuse_check_errors(program: n.Program, text: str, path: str, world, cell=None) -> None:  # type: ignore[no-untyped-def]
+    """A program `orc check` rejects is not converted: its errors, as `orc check` prints them (an on-line program in
+    the cell `cell`, whose moving frames it may name)."""
     from orc_rpl.application.registry import default_registry
     from orc_rpl.checking.checker import check_program
     from orc_rpl.transform.checks import check_offline
 
     registry = default_registry()
-    found = check_offline(program, world, path, text, registry) if world is not None else check_program(program, path, registry)
+    from orc_rpl.transform.loading import moving_frames
+
+    found = (check_offline(program, world, path, text, registry) if world is not None else
+             check_program(program, path, registry, moving_frames=moving_frames(cell) if cell is not None else None))
     if found:
         raise SourceError(found, text)
 

@@ -21,7 +21,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                     "after a crash, the next start offers to recover it. When standard input is not a terminal, "
                     "its lines are run one by one as if typed (exit 1 if one failed).")
     parser.add_argument("file", metavar="FILE", nargs="?", help="program file (.rpl); created on :save if missing")
-    parser.add_argument("--world", metavar="DIR", help="folder with the program's simulated-IO script (<name>.sim.yaml)")
+    parser.add_argument("--world", metavar="DIR|FILE", help="folder with the program's simulated-IO script (<name>.sim.yaml), "
+                        "or the world model (YAML) of the cell: its tracks and positioners are jogged with :jog axis NAME AMOUNT")
     parser.add_argument("--robot", metavar="NAME", default="irb2400", help="robot model (default irb2400)")
     parser.add_argument("--backend", choices=("servo", "kinematic"), default="servo",
                         help="servo: MuJoCo cell with servo loops (default); kinematic: fast, no :snapshot")
@@ -62,8 +63,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         if args.robot not in ROBOTS:
             raise UsageError(f"--robot: unknown robot {args.robot!r}; known robots: {', '.join(ROBOTS.names())}")
-        if args.world is not None and not Path(args.world).is_dir():
-            raise UsageError(f"--world: '{args.world}' is not a directory")
+        if args.world is not None and not Path(args.world).is_dir() and not Path(args.world).is_file():
+            raise UsageError(f"--world: '{args.world}' is neither a directory nor a world model file")
         if args.file is not None and Path(args.file).suffix != ".rpl":
             raise UsageError(f"'{args.file}': a program file must end in .rpl")
         if args.file is not None and Path(args.file).is_dir():
@@ -84,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from orc_rpl.commands.run import simulated_plant
+    from orc_rpl.commands.run import _moving_world, _world_cell, simulated_plant
     from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.sim_io import load_script, script_path
     from orc_rpl.motion.sensors import SensorManager
@@ -96,8 +97,14 @@ def _run(args: argparse.Namespace) -> int:
     if args.port is not None:
         robot = PendantRobot(bus_robot.connect(args, record=False))  # a real (or emulated) arm on a servo bus
     else:
-        robot = PendantRobot(CellRobot.virtual(args.robot, backend=args.backend, plant=simulated_plant(args, args.robot),
-                                               seed=args.seed))
+        world_file = args.world if args.world is not None and Path(args.world).is_file() else None
+        cell = _world_cell(world_file, args.robot)
+        name = cell.robot if cell is not None else args.robot
+        cell_robot = CellRobot.virtual(name, backend=args.backend, plant=simulated_plant(args, name), seed=args.seed, cell=cell)
+        cell_world = _moving_world(world_file)
+        if cell_world is not None:
+            cell_robot.attach_world(cell_world)  # its tracks and positioners: jogged, taught, moved with the arm
+        robot = PendantRobot(cell_robot)
         # A simulated session touches no device unless asked (the manager INSTALL would otherwise make for this robot).
         robot.sensors = SensorManager(allow_devices=args.allow_devices)  # type: ignore[attr-defined]
     session = PendantSession(args.file, robot=robot, synchronous=not interactive)
@@ -108,7 +115,7 @@ def _run(args: argparse.Namespace) -> int:
                          "start with --recover or --discard")
         message = _ask_recovery(session, args)
         if args.file is not None:
-            io_script = script_path(args.file, args.world)
+            io_script = script_path(args.file, args.world if args.world is None or Path(args.world).is_dir() else None)
             if io_script is not None:
                 load_script(io_script, robot.io, lambda: robot.tcp_pose(session.execution.tool_pose()))
         if not interactive:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
@@ -56,6 +57,17 @@ class CellRobot:
         self.sensors = _sensor_manager(self)
         layer.sensors = self.sensors
         self.gripper_angles_rad: dict[int, float] = {}  #: servo grippers on the simulated cell (ideal)
+        self.axes: Any = None  #: the cell's moving frames (executive.cell_axes.CellAxes), after attach_world
+
+    def attach_world(self, world: Any) -> None:
+        """The cell's world model with moving frames: the robot drives its external axes and knows where its base is."""
+        from orc_rpl.executive.cell_axes import CellAxes
+
+        self.axes = CellAxes(world, self.layer)
+
+    def axis_values(self) -> dict[str, float]:
+        """Where the cell's moving frames are now (m or rad); empty without any."""
+        return {} if self.axes is None else self.axes.values()
 
     @classmethod
     def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False,
@@ -87,14 +99,18 @@ class CellRobot:
             self.io.update(self.layer.now_s())
 
     def pending(self) -> int:
-        return self.layer.pending()
+        external = self.layer.external
+        return self.layer.pending() + int(external is not None and external.solo is not None)  # axes moving alone
 
     def stop(self) -> None:
         if not self.layer.idle():
             self.layer.stop_move(by="program")
 
     def tcp_pose(self, tool: Pose | None) -> Pose:
-        return Pose.from_matrix(self.layer.tcp_pose(_tool_matrix(tool)))
+        tcp = self.layer.tcp_pose(_tool_matrix(tool))
+        if self.axes is not None:  # the track carries the base: the program's world is not the base frame
+            tcp = self.axes.base(self.axes.values()) @ tcp
+        return Pose.from_matrix(tcp)
 
     def joints(self) -> tuple[float, ...]:
         return tuple(float(q) for q in self.layer.current_q())
@@ -147,7 +163,16 @@ class CellRobot:
             actions = _application_actions(request, ticket, actions)
         if request.correction is not None:
             actions = _correction_action(request, layer, tool, actions)
-        if request.short and request.kind in ("joint", "linear") and not request.via and request.until is None \
+        if self.axes is not None and (request.axes or request.frame_of is not None):
+            handles.append(self.axes.submit(request, tool, params, actions))
+            request = None  # type: ignore[assignment]
+        elif self.axes is not None:  # targets in the program's world, in the base frame where the track will be
+            planned = self.axes.planned()
+            request = dataclasses.replace(request, target=_based(self.axes, request.target, planned),
+                                          via=tuple(_based(self.axes, p, planned) for p in request.via))
+        if request is None:
+            pass
+        elif request.short and request.kind in ("joint", "linear") and not request.via and request.until is None \
                 and type(request.target) is Pose:
             # ShortMove: jerk- and acceleration-limited, dynamics taken as constant, always FINE
             motion = CartesianMotion(target=request.target, kind=request.kind, tool=tool)  # type: ignore[arg-type]
@@ -169,6 +194,11 @@ class CellRobot:
             if h.status is MoveStatus.ILLEGAL:
                 raise PlanningError(f"the motion layer refused the move (mode {layer.get_mode().value})")
         return ticket
+
+
+def _based(axes: Any, point: Any, values: dict[str, float]) -> Any:
+    """A world pose in the base frame where the axes will be; joints and functions as they are."""
+    return axes.in_base(point, values) if type(point) is Pose else point
 
 
 def _sensor_manager(robot: Any) -> Any:

@@ -40,6 +40,9 @@ class MotionCompiler:
                     where = f"inside FRAME {frame}" if frame != "world" else "outside every FRAME block (relative to world)"
                     raise RunError(f"{keyword}: the {role} is relative to {value.frame}, but this motion is {where}; "
                                    "nothing moved")
+                if role != "target" and (value.axes or m.moving_frame_of(value.frame)):
+                    raise RunError(f"{keyword}: a {role} cannot carry external-axis values or lie on a moving frame; "
+                                   "give them to the target")
                 return m.to_world(value)
             if type(value) is Joints:
                 return value
@@ -56,6 +59,7 @@ class MotionCompiler:
             tool_value = tool(L)
             tool_pose = resolve_tool(tool_value)
             resolve_target = None
+            coordination = None
             if spec.output_functions and target is not None:
                 goal = None  # the target may use the output bindings (DropPositions[Id]): evaluated later
 
@@ -63,7 +67,9 @@ class MotionCompiler:
                     m.globals.update(bindings)
                     return position(target(L), "target")
             else:
-                goal = position(target(L), "target") if target is not None else None
+                raw = target(L) if target is not None else None
+                coordination = axes_target(m, raw, keyword)
+                goal = coordination[0] if coordination is not None else position(raw, "target") if raw is not None else None
             along = None
             if path is not None:
                 points = path(L)
@@ -88,6 +94,8 @@ class MotionCompiler:
             except BehaviourError as error:
                 raise RunError(f"{keyword}: {error}") from None
             m.motion_span = span
+            if coordination is not None and resolve_target is None:
+                requests = with_axes(requests, coordination, keyword)
             if isinstance(requests, GeneratorType):
                 m.last_tool = tool_pose
                 yield from self.procedure(keyword, requests)
@@ -207,3 +215,40 @@ def resolve_tool(value: Any) -> Pose:
             raise RunError(f"{value.name} is installed but not mounted as a TOOL; declare TOOL {value.name} = POSE(...) first")
         return value.tool
     raise RunError(f"the tool must be a TOOL, ARM or installed equipment, got {type_name(value)}")
+
+
+def axes_target(m: Machine, value: Any, keyword: str) -> tuple[Pose, dict[str, Any]] | None:
+    """A target with external-axis values or on a moving frame: its world pose where the axes will be, and what the
+    robot needs to move the arm and the axes in one path coordinate; None for any other target."""
+    if type(value) is not Pose:
+        return None
+    moving = m.moving_frame_of(value.frame)
+    if not value.axes and moving is None:
+        return None
+    if m.options.cell_world is None:
+        raise RunError(f"{keyword}: the target carries external-axis values, but the cell has no external axes "
+                       "(run with --world FILE of a cell with a track or a positioner)")
+    world = m.options.cell_world
+    known = set(world.moving_frames())
+    for name, _ in value.axes:
+        if name not in known:
+            raise RunError(f"{keyword}: the cell has no external axis '{name}'")
+    end = {**m.axis_values(), **dict(value.axes)}
+    goal = Pose.from_matrix(m.frame_matrix(value.frame, end) @ value.matrix(), "world")
+    extra: dict[str, Any] = {"axes": value.axes}
+    if moving is not None:
+        frame, local = value.frame, value.with_frame(value.frame)
+        extra["frame_of"] = lambda values: Pose.from_matrix(m.frame_matrix(frame, values), "world")
+        extra["target_in_frame"] = Pose(local.x, local.y, local.z, local.a, local.b, local.c, frame)
+    return goal, extra
+
+
+def with_axes(requests: Any, coordination: tuple[Pose, dict[str, Any]], keyword: str) -> Any:
+    """The motion's last request carrying the axis targets (and the moving frame) of its target."""
+    import dataclasses
+
+    if isinstance(requests, GeneratorType) or not requests:
+        raise RunError(f"{keyword} does not move external axes; use MOVE or LMOVE for a target with axis values")
+    listed = list(requests) if isinstance(requests, (list, tuple)) else [requests]
+    listed[-1] = dataclasses.replace(listed[-1], **coordination[1])
+    return listed

@@ -78,6 +78,22 @@ class ServoBackend:
         self.loop.set_drives(on)
         self._state = self.loop.state()
 
+    def drive_axes(self, references: dict[str, tuple[float, float, float]], period_s: float) -> None:
+        """The external axes' references (position, speed, acceleration) at the end of the next motion cycle;
+        none: the drives hold where they are."""
+        axes = getattr(self.loop.cell, "axes", None)
+        if axes is None:
+            return
+        if not references:
+            axes.hold()
+            return
+        axes.command({name: axes.axes[name].command(*ref) for name, ref in references.items()}, period_s)
+
+    def axis_values(self) -> dict[str, float]:
+        """Where the external axes are (m or rad), measured; empty when the cell has none."""
+        axes = getattr(self.loop.cell, "axes", None)
+        return {} if axes is None else axes.values()
+
     def set_control_payload(self, mass_kg: float) -> None:
         """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
         self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)

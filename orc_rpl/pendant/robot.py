@@ -122,7 +122,11 @@ class PendantRobot:
         from orc_rpl.world.pose import Pose
 
         matrix = None if tool is None else tool.matrix()
-        return Pose.from_matrix(self.layer.fk(self.layer.reference_q(), matrix))
+        tcp = self.layer.fk(self.layer.reference_q(), matrix)
+        axes = getattr(self.cell, "axes", None)
+        if axes is not None:  # the track carries the base: where the axes are commanded to be
+            tcp = axes.base(axes.planned()) @ tcp
+        return Pose.from_matrix(tcp)
 
     def joints_deg(self) -> tuple[float, ...]:
         return tuple(float(np.degrees(q)) for q in self.joints())

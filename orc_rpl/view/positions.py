@@ -39,13 +39,14 @@ def world_transforms(name: str, value: Any, executive: Executive) -> list[tuple[
     return []
 
 
-def evaluate_declarations(program: n.Program, robot: Any, registry: Any, path: str = "<program>") -> Executive:
+def evaluate_declarations(program: n.Program, robot: Any, registry: Any, path: str = "<program>", options: Any = None) -> Executive:
     """Run only the program's top-level declarations (nothing moves): their values are then the executive's globals.
 
     ENUMs and routines come along (a declaration may use them). A declaration that fails leaves the executive
     failed with its error (status "failed", `report()`).
     """
     only = tuple(s for s in program.body if isinstance(s, n.Declaration | n.EnumDecl | n.Routine))
-    executive = Executive(dataclasses.replace(program, body=only), robot, registry, path=path, output=lambda line: None)
+    executive = Executive(dataclasses.replace(program, body=only), robot, registry, path=path, output=lambda line: None,
+                          options=options)
     executive.run()
     return executive

@@ -151,9 +151,12 @@ def format_angle(value_rad: float) -> str:
     return "0" if text == "0" else f"{text}deg"
 
 
-def format_pose(pose: Pose) -> str:
-    """`[1200mm, 300mm, 750mm, 0, 0, 90deg]`: the flow list a world file writes for a pose."""
+def format_pose(pose: Pose, rotary: frozenset[str] | set[str] = frozenset()) -> str:
+    """`[1200mm, 300mm, 750mm, 0, 0, 90deg]`: the flow list a world file writes for a pose; a position with
+    external-axis values gets them last, `{track: 200mm, turn: 90deg}` (`rotary`: the axes that take angles)."""
     parts = [format_length(v) for v in (pose.x, pose.y, pose.z)] + [format_angle(v) for v in (pose.a, pose.b, pose.c)]
+    if pose.axes:
+        parts.append("{" + ", ".join(f"{k}: {format_angle(v) if k in rotary else format_length(v)}" for k, v in pose.axes) + "}")
     return "[" + ", ".join(parts) + "]"
 
 

@@ -46,6 +46,8 @@ def register(registry: Registry) -> None:
         FunctionSpec("POSE", "a pose: translation and rotation Rz(a)*Ry(b)*Rx(c)",
                      (_p("x", LENGTH), _p("y", LENGTH), _p("z", LENGTH), _p("a", ANGLE), _p("b", ANGLE), _p("c", ANGLE)),
                      returns="pose"),
+        FunctionSpec("AXES", "a position with external-axis values: AXES(p, track = 200mm, turn = 90deg)",
+                     (_p("p", "pose"),), returns="pose", variadic=True),
         FunctionSpec("JOINTS", "a joint-space position, one value per axis", (_p("q1", ANGLE, LENGTH),), returns="joints",
                      variadic=True),
         FunctionSpec("TRANSL", "a pure translation", (_p("x", LENGTH), _p("y", LENGTH), _p("z", LENGTH)), returns="pose"),
