@@ -57,6 +57,9 @@ class MotionRequest:
     #: path correction (TRACKMOVE), called every motion cycle: the TCP offset (world, m) from the planned path
     #: to apply from the next cycle on, or None to stop the motion on its path (the sensor lost the seam)
     correction: Callable[[MotionView], tuple[float, float, float] | None] | None = None
+    #: how well the program knows the motion (KNOWN): "completely" and "almost" known motions are planned ahead,
+    #: "almost" and "partly" leave part of the limits to sensor corrections, "not" is generated at run time
+    known: str = "completely"
 
 
 class MoveTicket(Protocol):

@@ -265,6 +265,10 @@ class Checker:
                 return
         if not accepts(attribute.types, value):
             self.report(clause.value, f"attribute {attribute.name} of {stmt.keyword} expects {describe_types(attribute.types)}, got {value}")
+        elif attribute.literal_check is not None and isinstance(clause.value, n.String):
+            problem = attribute.literal_check(clause.value.value)
+            if problem is not None:
+                self.report(clause.value, f"attribute {attribute.name} of {stmt.keyword}: {problem}")
 
     def _Assign(self, stmt: n.Assign, scope: Scope, frame: str) -> None:
         value = self.infer(stmt.value, scope, frame)

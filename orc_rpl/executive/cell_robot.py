@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
 
 from orc_rpl.application.runtime import FunctionParam, MotionRequest, MotionView, Sample
 from orc_rpl.errors import OrcError, PlanningError
-from orc_rpl.motion import ActionSlot, Actions, CartesianMotion, FuncParams, FunctionMotion, JointMotion, MotionData, MotionLayer, MoveStatus, Params
+from orc_rpl.motion import (ActionSlot, Actions, CartesianMotion, Computation, FuncParams, FunctionMotion, JointMotion, Known,
+                            MotionData, MotionLayer, MoveStatus, Params)
 from orc_rpl.plant.io import CellIO
 from orc_rpl.world.pose import Joints, Pose
 
@@ -56,6 +58,7 @@ class CellRobot:
         self.sensors = _sensor_manager(self)
         layer.sensors = self.sensors
         self.gripper_angles_rad: dict[int, float] = {}  #: servo grippers on the simulated cell (ideal)
+        self._ahead: tuple[MotionRequest, int] | None = None  #: the request planned ahead and its descriptor
 
     @classmethod
     def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False,
@@ -134,11 +137,48 @@ class CellRobot:
                          load_kg: float) -> tuple[float, ...]:
         return tuple(float(t) for t in self.layer.dynamics(np.array(q), np.array(qd), np.array(qdd), load_kg).torque_nm)
 
+    def plan_ahead(self, request: MotionRequest) -> bool:
+        """Start planning `request` on the motion layer's worker, to follow the moves accepted so far (thesis 5.2,
+        computation save); submit() uses the plan when it is given the same request and the robot is where the plan
+        starts. False when the request is not planned ahead (partly or not known, a FUNC in it, several pieces)."""
+        params = _params(request)
+        motion = self._single_motion(request)
+        if motion is None or type(params) is not Params:  # a FUNC of s runs the program's code: never on the worker
+            return False
+        descriptor = self.layer.plan_ahead(motion, params)
+        if descriptor is None:
+            return False
+        self._ahead = (_plan_key(request), descriptor)
+        return True
+
+    def ahead_ready(self) -> bool:
+        """The plan started by plan_ahead() is made (or none is being made)."""
+        return self._ahead is None or self.layer.ahead_ready(self._ahead[1])
+
+    @property
+    def planning(self) -> Any:
+        """What planning ahead achieved (`motion.ahead.Counts`), or None without a worker."""
+        return None if self.layer.ahead is None else self.layer.ahead.counts
+
+    def _single_motion(self, request: MotionRequest) -> Any:
+        """The one motion-layer motion of a request planned ahead: to a single target, nothing computed at run time."""
+        if request.short or request.via or request.known in ("partly", "not") or request.kind not in ("joint", "linear"):
+            return None
+        tool = _tool_matrix(request.tool)
+        if type(request.target) is Pose:
+            return CartesianMotion(target=request.target, kind=request.kind, tool=tool)  # type: ignore[arg-type]
+        if type(request.target) is Joints and request.kind == "joint":
+            return JointMotion(target_rad=tuple(request.target.values), tool=tool)
+        return None
+
     def submit(self, request: MotionRequest) -> HandleTicket:
         """Plan and start the request's move(s); planning errors (Unreachable, JointLimit...) are raised here."""
         tool = _tool_matrix(request.tool)
         self.last_tool = request.tool
         params = _params(request)
+        ahead, self._ahead = self._ahead, None
+        if ahead is not None and ahead[0] == _plan_key(request):  # the program's knowledge proved right (done)
+            params = dataclasses.replace(params, computation=Computation.DONE, descriptor=ahead[1])
         actions = _until_actions(request)
         layer = self.layer
         handles = []
@@ -147,7 +187,13 @@ class CellRobot:
             actions = _application_actions(request, ticket, actions)
         if request.correction is not None:
             actions = _correction_action(request, layer, tool, actions)
-        if request.short and request.kind in ("joint", "linear") and not request.via and request.until is None \
+        if request.known == "not" and type(request.target) is Pose and request.kind in ("joint", "linear") \
+                and not request.via:
+            # not known: no path or time-optimal planning in advance; a jerk-limited trajectory generated from where
+            # the robot is when it starts (thesis 5.2: run-time trajectory generation)
+            motion = CartesianMotion(target=request.target, kind=request.kind, tool=tool)  # type: ignore[arg-type]
+            handles.append(layer.short_move(motion, _params(request, zone_m=0.0), actions))
+        elif request.short and request.kind in ("joint", "linear") and not request.via and request.until is None \
                 and type(request.target) is Pose:
             # ShortMove: jerk- and acceleration-limited, dynamics taken as constant, always FINE
             motion = CartesianMotion(target=request.target, kind=request.kind, tool=tool)  # type: ignore[arg-type]
@@ -202,6 +248,11 @@ def _correction_action(request: MotionRequest, layer: MotionLayer, tool: np.ndar
     return acts
 
 
+def _plan_key(request: MotionRequest) -> MotionRequest:
+    """What a plan depends on: the request without its run-time closures (UNTIL, correction), made anew each time."""
+    return dataclasses.replace(request, until=None, correction=None)
+
+
 def _tool_matrix(tool: Pose | None) -> np.ndarray | None:
     if tool is None or (tool.x, tool.y, tool.z, tool.a, tool.b, tool.c) == (0.0, 0.0, 0.0, 0.0, 0.0, 0.0):
         return None
@@ -215,7 +266,7 @@ def _params(request: MotionRequest, zone_m: float | None = None) -> Params:
         return kind(speed_m_s=request.speed_m_s, speed_fraction=request.speed_fraction,
                     accel_fraction=request.accel_fraction, zone_m=request.zone_m if zone_m is None else zone_m,
                     time_s=request.time_s, load_kg=request.load_kg,
-                    tuning=request.tuning, path_velocity=request.path_control)
+                    tuning=request.tuning, path_velocity=request.path_control, known=Known(request.known))
     except OrcError as error:
         raise PlanningError(f"{request.keyword}: {error}") from None
 
