@@ -9,6 +9,7 @@ still while the plan is made, so runs stay deterministic.
 
 from __future__ import annotations
 
+import os
 import sys
 import threading
 from collections.abc import Callable
@@ -25,8 +26,19 @@ from orc_rpl.motion.specs import Known, Motion, Params
 #: cycle, waking from its sleep, waits at most this long for the worker's Python code (the default is 5 ms).
 SWITCH_INTERVAL_S = 0.0005
 
+#: How much lower the worker's priority is than the motion cycle's (a nice value).
+WORKER_NICE = 10
+
 #: Motions the program knows well enough to plan before they are reached (thesis: completely and almost known).
 PLANNED_AHEAD = (Known.COMPLETELY, Known.ALMOST)
+
+
+def _lower_priority() -> None:
+    """The worker thread yields the processor to the motion cycle (Linux schedules threads one by one)."""
+    try:
+        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), WORKER_NICE)
+    except (AttributeError, OSError):  # not Linux, or not allowed: the worker runs at the cycle's priority
+        pass
 
 
 @dataclass
@@ -68,6 +80,7 @@ class PlanAhead:
               reserve: np.ndarray | float) -> Plan | None:
         if self._planner is None:
             self._planner = self._make_planner()
+            _lower_priority()
         planner = self._planner
         planner.tcp_speed_cap_m_s, planner.friction_reserve_nm = cap, reserve
         plan = planner.plan(0, motion, params, start_q)
