@@ -16,7 +16,7 @@ from orc_rpl.pendant.events import EventLog
 from orc_rpl.pendant.journal import Journal, JournalError, journal_path, recoverable
 from orc_rpl.pendant.tree import BodyPath, EditError, Stop, reparse, stops
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.layout import print_online_keeping
+from orc_rpl.syntax.layout import ONLINE, keep_layout
 from orc_rpl.syntax.lexicon import PREDEFINED_NAMES, is_reserved
 from orc_rpl.syntax.parser import parse, parse_statement
 from orc_rpl.syntax.printer import simple_statement
@@ -123,11 +123,14 @@ class Editor:
                text: str | None = None) -> None:
         """Make an edited tree the program: printed in the program's layout (statements the edit did not touch keep
         their text; the rest canonical), parsed back, journaled, undoable."""
-        text = text if text is not None else print_online_keeping(program, self.text, self.program)  # undo: as it was
-        try:
-            parsed = parse(text, str(self.path))
-        except SourceError:  # the printer and parser disagree: the canonical text says why, or refuses the edit
-            text, parsed = reparse(program, str(self.path))
+        parsed: n.Program | None = None
+        if text is None:  # (undo gives the text as it was)
+            text, parsed = keep_layout(program, self.text, self.program, ONLINE, str(self.path))
+        if parsed is None:
+            try:
+                parsed = parse(text, str(self.path))
+            except SourceError:  # the printer and parser disagree: the canonical text says why, or refuses the edit
+                text, parsed = reparse(program, str(self.path))
         if text == self.text:
             return
         self._undo.append(self.text)

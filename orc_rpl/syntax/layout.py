@@ -192,18 +192,25 @@ class _Printer:
 
 def print_keeping(program: n.Program, base_text: str, base: n.Program, syntax: Syntax, path: str = "<program>") -> str:
     """`program` in the layout of `base_text` (whose tree is `base`): canonical only where it differs from `base`."""
-    canonical = syntax.program(program)
+    return keep_layout(program, base_text, base, syntax, path)[0]
+
+
+def keep_layout(program: n.Program, base_text: str, base: n.Program, syntax: Syntax,
+                path: str = "<program>") -> tuple[str, n.Program | None]:
+    """print_keeping's text and, when the layout was kept, its tree as parsed back (spans of the new text)."""
     cut = _Base(base_text)
     try:
         cut.cut(base.body, 1, len(cut.raw))
     except _Unexplained:
-        return canonical
+        return syntax.program(program), None
     text = "".join(_Printer(syntax, cut).body(program.body, base.body, ""))
     try:
-        same = syntax.parse(text, path) == program
+        parsed: n.Program | None = syntax.parse(text, path)
     except OrcError:
-        same = False
-    return text if same else canonical
+        parsed = None
+    if parsed != program:
+        return syntax.program(program), None
+    return text, parsed
 
 
 #: The on-line syntax (`.rpl`): indentation is free, blank lines are empty.
