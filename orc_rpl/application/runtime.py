@@ -195,10 +195,12 @@ class InstallContext:
 
 @dataclass(frozen=True, slots=True)
 class FunctionParam:
-    """An attribute given as a FUNC name: `fn(s)` gives the RPL value at path coordinate s in [0, 1]."""
+    """An attribute given as a FUNC name: `fn(s)` gives the RPL value at path coordinate s in [0, 1]; a target
+    given as a FUNC of `t` (`variable` "t") gives the pose t seconds after the motion's start."""
 
     name: str
     fn: Callable[[float], Any]
+    variable: str = "s"
 
 
 def attached(robot: Any, name: str, make: Callable[[], Any]) -> Any:

@@ -89,6 +89,9 @@ def standard_motion(call: MotionCall) -> MotionRequest:
         raise BehaviourError("needs a TO target or an ALONG path")
     if isinstance(target, FunctionParam):
         kind = "function"  # a path in function space: the FUNC of s gives the TCP pose, from the TCP at s = 0
+        if target.variable == "t" and not _quantity(attrs.get("TIME"), TIME, "TIME"):
+            raise BehaviourError(f"FUNC {target.name}(t) is a function of time: give the motion's duration, "
+                                 "WITH TIME = 5s")
     elif kind != "joint" and type(target) is not Pose:
         raise BehaviourError("a Cartesian motion needs a pose as its target, not a joint position")
     if kind == "circular" and (len(via) != 1 or type(via[0]) is not Pose):

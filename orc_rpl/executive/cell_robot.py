@@ -204,7 +204,7 @@ class CellRobot:
                 handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, _until_actions(request)))
             handles.append(layer.move(_motion(layer, request.target, "linear", None, tool), params, actions))
         elif request.kind == "function":
-            handles.append(layer.move(_function_motion(request.target, tool), params, actions))  # type: ignore[arg-type]
+            handles.append(layer.move(_function_motion(request.target, tool, request.time_s), params, actions))  # type: ignore[arg-type]
         elif request.kind == "circular":
             handles.append(layer.move(_motion(layer, request.target, "circular", request.via[0], tool), params, actions))
         else:
@@ -318,8 +318,9 @@ def _motion(layer: MotionLayer, point: Pose | Joints, kind: str, via: Pose | Joi
     return CartesianMotion(target=point, kind=kind, via=via, tool=tool)  # type: ignore[arg-type]
 
 
-def _function_motion(target: FunctionParam, tool: np.ndarray | None) -> FunctionMotion:
-    """A FUNC of s giving world poses as the motion layer's FunctionMotion (one call of the FUNC per sample)."""
+def _function_motion(target: FunctionParam, tool: np.ndarray | None, duration_s: float | None = None) -> FunctionMotion:
+    """A FUNC of s (or of t, lasting `duration_s`) giving world poses as the motion layer's FunctionMotion (one call of
+    the FUNC per sample)."""
     memo: dict[float, Pose] = {}
 
     def component(name: str) -> Any:
@@ -330,6 +331,8 @@ def _function_motion(target: FunctionParam, tool: np.ndarray | None) -> Function
             return getattr(memo[s], name)
         return at
 
+    if target.variable == "t":
+        return FunctionMotion(*(component(c) for c in "xyzabc"), variable="t", duration_s=duration_s or 0.0, tool=tool)
     return FunctionMotion(*(component(c) for c in "xyzabc"), tool=tool)
 
 

@@ -13,8 +13,12 @@ from orc_rpl.executive.scope import ProgramScopes, Scope
 from orc_rpl.executive.signals import RunError
 from orc_rpl.executive.values import Installed, Routine, type_name
 from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.units import TIME, Quantity
 from orc_rpl.world.pose import Joints, Pose
 
+
+#: The parameter name that makes a FUNC target a function of time (docs/language.md section 4).
+TIME_PARAMETER = "t"
 
 #: Keywords whose requests can be computed early: the standard motions (an application feature's behaviour may act).
 PREDICTABLE = frozenset({"MOVE", "JMOVE", "LMOVE", "CMOVE"})
@@ -203,14 +207,17 @@ class MotionCompiler:
         if routine.kind != "FUNC" or len(routine.params) != 1:
             raise RunError(f"a position given as a routine must be a FUNC of one parameter (s, 0..1), not {routine.kind} {routine.name}")
 
-        def world_pose(s: float) -> Pose:
-            value = position(m.call_now(m.routines[routine.name], [float(s)], span), f"value of {routine.name}")
+        of_time = routine.params[0] == TIME_PARAMETER  # FUNC f(t): t is the time since the motion started, in s
+
+        def world_pose(u: float) -> Pose:
+            argument = Quantity(float(u), TIME) if of_time else float(u)
+            value = position(m.call_now(m.routines[routine.name], [argument], span), f"value of {routine.name}")
             if type(value) is not Pose:
                 raise RunError(f"FUNC {routine.name} must give poses, got {type_name(value)}")
             return value
         at = memoised(world_pose)
         at(0.0)  # the frame rule, before anything moves
-        return FunctionParam(routine.name, at)
+        return FunctionParam(routine.name, at, "t" if of_time else "s")
 
     def attributes(self, spec: Any, withs: list[tuple[str, Any]], L: Locals, span: n.Span) -> dict[str, Any]:
         """WITH values by canonical attribute name; a FUNC name becomes a function of the path coordinate."""
