@@ -192,6 +192,13 @@ class Checker:
             self.report(stmt, f"{stmt.keyword} does not move ALONG a path; use TO")
         if spec.needs_via and counts["VIA"] == 0:
             self.report(stmt, f"{stmt.keyword} needs a VIA point (the circle passes through it)")
+        target = stmt.target
+        if isinstance(target, n.Name) and "TIME" not in seen:
+            symbol = scope.lookup(target.id)
+            routine = symbol.node if symbol is not None and symbol.kind == "func" else None
+            if isinstance(routine, n.Routine) and [p.id for p in routine.params] == ["t"]:
+                self.report(target, f"FUNC {target.id}(t) is a function of time: the motion needs its duration",
+                            "add WITH TIME = 5s (t runs from 0 to that duration)")
         for required in spec.requires:
             if self.installs.get(stmt.tool.id) != required:
                 self.report(stmt.tool, f"{stmt.keyword} needs a {required} installed on tool '{stmt.tool.id}'",
@@ -265,6 +272,10 @@ class Checker:
                 return
         if not accepts(attribute.types, value):
             self.report(clause.value, f"attribute {attribute.name} of {stmt.keyword} expects {describe_types(attribute.types)}, got {value}")
+        elif attribute.literal_check is not None and isinstance(clause.value, n.String):
+            problem = attribute.literal_check(clause.value.value)
+            if problem is not None:
+                self.report(clause.value, f"attribute {attribute.name} of {stmt.keyword}: {problem}")
 
     def _Assign(self, stmt: n.Assign, scope: Scope, frame: str) -> None:
         value = self.infer(stmt.value, scope, frame)

@@ -78,8 +78,10 @@ def connect(args: argparse.Namespace, record: bool) -> Any:
     from orc_rpl.hardware.bus import ServoBus
     from orc_rpl.hardware.calibration import load, nominal
     from orc_rpl.hardware.emulator import codec_for
+    from orc_rpl.motion.ahead import PlanAhead
     from orc_rpl.motion.kinematics import Kinematics
     from orc_rpl.motion.layer import MotionLayer
+    from orc_rpl.motion.planner import Planner
     from orc_rpl.motion.timing import preload
     from orc_rpl.motion.virtual import attach_recorder
     from orc_rpl.robot import ArmModel, solve_ik
@@ -101,6 +103,8 @@ def connect(args: argparse.Namespace, record: bool) -> Any:
     arm = ArmModel(dataclasses.replace(spec, q_min_rad=lows, q_max_rad=highs, home_q_rad=home))
     backend = BusBackend(ServoBus(args.port, codec_for(cal.bus), args.baud), cal)
     layer = MotionLayer(Kinematics(arm, solve_ik), backend, backend.servo_period_s)
+    # the next move is planned on a worker thread over an arm model of its own: planning never delays a bus cycle
+    layer.ahead = PlanAhead(lambda: Planner(Kinematics(ArmModel(arm.spec), solve_ik), layer.dt_s, layer.sub), paced=True)
     preload()
     if record:
         attach_recorder(layer)

@@ -13,7 +13,15 @@ from orc_rpl.executive.scope import ProgramScopes, Scope
 from orc_rpl.executive.signals import RunError
 from orc_rpl.executive.values import Installed, Routine, type_name
 from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.units import TIME, Quantity
 from orc_rpl.world.pose import Joints, Pose
+
+
+#: The parameter name that makes a FUNC target a function of time (docs/language.md section 4).
+TIME_PARAMETER = "t"
+
+#: Keywords whose requests can be computed early: the standard motions (an application feature's behaviour may act).
+PREDICTABLE = frozenset({"MOVE", "JMOVE", "LMOVE", "CMOVE"})
 
 
 class MotionCompiler:
@@ -21,8 +29,52 @@ class MotionCompiler:
 
     def __init__(self, machine: Machine, scopes: ProgramScopes, exprs: Any) -> None:
         self.m, self.scopes, self.exprs = machine, scopes, exprs
+        self.builders: dict[int, Callable[..., Any]] = {}   #: id(statement) -> its request builder (for predictions)
 
-    def compile(self, stmt: n.Motion, scope: Scope) -> Callable[[Locals], Iterator[object]]:
+    def planned_ahead(self, requests: Any) -> Iterator[object]:
+        """Plan a motion that follows a running one on the robot's worker, the motion cycle going on meanwhile
+        (KNOWN "completely" or "almost"); a plan already under way (the FINE motion before predicted this one) is
+        waited for the same way. Submitting it then costs the cycle nothing."""
+        robot = self.m.robot
+        if not hasattr(robot, "plan_ahead"):
+            return
+        if robot.pending() > 0 and len(requests) == 1:
+            robot.plan_ahead(requests[0])
+        while not robot.ahead_ready():
+            robot.tick()
+            yield TICK
+
+    def predictor(self, stmt: n.Motion, scope: Scope) -> Callable[[Locals], Any] | None:
+        """The request the motion statement `stmt` will make, computed early without side effects (None when it may
+        have some: a call anywhere in it, a keyword of an application feature, a motion not known well enough)."""
+        if stmt.keyword not in PREDICTABLE or any(isinstance(node, n.Call) for node in stmt.walk()):
+            return None
+        if any(isinstance(c, n.With) and c.name.id == "KNOWN" and c.value in (n.String("partly"), n.String("not"))
+               for c in stmt.clauses):
+            return None
+        builder = self.builders.get(id(stmt))
+        if builder is None:
+            try:
+                self.compile(stmt, scope)
+            except RunError:
+                return None
+            builder = self.builders[id(stmt)]
+
+        names = {node.id for node in stmt.walk() if isinstance(node, n.Name)}
+
+        def predict(L: Locals) -> Any:
+            if not names.isdisjoint(self.m.routines):  # a FUNC target or parameter: the program's code would run
+                return None
+            try:
+                requests = builder(L, lambda message: None)[-1]
+            except Exception:  # whatever goes wrong is found again, and reported, when the statement runs
+                return None
+            if isinstance(requests, (list, tuple, GeneratorType)) or requests.axes or requests.frame_of is not None:
+                return None  # external axes move through the cell's stages, never from a plan made ahead
+            return requests
+        return predict
+
+    def compile(self, stmt: n.Motion, scope: Scope, following: n.Motion | None = None) -> Callable[[Locals], Iterator[object]]:
         m, keyword, frame = self.m, stmt.keyword, scope.frame
         compile_ = self.exprs.compile
         tool = compile_(stmt.tool, scope)
@@ -50,7 +102,8 @@ class MotionCompiler:
                 return self.path_function(value, position, span)
             raise RunError(f"{keyword}: the {role} must be a position (a pose or JOINTS), got {type_name(value)}")
 
-        def motion(L: Locals) -> Iterator[object]:
+        def build(L: Locals, warn: Callable[[str], None]) -> tuple[Any, Any, Any, Any, Any]:
+            """(spec, tool value, tool pose, UNTIL closure, what the keyword's behaviour asks for)."""
             spec = m.registry.motions.get(keyword)
             if spec is None:
                 raise RunError(f"unknown motion keyword '{keyword}'")
@@ -84,8 +137,7 @@ class MotionCompiler:
 
                 def until(view: MotionView) -> bool:
                     return any(c(L) for c in conditions)
-            call = MotionCall(keyword, goal, along, via, tool_pose, attributes, until, m.options.speed_override,
-                              lambda message: m.warn(message, span),
+            call = MotionCall(keyword, goal, along, via, tool_pose, attributes, until, m.options.speed_override, warn,
                               equipment=tool_value.behaviour if type(tool_value) is Installed else None,
                               robot=m.robot, resolve_target=resolve_target,
                               call_function=lambda routine, args: m.call_now(m.routines[routine.name], args, span))
@@ -93,9 +145,16 @@ class MotionCompiler:
                 requests = spec.execute(call)
             except BehaviourError as error:
                 raise RunError(f"{keyword}: {error}") from None
-            m.motion_span = span
             if coordination is not None and resolve_target is None:
                 requests = with_axes(requests, coordination, keyword)
+            return spec, tool_value, tool_pose, until, requests
+
+        self.builders[id(stmt)] = build
+        predict = self.predictor(following, scope) if following is not None else None
+
+        def motion(L: Locals) -> Iterator[object]:
+            spec, tool_value, tool_pose, until, requests = build(L, lambda message: m.warn(message, span))
+            m.motion_span = span
             if isinstance(requests, GeneratorType):
                 m.last_tool = tool_pose
                 yield from self.procedure(keyword, requests)
@@ -107,12 +166,17 @@ class MotionCompiler:
                 robot.tick()
                 yield TICK
             m.check_outstanding()
+            yield from self.planned_ahead(requests)
             tickets = [robot.submit(r) for r in requests]
             m.motions += 1
             m.last_tool = tool_pose
             if until is None and requests[-1].zone_m > 0:
                 m.outstanding.append(Outstanding(tickets[-1], span, m.stack_entries()))
                 return  # blended: the next statement runs while this motion goes on
+            if predict is not None and until is None:  # FINE: the next motion is planned while this one runs
+                upcoming = predict(L)
+                if upcoming is not None and hasattr(robot, "plan_ahead"):
+                    robot.plan_ahead(upcoming)
             while not all(t.done for t in tickets):
                 robot.tick()
                 yield TICK
@@ -154,14 +218,17 @@ class MotionCompiler:
         if routine.kind != "FUNC" or len(routine.params) != 1:
             raise RunError(f"a position given as a routine must be a FUNC of one parameter (s, 0..1), not {routine.kind} {routine.name}")
 
-        def world_pose(s: float) -> Pose:
-            value = position(m.call_now(m.routines[routine.name], [float(s)], span), f"value of {routine.name}")
+        of_time = routine.params[0] == TIME_PARAMETER  # FUNC f(t): t is the time since the motion started, in s
+
+        def world_pose(u: float) -> Pose:
+            argument = Quantity(float(u), TIME) if of_time else float(u)
+            value = position(m.call_now(m.routines[routine.name], [argument], span), f"value of {routine.name}")
             if type(value) is not Pose:
                 raise RunError(f"FUNC {routine.name} must give poses, got {type_name(value)}")
             return value
         at = memoised(world_pose)
         at(0.0)  # the frame rule, before anything moves
-        return FunctionParam(routine.name, at)
+        return FunctionParam(routine.name, at, "t" if of_time else "s")
 
     def attributes(self, spec: Any, withs: list[tuple[str, Any]], L: Locals, span: n.Span) -> dict[str, Any]:
         """WITH values by canonical attribute name; a FUNC name becomes a function of the path coordinate."""

@@ -22,6 +22,10 @@ def summary(executive: Executive, robot: Any) -> dict[str, Any]:
                      for span, message in executive.machine.warnings],
         "error": None,
     }
+    planning = getattr(robot, "planning", None)
+    if planning is not None:  # thesis 5.2: moves planned while the one before runs, and whether the plans held
+        result["planning"] = {"planned_ahead": planning.planned_ahead, "reused": planning.reused,
+                              "replanned": planning.replanned, "at_start": planning.at_start}
     error = executive.error
     if error is not None:
         span = error.span
@@ -50,6 +54,10 @@ def write_summary_text(result: dict[str, Any], wall_s: float, stream: TextIO) ->
                  f"cycle time: {cycle:.3f} s (simulated; {wall_s:.2f} s wall{ratio})\n"
                  f"motions: {result['motions']}\n"
                  f"final TCP: {pose}\n")
+    planning = result.get("planning")
+    if planning is not None:
+        stream.write(f"planning: {planning['planned_ahead']} motions planned ahead ({planning['reused']} plans used, "
+                     f"{planning['replanned']} made again), {planning['at_start']} planned when they started\n")
     for line in process_lines(result.get("process")):
         stream.write(f"process: {line}\n")
 

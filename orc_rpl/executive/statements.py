@@ -33,7 +33,17 @@ class StatementCompiler(ControlFlow):
     # -- blocks ----------------------------------------------------------------------------
 
     def block(self, body: n.Body, scope: Scope) -> Block:
-        items = [self.statement(stmt, scope) for stmt in body if not isinstance(stmt, (n.Comment, n.Blank, n.Routine))]
+        statements = [stmt for stmt in body if not isinstance(stmt, (n.Comment, n.Blank, n.Routine))]
+        items = []
+        for i, stmt in enumerate(statements):
+            following = statements[i + 1] if i + 1 < len(statements) else None
+            if isinstance(stmt, n.Motion) and isinstance(following, n.Motion):  # planned while this one runs
+                try:
+                    items.append(Compiled(stmt, None, self.motions.compile(stmt, scope, following)))
+                    continue
+                except RunError:  # reported when run, as statement() does
+                    pass
+            items.append(self.statement(stmt, scope))
         return make_block(self.m, items)
 
     def _blank(self, stmt: n.Statement, scope: Scope) -> tuple[Any, Any]:

@@ -7,9 +7,11 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.errors import UsageError
+from orc_rpl.motion.ahead import PlanAhead
 from orc_rpl.motion.backend import KinematicBackend
 from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.layer import MotionLayer
+from orc_rpl.motion.planner import Planner
 from orc_rpl.motion.thermal import WindingTemperature
 from orc_rpl.motion.timing import preload as preload_planning
 
@@ -162,6 +164,8 @@ def make_virtual_motion_layer(
     else:
         raise UsageError(f"backend must be 'servo' or 'kinematic', not {backend!r}")
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
+    # the next move is planned on a worker thread, over an arm model of its own (made when first needed)
+    layer.ahead = PlanAhead(lambda: Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub), paced=realtime)
     if backend == "servo" and plant == "realistic":
         layer.planner.friction_reserve_nm = reserve_nm
         layer.winding = WindingTemperature(nominal.torque_per_amp_nm_a, nominal.winding_resistance_ohm,

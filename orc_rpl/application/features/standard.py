@@ -19,7 +19,21 @@ STANDARD_ATTRIBUTES: tuple[AttributeSpec, ...] = (
     AttributeSpec("TUNING", ("tuning",), None, "a servo tuning made by CALIBRATE"),
     AttributeSpec("PATHCONTROL", ("bool",), None, "path velocity control on (TRUE) or off (FALSE) for this motion; "
                   "default: ROBOT.PathControl", function_ok=False),
+    AttributeSpec("KNOWN", ("string",), "completely", "how well the program knows the motion before it starts: "
+                  "\"completely\", \"almost\" (sensors correct it a little), \"partly\" (a nominal path only) or "
+                  "\"not\" (sensors decide it)", function_ok=False, literal_check=lambda text: known_problem(text)),
 )
+
+#: The values of KNOWN (thesis 5.2, `enum mv_spec`): how much the motion depends on external sensors.
+KNOWN_VALUES = ("completely", "almost", "partly", "not")
+
+
+def known_problem(text: str) -> str | None:
+    """Why a KNOWN value is refused, or None."""
+    if text in KNOWN_VALUES:
+        return None
+    return "KNOWN must be " + ", ".join(f'"{v}"' for v in KNOWN_VALUES[:-1]) + f' or "{KNOWN_VALUES[-1]}", got "{text}"'
+
 
 _POSITION = ("position",)
 _NUMBER = (DIMENSIONLESS,)
