@@ -54,6 +54,7 @@ class LiveView:
         self._cell = sim_cell(robot)
         self._names: tuple[str, ...] = ()
         self._seen: dict[str, Any] = {}
+        self._labels: set[str] = set()            #: positions of the program on screen (the world's stay)
         self._next_wall_s = 0.0
         self._ticks = 0
         self._trace_new: list[np.ndarray] = []
@@ -97,6 +98,20 @@ class LiveView:
         """The motion layer's planned-path signal: drawn before the move starts."""
         self.sender.always(partial(self.scene.add_path, move_id, tcp_m))
 
+    def follow(self, executive: Executive, program: Any) -> None:
+        """Show another executive of the program from now on (the pendant rebuilds it after every edit): positions
+        taught, touched up, renamed or deleted are shown as they now are."""
+        self.executive = executive
+        executive.tracing = True
+        self._names = declared_names(program)
+        self._seen = {}
+        labels = {label for name in self._names
+                  for label, _ in world_transforms(name, executive.machine.globals.get(name), executive)}
+        gone, self._labels = self._labels - labels, self._labels & labels
+        if gone:
+            self.sender.always(partial(self.scene.remove_positions, sorted(gone)))
+        self.update()
+
     def monitor(self, robot: Any) -> Any:
         """The robot the executive should drive: the same robot, whose ticks also feed the view."""
         return MonitoredRobot(robot, 1, self.on_tick)
@@ -128,6 +143,7 @@ class LiveView:
             if value is not None and value is not self._seen.get(name):
                 self._seen[name] = value
                 for label, t in world_transforms(name, value, self.executive):
+                    self._labels.add(label)
                     self.sender.always(partial(self._show_position, label, t))
         if self._trace_new:
             self.sender.always(partial(self.scene.extend_trace, self._trace_new))

@@ -129,6 +129,13 @@ class CellScene:
         node.position = world_t[:3, 3]
         node.wxyz = wxyz_of(world_t[:3, :3])
 
+    def remove_positions(self, names: list[str]) -> None:
+        """Take positions off the screen (a position deleted or renamed in the pendant)."""
+        for name in names:
+            node = self.positions.pop(name, None)
+            if node is not None:
+                node.remove()
+
     def add_path(self, move_id: int, tcp_m: np.ndarray) -> None:
         """The TCP path a move is planned to take, drawn before it starts."""
         points = np.asarray(tcp_m, dtype=np.float32)
