@@ -10,10 +10,10 @@ import numpy as np
 
 from orc_rpl.executive.executive import Executive
 from orc_rpl.executive.report import MonitoredRobot
-from orc_rpl.plant.shapes import Poses, cell_poses, cell_shapes
+from orc_rpl.plant.shapes import Frames, Poses, cell_frames, cell_poses, cell_shapes
 from orc_rpl.view.framing import frame_work
 from orc_rpl.view.positions import declared_names, world_transforms
-from orc_rpl.view.scene import CellScene, wxyz_of
+from orc_rpl.view.scene import CellScene, wxyz_of, wxyz_of_many
 from orc_rpl.view.sender import Sender
 from orc_rpl.world.objects import FLANGE, PREDEFINED
 from orc_rpl.world.pose import shown_pose
@@ -33,11 +33,16 @@ def sim_cell(robot: Any) -> Any:
 def statement_caption(executive: Executive, time_s: float) -> str:
     """`t = 1.24 s · line 12: LMOVE gripper TO slot1`: where the program is (the statement it executes or waits at)."""
     pointer = executive.pointer
-    if pointer is None or executive.source is None:
+    lines = executive.source.splitlines() if executive.source is not None else []
+    return caption_text(time_s, pointer.line if pointer is not None and lines else None, lines)
+
+
+def caption_text(time_s: float, line: int | None, lines: list[str]) -> str:
+    """The caption from the simulated time and the line the program is at (None: no program line to show)."""
+    if line is None:
         return f"t = {time_s:.2f} s"
-    lines = executive.source.splitlines()
-    text = lines[pointer.line - 1].strip() if 0 < pointer.line <= len(lines) else ""
-    return f"t = {time_s:.2f} s · line {pointer.line}: {text}"
+    text = lines[line - 1].strip() if 0 < line <= len(lines) else ""
+    return f"t = {time_s:.2f} s · line {line}: {text}"
 
 
 class LiveView:
@@ -60,6 +65,7 @@ class LiveView:
         self._trace_new: list[np.ndarray] = []
         self._tool: tuple[Any, np.ndarray | None] = (None, None)
         self._flange_node: Any = None
+        self._lines: tuple[str | None, list[str]] = (None, [])   #: the program's source and its lines (the caption)
         self.sender = Sender()
 
     # -- setting up ---------------------------------------------------------------------------
@@ -133,9 +139,13 @@ class LiveView:
         return layer.fk(layer.current_q(), self._tool[1])[:3, 3].copy()
 
     def update(self) -> None:
-        """Hand the robot's pose, the trace, new positions and the caption to the sending thread now."""
+        """Hand the robot's pose, the trace, new positions and the caption to the sending thread now.
+
+        Only copies are taken here, in the motion cycle; turning them into what the browser gets (quaternions, text)
+        is the sending thread's work.
+        """
         self._next_wall_s = time.perf_counter() + self.period_s
-        poses = cell_poses(self._cell) if self._cell is not None else None
+        frames = cell_frames(self._cell) if self._cell is not None else None
         flange = self.robot.layer.fk(self.robot.layer.current_q()) if self._flange_node is not None else None
         values = self.executive.machine.globals
         for name in self._names:
@@ -148,13 +158,18 @@ class LiveView:
         if self._trace_new:
             self.sender.always(partial(self.scene.extend_trace, self._trace_new))
             self._trace_new = []
-        tcp = shown_pose(self.robot.tcp_pose(self.executive.machine.last_tool)).text()
-        caption = f"{statement_caption(self.executive, self.robot.time_s())}\n\nTCP {tcp}"
-        self.sender.latest(partial(self._show_state, poses, flange, caption))
+        executive = self.executive
+        tcp = self.robot.tcp_pose(executive.machine.last_tool)
+        if self._lines[0] is not executive.source:
+            self._lines = (executive.source, executive.source.splitlines() if executive.source is not None else [])
+        line = executive.pointer.line if executive.pointer is not None and self._lines[1] else None
+        self.sender.latest(partial(self._show_state, frames, flange, tcp, self.robot.time_s(), line, self._lines[1]))
 
-    def _show_state(self, poses: Poses | None, flange: np.ndarray | None, caption: str) -> None:
-        if poses is not None:
-            self.scene.move_cell(poses)
+    def _show_state(self, frames: Frames | None, flange: np.ndarray | None, tcp: Any, time_s: float,
+                    line: int | None, lines: list[str]) -> None:
+        caption = f"{caption_text(time_s, line, lines)}\n\nTCP {shown_pose(tcp).text()}"
+        if frames is not None:
+            self.scene.move_cell(Poses(frames.time_s, frames.position_m, wxyz_of_many(frames.rotation)))
         if flange is not None:
             self._flange_node.position = flange[:3, 3]
             self._flange_node.wxyz = wxyz_of(flange[:3, :3])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import numpy as np
@@ -28,6 +29,11 @@ HIGHLIGHT_RGB = (30, 120, 255)
 def wxyz_of(rotation: np.ndarray) -> np.ndarray:
     """The unit quaternion (w, x, y, z) of a rotation matrix."""
     return tf.SO3.from_matrix(np.asarray(rotation, dtype=float)).wxyz
+
+
+def wxyz_of_many(rotations: np.ndarray) -> np.ndarray:
+    """The unit quaternions (n, 4) of rotation matrices (n, 3, 3), in one vectorised call."""
+    return tf.SO3.from_matrix(np.asarray(rotations, dtype=float)).wxyz
 
 
 def _rgb(rgba: tuple[float, ...]) -> tuple[int, int, int]:
@@ -92,6 +98,9 @@ class CellScene:
             for index, node in self.moving.items():
                 node.position = poses.position_m[index]
                 node.wxyz = poses.wxyz[index]
+                # hand the interpreter to the motion cycle if it waits for it: without this it waits until Python's
+                # switch interval (5 ms) forces the hand-over, and a paced cycle ends that much late
+                time.sleep(0)
 
     # -- the world model: objects, frames, their names ----------------------------------------
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Callable
 
 Job = Callable[[], None]
@@ -61,6 +62,7 @@ class Sender:
                 if self.error is None:
                     for job in jobs:
                         job()
+                        time.sleep(0)  # the motion cycle may wait for the interpreter: let it have it between jobs
             except BaseException as error:  # a closed browser connection must not stop the robot
                 self.error = error
             finally:

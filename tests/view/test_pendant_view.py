@@ -90,8 +90,8 @@ def test_the_view_follows_the_pendant_in_a_browser(tmp_path: Path) -> None:
             _say(session, ":teach corner")
             live.sender.drain()
             poses = cell_poses(sim_cell(robot))
-            for index, node in scene.moving.items():
-                np.testing.assert_allclose(node.position, poses.position_m[index], atol=1e-6)
+            for index, node in scene.moving.items():  # viser skips a move within 1e-5 relative: 10 um at 1 m
+                np.testing.assert_allclose(node.position, poses.position_m[index], atol=1e-4)
             assert "corner" in scene.positions
             np.testing.assert_allclose(scene.positions["corner"].position, _world_xyz(session, "corner"), atol=1e-9)
             line = session.editor.text.splitlines().index(next(t for t in session.editor.text.splitlines()
