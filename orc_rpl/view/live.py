@@ -13,6 +13,7 @@ from orc_rpl.executive.report import MonitoredRobot
 from orc_rpl.plant.shapes import Frames, Poses, cell_frames, cell_poses, cell_shapes
 from orc_rpl.view.framing import frame_work
 from orc_rpl.view.positions import declared_names, world_transforms
+from orc_rpl.view.process import TRACED, ProcessOverlay, ProcessState, error_colours, process_record
 from orc_rpl.view.scene import CellScene, wxyz_of, wxyz_of_many
 from orc_rpl.view.sender import Sender
 from orc_rpl.world.objects import FLANGE, PREDEFINED
@@ -66,6 +67,7 @@ class LiveView:
         self._tool: tuple[Any, np.ndarray | None] = (None, None)
         self._flange_node: Any = None
         self._lines: tuple[str | None, list[str]] = (None, [])   #: the program's source and its lines (the caption)
+        self.process = ProcessOverlay()
         self.sender = Sender()
 
     # -- setting up ---------------------------------------------------------------------------
@@ -127,7 +129,9 @@ class LiveView:
     def on_tick(self) -> None:
         self._ticks += 1
         if self._ticks % TRACE_EVERY_TICKS == 0:
-            self._trace_new.append(self._tcp_m())
+            tcp = self._tcp_m()
+            self._trace_new.append(tcp)
+            self.process.sample(process_record(self.executive.machine.robot), tcp)
         if time.perf_counter() >= self._next_wall_s:
             self.update()
 
@@ -159,15 +163,29 @@ class LiveView:
             self.sender.always(partial(self.scene.extend_trace, self._trace_new))
             self._trace_new = []
         executive = self.executive
+        record = process_record(executive.machine.robot)
+        process = self.process.state(record)
+        for name, points in self.process.take_points().items():
+            colours = error_colours(np.array([value for _, value in points]), TRACED[name])
+            self.sender.always(partial(self.scene.extend_process, name, [p for p, _ in points], colours))
         tcp = self.robot.tcp_pose(executive.machine.last_tool)
         if self._lines[0] is not executive.source:
             self._lines = (executive.source, executive.source.splitlines() if executive.source is not None else [])
         line = executive.pointer.line if executive.pointer is not None and self._lines[1] else None
-        self.sender.latest(partial(self._show_state, frames, flange, tcp, self.robot.time_s(), line, self._lines[1]))
+        if process is not None and process.welds:
+            self.sender.always(partial(self._show_welds, process))
+        self.sender.latest(partial(self._show_state, frames, flange, tcp, self.robot.time_s(), line, self._lines[1],
+                                   process.caption if process is not None else ""))
+
+    def _show_welds(self, process: ProcessState) -> None:
+        for number, weld in enumerate(process.welds, start=process.first_weld):
+            self.scene.add_weld(number, weld.position_m, weld.good, weld.reason)
 
     def _show_state(self, frames: Frames | None, flange: np.ndarray | None, tcp: Any, time_s: float,
-                    line: int | None, lines: list[str]) -> None:
+                    line: int | None, lines: list[str], process: str = "") -> None:
         caption = f"{caption_text(time_s, line, lines)}\n\nTCP {shown_pose(tcp).text()}"
+        if process:
+            caption += f"\n\n{process}"
         if frames is not None:
             self.scene.move_cell(Poses(frames.time_s, frames.position_m, wxyz_of_many(frames.rotation)))
         if flange is not None:
