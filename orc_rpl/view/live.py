@@ -140,7 +140,11 @@ class LiveView:
         if tool is not self._tool[0]:
             self._tool = (tool, None if tool is None else tool.matrix())
         layer = self.robot.layer
-        return layer.fk(layer.current_q(), self._tool[1])[:3, 3].copy()
+        flange = layer.fk(layer.current_q())
+        if self._tool[1] is None:
+            return flange[:3, 3].copy()
+        # the tool's offset applied here: the motion layer's fk with a tool checks it each call (four times the cost)
+        return flange[:3, :3] @ self._tool[1][:3, 3] + flange[:3, 3]
 
     def update(self) -> None:
         """Hand the robot's pose, the trace, new positions and the caption to the sending thread now.

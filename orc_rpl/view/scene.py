@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from typing import Any
 
 import numpy as np
@@ -105,9 +104,6 @@ class CellScene:
             for index, node in self.moving.items():
                 node.position = poses.position_m[index]
                 node.wxyz = poses.wxyz[index]
-                # hand the interpreter to the motion cycle if it waits for it: without this it waits until Python's
-                # switch interval (5 ms) forces the hand-over, and a paced cycle ends that much late
-                time.sleep(0)
 
     # -- the world model: objects, frames, their names ----------------------------------------
 
