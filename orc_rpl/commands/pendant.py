@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Iterable
+from contextlib import ExitStack
 from pathlib import Path
 
 from orc_rpl.commands import bus_robot
@@ -28,6 +29,11 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                         help="servo: MuJoCo cell with servo loops (default); kinematic: fast, no :snapshot")
     bus_robot.add_options(parser)
     add_cell_options(parser)
+    view = parser.add_argument_group("3D view (the [view] extra)")
+    view.add_argument("--view", action="store_true",
+                      help="show the cell in a 3D view in the browser; it follows jogging, teaching, stepping and running")
+    view.add_argument("--host", metavar="ADDRESS", help="with --view: listen on ADDRESS instead of 127.0.0.1")
+    view.add_argument("--view-port", metavar="PORT", type=int, help="with --view: the first port to try (default 8080)")
     recovery = parser.add_mutually_exclusive_group()
     recovery.add_argument("--recover", action="store_true", help="take unsaved edits from the journal without asking")
     recovery.add_argument("--discard", action="store_true", help="discard unsaved edits in the journal without asking")
@@ -57,6 +63,29 @@ def _ask_recovery(session: object, args: argparse.Namespace) -> str:
     return session.editor.discard_recovery()  # type: ignore[attr-defined]
 
 
+def _check_view_options(args: argparse.Namespace) -> None:
+    """--host and --view-port need --view; --view needs the extra."""
+    if not args.view:
+        for option in ("host", "view_port"):
+            if getattr(args, option) is not None:
+                raise UsageError(f"--{option.replace('_', '-')} needs --view")
+        return
+    try:
+        from orc_rpl.view.server import check_port
+    except ImportError as error:
+        raise UsageError(f"--view needs the view extra (pip install 'orc_rpl[view]'): {error}") from None
+    check_port(args.view_port)
+
+
+def _watching(args: argparse.Namespace) -> object:
+    """The 3D view's settings; the pendant never waits for the browser (the robot moves only when told)."""
+    from orc_rpl.view.server import DEFAULT_HOST, DEFAULT_PORT
+    from orc_rpl.view.watch import Watching
+
+    return Watching(view=True, host=args.host or DEFAULT_HOST,
+                    port=DEFAULT_PORT if args.view_port is None else args.view_port, interactive=False)
+
+
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.robot.robots import ROBOTS
 
@@ -70,6 +99,7 @@ def run(args: argparse.Namespace) -> int:
         if args.file is not None and Path(args.file).is_dir():
             raise UsageError(f"'{args.file}' is a directory")
         bus_robot.check_options(args)
+        _check_view_options(args)
         if args.file is not None and not Path(args.file).resolve().parent.is_dir():
             raise UsageError(f"the folder of '{args.file}' does not exist (:save and the journal write there)")
         if args.file is not None and Path(args.file).exists():
@@ -118,9 +148,18 @@ def _run(args: argparse.Namespace) -> int:
             io_script = script_path(args.file, args.world if args.world is None or Path(args.world).is_dir() else None)
             if io_script is not None:
                 load_script(io_script, robot.io, lambda: robot.tcp_pose(session.execution.tool_pose()))
-        if not interactive:
-            return _run_script(session, sys.stdin, message)
-        return PendantApp(session, message=message).run()
+        with ExitStack() as stack:
+            if args.view:
+                from orc_rpl.view.watch import watch
+
+                watchers = stack.enter_context(watch(session.execution.executive(), robot, session.editor.program,
+                                                     None, session.registry, _watching(args)))  # type: ignore[arg-type]
+                stack.callback(session.close)  # stop feeding the view before it closes
+                session.show_in(watchers.live, watchers.url)  # type: ignore[arg-type]
+                message = "\n".join(filter(None, (message, f"the 3D view is at {watchers.url}")))
+            if not interactive:
+                return _run_script(session, sys.stdin, message)
+            return PendantApp(session, message=message).run()
     finally:
         session.close()
 
