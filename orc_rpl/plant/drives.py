@@ -37,6 +37,7 @@ class PidDrives:
         self._minus_kd = m.actuator_biasprm[:n, 2]
         self._integral_state_max = m.actuator_dynprm[:n, 0]
         self._inputs, self._forces = np.zeros((0, n, 3)), np.zeros((0, n))
+        self._input_rows = self._inputs.reshape(0, 3 * n)
         self._old_integral = np.zeros(n)
 
     def torque_mode(self) -> None:
@@ -106,10 +107,11 @@ class PidDrives:
         if inputs.shape[0] != n_steps:
             inputs = self._inputs = np.zeros((n_steps, self.n_joints, 3))
             forces = self._forces = np.zeros((n_steps, self.n_joints))
+            self._input_rows = inputs.reshape(n_steps, -1)  # a view: one row of ctrl a step
         inputs[:, :, 0], inputs[:, :, 1], inputs[:, :, 2] = position_rows, velocity_rows, ff_rows
         model, data, flat, force = self._model, self._data, self._inputs_flat, self._force
         after = self._after_step if (self._watch_contacts or self.io.processes or self.realtime) else None
-        for row, applied in zip(inputs.reshape(n_steps, -1), forces):
+        for row, applied in zip(self._input_rows, forces):
             flat[:] = row
             mj_step(model, data)
             applied[:] = force

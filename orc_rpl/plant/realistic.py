@@ -236,7 +236,7 @@ class RealisticCell(PidDrives, SimCell):
         """The copper losses of a drive call's steps (their forces, overwritten); the slow states once
         THERMAL_EVERY_STEPS have passed (at the call's end: whole motion cycles)."""
         multiply(forces, forces, forces)
-        add(self._tau_sq_sum, forces.sum(axis=0), self._tau_sq_sum)
+        add(self._tau_sq_sum, add.reduce(forces, 0), self._tau_sq_sum)  # = forces.sum(axis=0), one C call
         self._steps += len(forces)
         if self._steps - self._heated_at >= THERMAL_EVERY_STEPS:
             self._heat(self._steps - self._heated_at)

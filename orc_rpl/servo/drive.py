@@ -34,7 +34,8 @@ class CompiledDrives:
         n = servo.arm.n_joints
         self._ff, self._rows = np.zeros((0, n)), np.zeros((0, n))
         self._work, self._integral = np.zeros(n), np.zeros(n)
-        self._gain_p, self._gain_i, self._kv_ibw = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._gains = np.zeros((3, n))
+        self._gain_p, self._gain_i, self._kv_ibw = self._gains   # views of its rows
         self._kp, self._kv, self._ibw = np.zeros(n), np.zeros(n), np.zeros(n)
         self._pid_p, self._pid_i = np.zeros(n), np.zeros(n)   #: kp + ki and ki * kp of the law, per kv
         self._integral_start = np.zeros(n)
@@ -61,13 +62,12 @@ class CompiledDrives:
         if servo._kp is not self._kp:  # another tuning (or the first call): the law's constants
             self._kp, self._ibw = servo._kp, servo._integral_bw_dt / servo.period_s
             self._pid_p, self._pid_i = self._kp + self._ibw, self._ibw * self._kp
+            self._per_kv = np.stack([self._pid_p, self._pid_i, self._ibw])   #: one ufunc gives the three gains
             self._friction_p = self._kp * (1.0 / FRICTION_SMOOTH_RAD_S)
             self._integral_max = servo._integral_max
         kv, pid_p, pid_i = self._kv, self._gain_p, self._gain_i
         multiply(servo.arm.mass_matrix_diagonal_unchecked(q), servo._velocity_bw, kv)
-        multiply(kv, self._pid_p, pid_p)
-        multiply(kv, self._pid_i, pid_i)
-        multiply(kv, self._ibw, self._kv_ibw)
+        multiply(kv, self._per_kv, self._gains)  # rows: kv (kp + ki), kv ki kp, kv ki
         # The integral torque of the Python law is kept across the new kv, not the PID's ki * int(e):
         # its kv ki e part changes with kv (unchecked, it drifts by about 10 N m over a fast move)
         work = self._work
