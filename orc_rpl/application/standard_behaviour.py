@@ -137,10 +137,12 @@ class Gripper:
             self._angles_rad = {False: _angle(attrs["OPEN"], "OPEN"), True: _angle(attrs["CLOSED"], "CLOSED")}
             self._current_a = float(attrs.get("GRIP_CURRENT", 0.5))
         self._closed = False
+        self._holding = False
 
     def _servo_to(self, closed: bool) -> None:
-        self._context.robot.drive_gripper(int(self._servo), self._angles_rad[closed], self._current_a)
+        holding = self._context.robot.drive_gripper(int(self._servo), self._angles_rad[closed], self._current_a)
         self._closed = closed
+        self._holding = bool(holding) and closed
 
     def Open(self) -> None:  # noqa: N802 - the language's method names
         if self._servo is not None:
@@ -156,6 +158,10 @@ class Gripper:
         if self._servo is not None:
             return self._closed
         return bool(self._context.read(self._channel))
+
+    def Holding(self) -> bool:  # noqa: N802
+        """TRUE when the last Close of a servo gripper stopped on an object, squeezing it at GRIP_CURRENT."""
+        return self._holding
 
 
 class Grinder:

@@ -16,9 +16,10 @@ import numpy as np
 
 from orc_rpl.errors import DriveFault, UsageError
 from orc_rpl.hardware.bus import ServoBus
+from orc_rpl.hardware.droop import SETTLED_COUNTS, DroopCorrection
 from orc_rpl.hardware.calibration import Calibration
 from orc_rpl.hardware.packets import BusError, Status
-from orc_rpl.hardware.registers import alarm_text
+from orc_rpl.hardware.registers import CURRENT_BASED_POSITION_MODE, alarm_text
 
 #: The motion period is the 90th percentile of measured bus cycles times this margin, in whole ms
 #: (a slower cycle now and then is absorbed: the pacing never rushes to catch up).
@@ -28,7 +29,9 @@ MEASURED_CYCLES = 40
 #: Dynamixel bus watchdog: the servos stop by themselves when the host is silent this long (20 ms units).
 WATCHDOG_UNITS = 5
 READ_ATTEMPTS = 3  #: sync reads of one cycle before a servo that does not answer is a DriveFault
-ENCODER_COUNTS_SETTLED = 4  #: a FINE move has arrived within this many encoder counts (droop plus a count)
+ENCODER_COUNTS_SETTLED = 4  #: a gripper servo has arrived within twice this many counts of its goal
+#: A servo stopped short of its goal with this share of its current cap (or more) is squeezing an object.
+HOLDING_CURRENT_SHARE = 0.8
 
 
 class BusBackend:
@@ -41,7 +44,8 @@ class BusBackend:
         self.ids = [j.servo_id for j in calibration.joints]
         self._goal = self.model.reg("goal_position")
         self._block = self.model.state_block
-        self.settle_rad = ENCODER_COUNTS_SETTLED * self.model.rad_per_count()
+        self.settle_rad = SETTLED_COUNTS * self.model.rad_per_count()
+        self._droop = DroopCorrection(len(self.ids), self.model.rad_per_count())
         self.settle_rad_s = 0.05
         self.voltage_v = np.zeros(len(self.ids))
         self.temperature_c = np.zeros(len(self.ids))
@@ -53,6 +57,8 @@ class BusBackend:
         self._last_cycle_s = -1e9  #: when the last cycle talked to the bus (the Dynamixel watchdog)
         self._servo_goals: dict[int, int] = {}
         self._servo_seen_moving: dict[int, bool] = {}
+        self._servo_cap_a: dict[int, float] = {}
+        self._servo_holding: dict[int, bool] = {}
         self._connect()
         self.cycle_times_s: list[float] = []
         self.servo_period_s = motion_period_s if motion_period_s is not None else self._choose_period()
@@ -65,7 +71,7 @@ class BusBackend:
     def advance(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
         q = q_ref[-1]
         self._check_range(q)
-        self._cycle(self.cal.to_counts(q))
+        self._cycle(self.cal.to_counts(self._droop.goal(q, self._q)))
         self._cycles += 1
         self._pace()
 
@@ -226,6 +232,9 @@ class BusBackend:
         self.hold()
         gripper = self.cal.gripper
         if gripper is not None:
+            if model.family == "dynamixel":
+                # current-based position control: the gripper squeezes with its goal current, no harder
+                bus.write(gripper.servo_id, reg("operating_mode").address, bytes((CURRENT_BASED_POSITION_MODE,)))
             present = model.value("present_position", bus.read(gripper.servo_id, *self._block))
             bus.write(gripper.servo_id, self._goal.address, self._goal.encode(present))
         bus.sync_write(reg("torque_enable").address, 1, {i: b"\x01" for i in self._all_ids()})
@@ -250,16 +259,23 @@ class BusBackend:
             else (self.model.center_count, 1)
         count = zero + direction * int(round(angle_rad / self.model.rad_per_count()))
         try:
-            if "torque_limit" in self.model.registers:
+            model = self.model
+            if "torque_limit" in model.registers:
                 # the STS limits torque (0.1 % units of its stall torque): the current limit as a share of stall
-                share = max(0, min(1000, int(round(1000.0 * current_limit_a / self.model.stall_current_a))))
-                self.bus.write(servo_id, self.model.reg("torque_limit").address, self.model.reg("torque_limit").encode(share))
+                share = max(0, min(1000, int(round(1000.0 * current_limit_a / model.stall_current_a))))
+                self.bus.write(servo_id, model.reg("torque_limit").address, model.reg("torque_limit").encode(share))
+            else:
+                # Dynamixel in current-based position mode: the goal current caps the squeeze
+                units = max(1, int(round(current_limit_a / model.current_a_per_unit)))
+                self.bus.write(servo_id, model.reg("goal_current").address, model.reg("goal_current").encode(units))
             self.bus.write(servo_id, self._goal.address, self._goal.encode(count))
             self.bus.write(servo_id, self.model.reg("torque_enable").address, b"\x01")
         except BusError as error:
             raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
         self._servo_goals[servo_id] = count
         self._servo_seen_moving[servo_id] = False
+        self._servo_cap_a[servo_id] = current_limit_a
+        self._servo_holding[servo_id] = False
 
     def servo_arrived(self, servo_id: int) -> bool:
         """True when the servo is within a few counts of its goal, or has stopped (a gripper squeezing a part)."""
@@ -267,10 +283,23 @@ class BusBackend:
             block = self.bus.read(servo_id, *self._block)
         except BusError as error:
             raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
-        count, speed = self.model.value("present_position", block), self.model.value("present_speed", block)
+        model = self.model
+        count, speed = model.value("present_position", block), model.value("present_speed", block)
         close = abs(count - self._servo_goals.get(servo_id, count)) <= 2 * ENCODER_COUNTS_SETTLED
         self._servo_seen_moving[servo_id] = self._servo_seen_moving.get(servo_id, False) or speed != 0
-        return close or (self._servo_seen_moving[servo_id] and speed == 0)
+        stopped = self._servo_seen_moving[servo_id] and speed == 0
+        if stopped and not close:
+            # stopped short of its goal: squeezing something if it pushes with (nearly) its whole current cap
+            if model.family == "feetech":
+                current_a = abs(model.value("present_load", block)) / 1000.0 * model.stall_current_a
+            else:
+                current_a = abs(model.value("present_current", block)) * model.current_a_per_unit
+            self._servo_holding[servo_id] = current_a >= HOLDING_CURRENT_SHARE * self._servo_cap_a.get(servo_id, 0.0)
+        return close or stopped
+
+    def servo_holding(self, servo_id: int) -> bool:
+        """True when the servo's last move stopped on an object, squeezing it at its current cap (a grip)."""
+        return self._servo_holding.get(servo_id, False)
 
     def describe(self) -> dict[str, Any]:
         """Figures for the run's summary: the bus, the period chosen and what the cycles measured."""

@@ -27,12 +27,12 @@ def open_pty() -> tuple[int, int, str]:
 
 
 def serve(robot: str, bus: str, baud: int = 1_000_000, faults: tuple[FaultPlan, ...] = (), hand: bool = False,
-          out: TextIO = sys.stdout, duration_s: float | None = None) -> None:
+          out: TextIO = sys.stdout, duration_s: float | None = None, object_rad: float | None = None) -> None:
     """Run the emulated arm until killed (or for duration_s); prints the port path first."""
     spec = ROBOTS.get(robot)
     n = len(spec.q_min_rad)
     emulated = EmulatedBus(bus, list(range(1, n + 2)), baud, faults)  # the arm's joints and the gripper
-    arm = EmulatedArm(robot, emulated.servos)
+    arm = EmulatedArm(robot, emulated.servos, object_rad)
     master, slave, path = open_pty()
     out.write(f"{path}\n")
     out.write(f"emulating {robot} on a {bus} bus at {baud} baud: servo ids 1..{n} (joints), {n + 1} (gripper)\n")
@@ -80,6 +80,7 @@ def serve(robot: str, bus: str, baud: int = 1_000_000, faults: tuple[FaultPlan, 
                 if complaint is not None:
                     emulated.bad_packets += 1
                 if isinstance(packet, Instruction):
+                    arm.publish()  # the registers as the servos measure now
                     outgoing.extend(emulated.handle(packet, used, received))
                 elif not used:
                     break
