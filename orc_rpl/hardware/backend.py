@@ -71,7 +71,7 @@ class BusBackend:
     def advance(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
         q = q_ref[-1]
         self._check_range(q)
-        self._cycle(self.cal.to_counts(self._droop.goal(q, self._q)))
+        self._cycle(self.cal.to_counts(self._droop.goal(q, self._q, self._qd)))
         self._cycles += 1
         self._pace()
 

@@ -11,6 +11,8 @@ DEAD_COUNTS = 1.5
 GAIN_PER_CYCLE = 0.05
 #: The offset never exceeds this (counts): the droop of a servo at its full load, not a runaway.
 LIMIT_COUNTS = 24.0
+#: A joint slower than this is at rest (rad/s): its error is droop, not lag.
+AT_REST_RAD_S = 0.02
 #: A FINE move has arrived within this many counts (the correction's dead band plus the encoder's count).
 SETTLED_COUNTS = 2.0
 
@@ -29,12 +31,14 @@ class DroopCorrection:
         self._rad = rad_per_count
         self._last_ref: np.ndarray | None = None
 
-    def goal(self, q_ref: np.ndarray, q_measured: np.ndarray) -> np.ndarray:
-        """The goal to send for this cycle's reference, given the last measured position."""
+    def goal(self, q_ref: np.ndarray, q_measured: np.ndarray, qd_measured: np.ndarray) -> np.ndarray:
+        """The goal to send for this cycle's reference, given the last measured position and speed."""
         rad = self._rad
         if self._last_ref is not None and np.all(np.abs(q_ref - self._last_ref) < 0.1 * rad):
             error = q_ref - q_measured
-            error[np.abs(error) <= DEAD_COUNTS * rad] = 0.0
+            # only a joint at rest near its reference droops: one still arriving would wind the offset up
+            error[(np.abs(error) <= DEAD_COUNTS * rad) | (np.abs(error) > LIMIT_COUNTS * rad)
+                  | (np.abs(qd_measured) > AT_REST_RAD_S)] = 0.0
             self.offset_rad = np.clip(self.offset_rad + GAIN_PER_CYCLE * error, -LIMIT_COUNTS * rad, LIMIT_COUNTS * rad)
         self._last_ref = np.array(q_ref, dtype=float)
         return q_ref + self.offset_rad

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from orc_rpl.hardware.droop import DroopCorrection
 from orc_rpl.hardware.emulated_servo import EmulatedServo
 from orc_rpl.hardware.registers import CURRENT_BASED_POSITION_MODE
 from orc_rpl.plant.servo_arm import ServoArmCell
@@ -36,6 +37,7 @@ class EmulatedArm:
         self.jaw = ServoGripper(GripperServo(self.model.stall_torque_nm, self.model.stall_current_a,
                                              plant.no_load_speed_rad_s, self._rad), object_rad=object_rad)
         self.hand: list[float] | None = None  #: joint targets of a hand moving the limp arm (calibration), or None
+        self._hand_eye = DroopCorrection(self.n, self._rad)  #: the person holds a pose where they see it
         self._enabled = np.zeros(self.n, dtype=bool)
         self.cell.set_torque(self._enabled)
         self._read_registers()
@@ -59,9 +61,10 @@ class EmulatedArm:
         if any(s.changed for s in self.servos.values()):
             self._read_registers()
         if self.hand is not None:
-            # a hand moves the limp joints (calibration): as strong as a servo, as stiff as a grip
+            # a hand moves the limp joints (calibration): as strong as a servo, and it corrects what it sees
             enabled = np.ones(self.n, dtype=bool)
-            cell.set_goals(np.where(self._torque_on, self._goals, self.hand))
+            hand = self._hand_eye.goal(np.array(self.hand), cell.q, cell.qd)
+            cell.set_goals(np.where(self._torque_on, self._goals, hand))
         else:
             enabled = self._torque_on
             cell.set_goals(self._goals)

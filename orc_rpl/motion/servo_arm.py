@@ -35,7 +35,7 @@ class ServoArmBackend:
         self._stall_nm = cell.plant.stall_torque_nm
 
     def advance(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
-        self.cell.set_goals(self._droop.goal(q_ref[-1], self.cell.q))
+        self.cell.set_goals(self._droop.goal(q_ref[-1], self.cell.q, self.cell.qd))
         for _ in range(self._steps):
             self.cell.step_servos()
 
