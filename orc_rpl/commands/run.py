@@ -112,6 +112,7 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
+    from orc_rpl.robot.servo_plants import servo_plant_spec
     from orc_rpl.syntax.files import is_offline
     from orc_rpl.transform.loading import load_program_and_attributes
     from orc_rpl.transform.overrides import override_constants
@@ -144,6 +145,10 @@ def run(args: argparse.Namespace) -> int:
     diagnostics = check(program, args.file, registry, attributes)
     if args.port is not None:
         diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot)
+    elif cell is None and servo_plant_spec(args.robot) is not None and args.plant != "ideal":
+        # the realistic plant of an arm on bus servos measures what the real one does: no joint torque
+        diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot,
+                                                    hint="--plant ideal runs it on the controller's own model")
     if diagnostics:
         for diagnostic in capped(diagnostics):
             sys.stderr.write(diagnostic.format(source) + "\n")
@@ -226,7 +231,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
                                                                                        registry, watch_how) as watchers:
         machine.robot = watchers.monitor(progress.monitor(robot)) if watchers is not None else progress.monitor(robot)
         wall_start = time.perf_counter()  # after the view's page connected
-        interrupted = _run_until_done(executive, args.timeout)
+        interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
     machine.robot = robot
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
@@ -238,8 +243,9 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         sys.stderr.write(executive.report() + "\n")
     if interrupted:
         result["status"], result["interrupted_by"] = "interrupted", interrupted
-        sys.stderr.write(f"orc run: interrupted by {interrupted}; the robot stopped on its path\n")
-    write_summary_text(result, wall_s, sys.stderr)
+        where = "the arm holds its position" if args.port is not None else "the robot stopped on its path"
+        sys.stderr.write(f"orc run: interrupted by {interrupted}; {where}\n")
+    write_summary_text(result, wall_s, sys.stderr, real_arm=args.port is not None)
     try:
         if args.summary_json:
             write_text_atomic(args.summary_json, json.dumps(result, indent=2) + "\n")
@@ -260,7 +266,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     return 1 if executive.status == "failed" or interrupted else 0
 
 
-def _run_until_done(executive: Any, timeout_s: float | None) -> str:
+def _run_until_done(executive: Any, timeout_s: float | None, simulated: bool = True) -> str:
     """Run the program; what interrupted it ("Ctrl-C", the timeout) or "" when it ended by itself."""
     limit = TimeLimit(executive.machine.robot, timeout_s, executive) if timeout_s is not None else None
     if limit is not None:
@@ -270,7 +276,7 @@ def _run_until_done(executive: Any, timeout_s: float | None) -> str:
     except KeyboardInterrupt:
         return "Ctrl-C"
     if limit is not None and limit.reached and executive.status == "paused":
-        return f"--timeout {timeout_s:g} s (simulated)"
+        return f"--timeout {timeout_s:g} s" + (" (simulated)" if simulated else "")
     return ""
 
 

@@ -38,6 +38,7 @@ class BusBackend:
     """The joints of one robot on one bus; q, qd and the load come from the last sync read."""
 
     measures_torque = False  #: the servos report load (PWM duty) and current, not joint torque
+    real_arm = True          #: what the user sees says so: no "simulated" times, cells or channels
 
     def __init__(self, bus: ServoBus, calibration: Calibration, motion_period_s: float | None = None) -> None:
         self.bus, self.cal, self.model = bus, calibration, calibration.model

@@ -15,6 +15,10 @@ from orc_rpl.robot.servo_plants import ServoPlantSpec, servo_plant_spec
 PLAY_SOLREF = (0.002, 1.0)
 #: The output's own damping inside the play (N m s/rad): grease, so the output does not rattle.
 PLAY_DAMPING_NM_S = 0.02
+#: A limp servo's gearbox sticks until back-driven harder than limp_hold_nm: a stiff, damped stick (N m/rad,
+#: N m s/rad) that slips, and sticks again where it slipped to.
+STICK_NM_RAD = 50.0
+STICK_NM_S_RAD = 1.7
 
 clip, rint = np.clip, np.rint
 mj_forward = mujoco.mj_forward
@@ -61,7 +65,7 @@ class ServoArmCell(SimCell):
             m.body_inertia[body] *= factor
         self._play = self._qpos + 1
         self._play_v = self._qvel + 1
-        self._coulomb = np.array(p.coulomb_nm)
+        m.dof_frictionloss[self._qvel] = np.array(p.coulomb_nm)
         m.dof_damping[self._qvel] = np.array(p.viscous_nm_s)
         self.goal_count = np.zeros(n)
         self.enabled = np.ones(n, dtype=bool)
@@ -71,12 +75,8 @@ class ServoArmCell(SimCell):
         self._decay = float(np.exp(-self.timestep_s / p.winding_time_constant_s))
         self._amp_per_nm = p.stall_current_a / p.stall_torque_nm
         self._count_per_rad = 1.0 / p.rad_per_count
-        self._set_friction()
+        self._stuck_rad = np.zeros(n)  #: where each limp servo's gearbox sticks (its motor side)
         super().set_payload(p.unmodelled_flange_mass_kg)
-
-    def _set_friction(self) -> None:
-        """A servo with its torque off is back-driven through its gearbox: it holds up to limp_hold_nm."""
-        self._model.dof_frictionloss[self._qvel] = np.where(self.enabled, self._coulomb, self.plant.limp_hold_nm)
 
     # -- what the servo reports ----------------------------------------------------------------
 
@@ -110,7 +110,7 @@ class ServoArmCell(SimCell):
     @property
     def current_a(self) -> np.ndarray:
         """Each motor's current (A, unsigned): the share of the stall torque it gives."""
-        return np.abs(self._data.actuator_force) * self._amp_per_nm
+        return np.abs(self._data.actuator_force) * self._amp_per_nm * self.enabled  # a limp one's gearbox holds, unpowered
 
     @property
     def temperature_c(self) -> np.ndarray:
@@ -126,13 +126,12 @@ class ServoArmCell(SimCell):
     def set_torque(self, enabled: Any) -> None:
         """Torque on or off per servo (off: limp, back-driven through the gearbox)."""
         self.enabled = np.asarray(enabled, dtype=bool).copy()
-        self._set_friction()
 
     # -- stepping ----------------------------------------------------------------------
 
     def reset(self, q: Any = None, qd: Any = None) -> None:
         """Back to time 0 at q (the goals there too), at rest; the servos keep their temperature."""
-        if not hasattr(self, "_coulomb"):
+        if not hasattr(self, "_stuck_rad"):
             self._setup()
         super().reset(q, qd)
         # at rest, gravity has taken up each gear's play: the output is at q, the motor side behind it
@@ -151,7 +150,13 @@ class ServoArmCell(SimCell):
         speed = self.qd
         duty = clip(p.position_gain_duty_per_count * error - p.damping_duty_s_rad * speed, -self.duty_limit, self.duty_limit)
         self.duty = np.where(self.enabled, duty, 0.0)
-        self._ctrl[:] = p.stall_torque_nm * (self.duty - data.qvel[self._qvel] / p.no_load_speed_rad_s) * self.enabled
+        motor_q, motor_qd = data.qpos[self._qpos], data.qvel[self._qvel]
+        driven = p.stall_torque_nm * (self.duty - motor_qd / p.no_load_speed_rad_s)
+        # a limp servo: its gearbox sticks where it is, and slips when back-driven beyond limp_hold_nm
+        stick = STICK_NM_RAD * (self._stuck_rad - motor_q) - STICK_NM_S_RAD * motor_qd
+        slipping = np.abs(stick) > p.limp_hold_nm
+        self._stuck_rad = np.where(self.enabled | slipping, motor_q, self._stuck_rad)
+        self._ctrl[:] = np.where(self.enabled, driven, clip(stick, -p.limp_hold_nm, p.limp_hold_nm))
         mj_step(self._model, data)
         copper_w = p.winding_resistance_ohm * self.current_a ** 2
         self.temperature_rise_k = self._decay * self.temperature_rise_k + (1.0 - self._decay) * p.winding_rth_k_w * copper_w
