@@ -111,13 +111,17 @@ class BusBackend:
     # -- cycles -----------------------------------------------------------------------------------
 
     def _cycle(self, counts: list[int]) -> None:
+        self._keep_watchdog()
+        self.bus.sync_write(self._goal.address, self._goal.size,
+                            {i: self._goal.encode(c) for i, c in zip(self.ids, counts)})
+        self._read_state()
+
+    def _keep_watchdog(self) -> None:
+        """Before goals are sent: a Dynamixel watchdog that may have fired since the host last talked is set again."""
         now = time.perf_counter()
         if self.model.family == "dynamixel" and now - self._last_cycle_s > 0.5 * WATCHDOG_UNITS * 0.020:
             self._rearm_watchdog()
         self._last_cycle_s = now
-        self.bus.sync_write(self._goal.address, self._goal.size,
-                            {i: self._goal.encode(c) for i, c in zip(self.ids, counts)})
-        self._read_state()
 
     def _rearm_watchdog(self) -> None:
         """After a pause of the host (planning, a WAIT on input), the watchdog may have fired: clear and set it again.
@@ -260,6 +264,7 @@ class BusBackend:
             else (self.model.center_count, 1)
         count = zero + direction * int(round(angle_rad / self.model.rad_per_count()))
         try:
+            self._keep_watchdog()  # a fired watchdog refuses goals
             model = self.model
             if "torque_limit" in model.registers:
                 # the STS limits torque (0.1 % units of its stall torque): the current limit as a share of stall
@@ -280,10 +285,13 @@ class BusBackend:
 
     def servo_arrived(self, servo_id: int) -> bool:
         """True when the servo is within a few counts of its goal, or has stopped (a gripper squeezing a part)."""
-        try:
-            block = self.bus.read(servo_id, *self._block)
-        except BusError as error:
-            raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
+        for attempt in range(READ_ATTEMPTS):  # a lost reply now and then is noise, as in the motion cycle
+            try:
+                block = self.bus.read(servo_id, *self._block)
+                break
+            except BusError as error:
+                if attempt == READ_ATTEMPTS - 1:
+                    raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
         model = self.model
         count, speed = model.value("present_position", block), model.value("present_speed", block)
         close = abs(count - self._servo_goals.get(servo_id, count)) <= 2 * ENCODER_COUNTS_SETTLED
