@@ -111,9 +111,12 @@ class BusBackend:
     # -- cycles -----------------------------------------------------------------------------------
 
     def _cycle(self, counts: list[int]) -> None:
-        self._keep_watchdog()
-        self.bus.sync_write(self._goal.address, self._goal.size,
-                            {i: self._goal.encode(c) for i, c in zip(self.ids, counts)})
+        try:
+            self._keep_watchdog()
+            self.bus.sync_write(self._goal.address, self._goal.size,
+                                {i: self._goal.encode(c) for i, c in zip(self.ids, counts)})
+        except BusError as error:  # the port itself failed
+            self._lost(error)
         self._read_state()
 
     def _keep_watchdog(self) -> None:
@@ -171,6 +174,8 @@ class BusBackend:
             self.hold(others)
         except BusError:
             pass
+        if error.servo_id is None:
+            raise DriveFault(f"the servo bus: {error.reason}") from None
         raise DriveFault(f"{self._name(error.servo_id)}: {error.reason}; the other joints hold their positions") from None
 
     def _alarm(self, servo_id: int, status: Status) -> None:
@@ -188,8 +193,12 @@ class BusBackend:
         return "the servo bus" if servo_id is None else f"servo {servo_id}"
 
     def _check_range(self, q: np.ndarray) -> None:
+        # An arm left limp beyond its recorded range (moved there by hand after calibrating) may come back:
+        # a reference between where the joint is and its range is allowed, one further out never. A few
+        # counts of slack: the gear play and the encoder's count.
+        slack = ENCODER_COUNTS_SETTLED * self.model.rad_per_count()
         for k, joint in enumerate(self.cal.joints):
-            if not joint.min_rad - 1e-9 <= q[k] <= joint.max_rad + 1e-9:
+            if not min(joint.min_rad, self._q[k]) - slack <= q[k] <= max(joint.max_rad, self._q[k]) + slack:
                 self.hold()
                 raise DriveFault(f"joint {k + 1} reference {math.degrees(q[k]):.2f} deg is outside its calibrated range "
                                  f"{math.degrees(joint.min_rad):.1f}..{math.degrees(joint.max_rad):.1f} deg; holding")
