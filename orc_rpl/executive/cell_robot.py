@@ -112,8 +112,8 @@ class CellRobot:
     def drive_gripper(self, servo_id: int, angle_rad: float, current_limit_a: float) -> bool:
         """A gripper on a servo of the arm's bus: move it and wait until it is there (or squeezes at its current limit).
 
-        True when it stopped on an object, squeezing it (a grip). On the simulated cell the gripper is
-        ideal: it is where it was sent at once, and holds nothing."""
+        True when it stopped on an object, squeezing it (a grip). A backend without gripper servos (the
+        ideal plant) has an ideal gripper: it is where it was sent at once, and holds nothing."""
         backend = self.layer.backend
         drive = getattr(backend, "drive_servo", None)
         if drive is None:

@@ -17,6 +17,7 @@ import numpy as np
 from orc_rpl.errors import DriveFault, UsageError
 from orc_rpl.hardware.bus import ServoBus
 from orc_rpl.hardware.droop import SETTLED_COUNTS, DroopCorrection
+from orc_rpl.hardware.grip import GripWatch
 from orc_rpl.hardware.calibration import Calibration
 from orc_rpl.hardware.packets import BusError, Status
 from orc_rpl.hardware.registers import CURRENT_BASED_POSITION_MODE, alarm_text
@@ -29,9 +30,7 @@ MEASURED_CYCLES = 40
 #: Dynamixel bus watchdog: the servos stop by themselves when the host is silent this long (20 ms units).
 WATCHDOG_UNITS = 5
 READ_ATTEMPTS = 3  #: sync reads of one cycle before a servo that does not answer is a DriveFault
-ENCODER_COUNTS_SETTLED = 4  #: a gripper servo has arrived within twice this many counts of its goal
-#: A servo stopped short of its goal with this share of its current cap (or more) is squeezing an object.
-HOLDING_CURRENT_SHARE = 0.8
+RANGE_SLACK_COUNTS = 4  #: slack of the calibrated range check (the gear play and a count)
 
 
 class BusBackend:
@@ -56,10 +55,7 @@ class BusBackend:
         self._load = np.zeros(len(self.ids))
         self._counts: dict[int, int] = {}
         self._last_cycle_s = -1e9  #: when the last cycle talked to the bus (the Dynamixel watchdog)
-        self._servo_goals: dict[int, int] = {}
-        self._servo_seen_moving: dict[int, bool] = {}
-        self._servo_cap_a: dict[int, float] = {}
-        self._servo_holding: dict[int, bool] = {}
+        self._grips: dict[int, GripWatch] = {}  #: the last move of each gripper servo
         self._connect()
         self.cycle_times_s: list[float] = []
         self.servo_period_s = motion_period_s if motion_period_s is not None else self._choose_period()
@@ -196,7 +192,7 @@ class BusBackend:
         # An arm left limp beyond its recorded range (moved there by hand after calibrating) may come back:
         # a reference between where the joint is and its range is allowed, one further out never. A few
         # counts of slack: the gear play and the encoder's count.
-        slack = ENCODER_COUNTS_SETTLED * self.model.rad_per_count()
+        slack = RANGE_SLACK_COUNTS * self.model.rad_per_count()
         for k, joint in enumerate(self.cal.joints):
             if not min(joint.min_rad, self._q[k]) - slack <= q[k] <= max(joint.max_rad, self._q[k]) + slack:
                 self.hold()
@@ -287,10 +283,7 @@ class BusBackend:
             self.bus.write(servo_id, self.model.reg("torque_enable").address, b"\x01")
         except BusError as error:
             raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
-        self._servo_goals[servo_id] = count
-        self._servo_seen_moving[servo_id] = False
-        self._servo_cap_a[servo_id] = current_limit_a
-        self._servo_holding[servo_id] = False
+        self._grips[servo_id] = GripWatch(count, current_limit_a)
 
     def servo_arrived(self, servo_id: int) -> bool:
         """True when the servo is within a few counts of its goal, or has stopped (a gripper squeezing a part)."""
@@ -303,21 +296,17 @@ class BusBackend:
                     raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
         model = self.model
         count, speed = model.value("present_position", block), model.value("present_speed", block)
-        close = abs(count - self._servo_goals.get(servo_id, count)) <= 2 * ENCODER_COUNTS_SETTLED
-        self._servo_seen_moving[servo_id] = self._servo_seen_moving.get(servo_id, False) or speed != 0
-        stopped = self._servo_seen_moving[servo_id] and speed == 0
-        if stopped and not close:
-            # stopped short of its goal: squeezing something if it pushes with (nearly) its whole current cap
-            if model.family == "feetech":
-                current_a = abs(model.value("present_load", block)) / 1000.0 * model.stall_current_a
-            else:
-                current_a = abs(model.value("present_current", block)) * model.current_a_per_unit
-            self._servo_holding[servo_id] = current_a >= HOLDING_CURRENT_SHARE * self._servo_cap_a.get(servo_id, 0.0)
-        return close or stopped
+        if model.family == "feetech":
+            current_a = abs(model.value("present_load", block)) / 1000.0 * model.stall_current_a
+        else:
+            current_a = abs(model.value("present_current", block)) * model.current_a_per_unit
+        grip = self._grips.get(servo_id)
+        return True if grip is None else grip.arrived(count, speed, current_a)
 
     def servo_holding(self, servo_id: int) -> bool:
         """True when the servo's last move stopped on an object, squeezing it at its current cap (a grip)."""
-        return self._servo_holding.get(servo_id, False)
+        grip = self._grips.get(servo_id)
+        return grip is not None and grip.holding
 
     def describe(self) -> dict[str, Any]:
         """Figures for the run's summary: the bus, the period chosen and what the cycles measured."""

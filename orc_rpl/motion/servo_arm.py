@@ -8,6 +8,8 @@ import numpy as np
 
 from orc_rpl.errors import UsageError
 from orc_rpl.hardware.droop import SETTLED_COUNTS, DroopCorrection
+from orc_rpl.hardware.grip import GripWatch
+from orc_rpl.plant.servo_gripper import GripperServo, ServoGripper
 
 SETTLE_RAD_S = 0.05  #: a FINE move has come to rest below this joint speed, as on the bus
 
@@ -33,11 +35,20 @@ class ServoArmBackend:
         self._droop = DroopCorrection(cell.n_joints, cell.plant.rad_per_count)
         self.settle_rad_s = SETTLE_RAD_S
         self._stall_nm = cell.plant.stall_torque_nm
+        p = cell.plant
+        # the gripper: the arm's next servo, its jaw driven as on the bus (current-capped), nothing to grip
+        self.gripper_id = cell.n_joints + 1
+        self.jaw = ServoGripper(GripperServo(p.stall_torque_nm, p.stall_current_a, p.no_load_speed_rad_s, p.rad_per_count))
+        self._jaw_goal_rad, self._jaw_cap_a = self.jaw.angle_rad, 0.0
+        self._grip: GripWatch | None = None
 
     def advance(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
         self.cell.set_goals(self._droop.goal(q_ref[-1], self.cell.q, self.cell.qd))
+        dt, jaw = self.cell.timestep_s, self.jaw
         for _ in range(self._steps):
             self.cell.step_servos()
+            if self._grip is not None:
+                jaw.step(self._jaw_goal_rad, self._jaw_cap_a, dt)
 
     def q(self) -> np.ndarray:
         return self.cell.q
@@ -59,6 +70,26 @@ class ServoArmBackend:
     def hold(self) -> None:
         """Goal = where each servo is: they stop and hold (torque stays on)."""
         self.cell.set_goals(self.cell.q)
+
+    # -- the gripper servo, as on the bus --------------------------------------------------------
+
+    def drive_servo(self, servo_id: int, angle_rad: float, current_limit_a: float) -> None:
+        """Send the gripper's servo to an angle with its current capped at current_limit_a."""
+        if servo_id != self.gripper_id:
+            raise UsageError(f"the simulated {self.cell.robot}'s gripper is servo {self.gripper_id}, not {servo_id}")
+        self._jaw_goal_rad, self._jaw_cap_a = angle_rad, current_limit_a
+        self._grip = GripWatch(self._count(angle_rad), current_limit_a)
+
+    def servo_arrived(self, servo_id: int) -> bool:
+        jaw = self.jaw
+        speed = int(round(jaw.speed_rad_s / self.cell.plant.rad_per_count))  # whole counts per second
+        return self._grip is None or self._grip.arrived(self._count(jaw.angle_rad), speed, jaw.current_a)
+
+    def servo_holding(self, servo_id: int) -> bool:
+        return self._grip is not None and self._grip.holding
+
+    def _count(self, angle_rad: float) -> int:
+        return int(round(angle_rad / self.cell.plant.rad_per_count))
 
     def describe(self) -> dict[str, Any]:
         """Figures for the run's summary, as the bus backend gives them."""

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
 from orc_rpl.errors import UsageError
+from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.motion import JointMotion, make_virtual_motion_layer
 from orc_rpl.plant.servo_arm import ServoArmCell
 from orc_rpl.robot.plants import default_plant
@@ -79,3 +82,15 @@ def test_a_fine_move_arrives_within_two_counts_once_the_host_corrects_the_droop(
     assert handle.settled
     rad = SERVO_PLANTS["so101"].rad_per_count
     assert np.all(np.abs(layer.backend.q() - target) < 2.0 * rad)
+
+
+def test_the_simulated_gripper_servo_takes_its_time_and_closes_on_nothing() -> None:
+    robot = CellRobot.virtual("so101")
+    start = robot.time_s()
+    assert robot.drive_gripper(6, math.radians(60), 0.5) is False
+    opened = robot.time_s() - start
+    # 58 degrees at the speed a 0.5 A cap allows (about 0.8 rad/s): over a second, under the 2 s wait
+    assert 1.0 < opened < 2.0, opened
+    assert robot.drive_gripper(6, math.radians(2), 0.5) is False
+    with pytest.raises(UsageError, match="gripper is servo 6"):
+        robot.drive_gripper(3, 0.0, 0.5)
