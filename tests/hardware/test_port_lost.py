@@ -14,7 +14,7 @@ pytestmark = pytest.mark.sim
 
 def test_a_port_that_goes_away_is_a_drive_fault_naming_the_bus(tmp_path: Path) -> None:
     back_and_forth = MOVES + "WHILE TRUE DO\n    MOVE jaws TO a\n    MOVE jaws TO b\nENDWHILE\n"
-    with emulated_bus("--robot", "so101", "--duration-s", "4") as port:  # the emulator stops: its port goes away
+    with emulated_bus("--robot", "so101", "--duration-s", "15") as port:  # then its port goes away
         code, _, err, summary = orc_run(tmp_path, back_and_forth, "--port", port)
     assert code == 1, err
     assert summary["error"]["exception"] == "DriveFault", summary["error"]
