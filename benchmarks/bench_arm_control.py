@@ -4,7 +4,8 @@ Run: python benchmarks/bench_arm_control.py [--robot irb2400] [--seed 0]
 Fast joint motions at full speed, declared LOAD = 10 kg while the plant carries 15 kg,
 from a cold start (twice the warm friction). The last lines are `key=value` figures (targets:
 pvc_path_error_mm <= 0.5, saturated_cycle_fraction <= 0.01, nominal_equals_actual_when_feasible=True,
-thermal_estimate_error_pct <= 5); no_pvc_path_error_mm is the same motions without the controller.
+thermal_estimate_error_pct <= 5); no_pvc_path_error_mm is the same motions without the controller,
+thermal_estimate_error_pct_model_only the thermal model without the correction from the drives' voltage and current.
 Path errors count every servo step from the start of a move to the end of its FINE settling;
 pvc_path_error_while_moving_mm only the steps while the reference moves.
 """
@@ -105,9 +106,15 @@ def nominal_equals_actual(robot: str, seed: int) -> bool:
 DUTY_CYCLES = 6   #: the thermal duty cycle: the fast moves this many times over, payload declared right
 
 
-def thermal_estimate(robot: str, seed: int) -> tuple[float, np.ndarray, np.ndarray]:
-    """The winding-temperature estimate against the plant's windings after the duty cycle (error % of the rise)."""
+def thermal_estimate(robot: str, seed: int, corrected: bool = True) -> tuple[float, np.ndarray, np.ndarray]:
+    """The winding-temperature estimate against the plant's windings after the duty cycle (error % of the rise).
+
+    `corrected`: the estimate corrected from the drives' voltage and current (the default); False: the
+    thermal model alone.
+    """
     layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed)
+    if not corrected:
+        layer.winding.measurement = None
     loop = layer.backend.loop
     loop.cell.warm_up()
     loop.set_payload(DECLARED_KG, known=False)
@@ -128,6 +135,7 @@ def main() -> None:
     without = run_moves(args.robot, args.seed, False, True, CARRIED_KG)
     same = nominal_equals_actual(args.robot, args.seed)
     thermal_pct, plant_rise, estimated_rise = thermal_estimate(args.robot, args.seed)
+    model_only_pct, _, model_only_rise = thermal_estimate(args.robot, args.seed, corrected=False)
     print(f"robot={args.robot}")
     print(f"declared_load_kg={DECLARED_KG:g}")
     print(f"carried_load_kg={CARRIED_KG:g}")
@@ -140,6 +148,8 @@ def main() -> None:
     print(f"duration_ratio={with_pvc['duration_ratio']:.3f}")
     print(f"nominal_equals_actual_when_feasible={same}")
     print(f"plant_winding_rise_k={' '.join(f'{v:.2f}' for v in plant_rise)}")
+    print(f"model_only_winding_rise_k={' '.join(f'{v:.2f}' for v in model_only_rise)}")
+    print(f"thermal_estimate_error_pct_model_only={model_only_pct:.2f}")
     print(f"estimated_winding_rise_k={' '.join(f'{v:.2f}' for v in estimated_rise)}")
     print(f"thermal_estimate_error_pct={thermal_pct:.2f}")
 

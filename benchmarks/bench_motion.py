@@ -5,7 +5,8 @@ The last lines are `key=value` figures (targets: sim_speed_x_realtime >= 50,
 sim_vs_raw_mujoco_ratio >= 0.25, time_optimality_ratio <= 1.03, vs_naive_ratio <= 0.8,
 lmove_path_deviation_mm <= 1). The speed is the realistic plant's (median of five runs, each
 against raw mj_step of the ideal arm); the other figures are the realistic plant's, warm, with the
-payload declared right.
+payload declared right. sim_vs_raw_mujoco_ratio_python_servo_law is the same stack with the servo
+law in Python (the reference the drives' law in C is tested against), measured alike.
 """
 
 from __future__ import annotations
@@ -80,11 +81,15 @@ def warm_realistic(robot: str) -> MotionLayer:
     return layer
 
 
-def bench_speed(robot: str, seconds: float) -> tuple[float, float, float, float]:
-    """(x real time of the whole stack, x real time of raw mj_step, their ratio, share of wall time in servo+plant)."""
+def bench_speed(robot: str, seconds: float, compiled: bool = True) -> tuple[float, float, float, float]:
+    """(x real time of the whole stack, x real time of raw mj_step, their ratio, share of wall time in servo+plant).
+
+    `compiled`: the servo law in the drives (C, the default); False: the Python law it is written from.
+    """
     layer = make_virtual_motion_layer(robot, backend="servo", record=True, plant="realistic")
     program_step(layer, 0)  # warm-up: imports (toppra pulls in matplotlib), caches
     layer = make_virtual_motion_layer(robot, backend="servo", record=True, plant="realistic")
+    layer.backend.loop.use_compiled_law(compiled)
     below = [0.0]
     advance = layer.backend.advance
 
@@ -206,6 +211,7 @@ def main() -> None:
     # the machine is shared: the median of five runs of the stack, each against raw mj_step in the same run
     runs = sorted((bench_speed(args.robot, args.seconds / 5) for _ in range(5)), key=lambda r: r[2])
     ours, raw, ratio, servo_share = runs[2]
+    python_law = sorted(bench_speed(args.robot, args.seconds / 5, compiled=False)[2] for _ in range(5))[2]
     worst, mean, naive, naive_short, naive_long = bench_optimality(args.robot)
     dev = bench_lmove_deviation(args.robot)
     print(f"robot={args.robot}")
@@ -215,6 +221,7 @@ def main() -> None:
     print(f"vs_naive_ratio_short_moves={naive_short:.3f}")
     print(f"vs_naive_ratio_long_moves={naive_long:.3f}")
     print(f"sim_speed_x_realtime={ours:.1f}")
+    print(f"sim_vs_raw_mujoco_ratio_python_servo_law={python_law:.3f}")
     print(f"sim_vs_raw_mujoco_ratio={ratio:.3f}")
     print(f"time_optimality_ratio={worst:.4f}")
     print(f"vs_naive_ratio={naive:.3f}")

@@ -2,7 +2,8 @@
 
 Run: python benchmarks/bench_verify.py [--programs 8] [--laps 20] [--repeats 3]
 The last lines are `key=value` figures (targets: parallel_efficiency >= 0.8 with 2 workers on a quiet machine with at
-least 2 free cores; scheduling_overhead_ms < 50). BLAS and OpenMP threads are pinned to 1 here and in the workers.
+least 2 free cores; scheduling_overhead_ms < 50), and what measuring the margins (orc run --margins: clearance and joint
+margins per motion) costs one run of the corpus program. BLAS and OpenMP threads are pinned to 1 here and in the workers.
 """
 
 from __future__ import annotations
@@ -52,6 +53,20 @@ def batch(workers: int, specs: list[RunSpec]) -> tuple[float, list[float], float
     return wall_s, [d.result.wall_s for d in done], started_s
 
 
+def margins_cost(program: str, repeats: int) -> tuple[float, float, float, int, int]:
+    """One program in this process with and without `orc run --margins`, alternately: the median wall times (s), the
+    simulated cycle (s), and how many motion cycles were sampled and how many of them measured exactly."""
+    off, on = [], []
+    for _ in range(repeats):
+        off.append(run_task(main, RunSpec(program, "irb2400", margins=False)).wall_s)
+        measured = run_task(main, RunSpec(program, "irb2400", margins=True))
+        on.append(measured.wall_s)
+    assert measured.summary is not None, measured.stderr
+    section = measured.summary["margins"]
+    return (statistics.median(off), statistics.median(on), measured.summary["cycle_time_s"], section["samples"],
+            section["measured"])
+
+
 def main_bench() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--programs", type=int, default=8)
@@ -64,6 +79,8 @@ def main_bench() -> None:
             path = Path(folder) / f"corpus_{i}.rpl"
             path.write_text(PROGRAM.format(laps=args.laps), encoding="utf-8")
             specs.append(RunSpec(str(path), "irb2400"))
+        _warm(specs[0].program)
+        wall_off, wall_on, cycle_s, samples, measured = margins_cost(specs[0].program, args.repeats)
         one, two, overheads, per_run, starts = [], [], [], [], []
         for _ in range(args.repeats):
             wall_1, runs_1, start_1 = batch(1, specs)
@@ -95,6 +112,10 @@ def main_bench() -> None:
     print(f"speedup_2_workers={speedup:.3f}")
     print(f"parallel_efficiency={efficiency:.3f} target=0.8 {'ok' if efficiency >= 0.8 else 'BELOW TARGET'}")
     print(f"scheduling_overhead_ms={1000 * overhead_s:.1f} target=50 {'ok' if overhead_s < 0.05 else 'ABOVE TARGET'}")
+    print(f"margins_cycle_s={cycle_s:.3f} margins_samples={samples} margins_measured={measured} "
+          f"margins_rate_hz={samples / cycle_s:.0f}")
+    print(f"run_wall_s={wall_off:.3f} run_with_margins_wall_s={wall_on:.3f} "
+          f"margins_cost_pct={100 * (wall_on - wall_off) / wall_off:.1f}")
     print(f"projection_runs={PROJECTION_RUNS} projection_nodes={PROJECTION_NODES} "
           f"projection_workers_per_node={PROJECTION_WORKERS_PER_NODE} projected_wall_s={projected_s:.1f} "
           f"projected_scheduler_serial_bound_s={scheduler_serial_s:.1f} "

@@ -131,6 +131,10 @@ class PathVelocityController:
             wanted = -sd * sd / (2.0 * remaining) if braking else (math.sqrt(2.0 * a_stop * remaining) - sd) / t_cycle
         else:  # the time correction
             wanted = sdd_n + self._kv * (sd_n - sd) + self._kp * (x_n - x)
+            # and never slower than the nominal was at the same path point: a late command that tracked
+            # the nominal in time would brake with it and stall short of the end (then start again)
+            x_ahead = min(x + sd * t_cycle, self.end_x)
+            wanted = max(wanted, (float(np.interp(x_ahead, self._x_mono, self._sd_mono)) - sd) / t_cycle)
         sdd = wanted if braking else min(max(wanted, lo), hi) if lo <= hi else 0.5 * (lo + hi)
         if sdd != wanted:
             self.scaled_cycles += 1

@@ -30,7 +30,7 @@ def run_accepts(option: str) -> bool:
 
 
 #: Options verify and sweep set themselves for every run.
-_OWN = ("--summary-json", "--log", "--robot", "--world", "--set", "--realtime", "--plot")
+_OWN = ("--summary-json", "--log", "--robot", "--world", "--set", "--realtime", "--plot", "--margins")
 
 
 def run_args(text: str | None) -> tuple[str, ...]:

@@ -42,6 +42,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                         help="stop a program that runs N statements without the robot moving or time passing "
                              "(default 1000000; 0: no budget)")
     add_cell_options(parser)
+    parser.add_argument("--margins", action="store_true",
+                        help="measure, per motion statement, the robot's nearest approach to the cell's objects and its "
+                             "joints' margin to their limits (summary and --summary-json's `margins`)")
     parser.add_argument("--speed-override", metavar="PERCENT", default="100%",
                         help="scale every speed, e.g. 50%% (default 100%%)")
     view = parser.add_argument_group("3D view and video (the [view] extra)")
@@ -121,6 +124,8 @@ def run(args: argparse.Namespace) -> int:
         watch_how = watching(args)
         override = speed_override(args.speed_override)
         bus_robot.check_options(args)
+        if args.port is not None and args.margins:
+            raise UsageError("--margins: only a run on the simulated cell measures its margins")
         if args.port is not None and args.realtime:
             raise UsageError("--realtime: a real arm (--port) always runs in real time")
         if args.robot not in ROBOTS:
@@ -197,6 +202,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     from orc_rpl.executive.report import Progress, summary, write_summary_text
     from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.executive import Executive
+    from orc_rpl.executive.margins import MarginWatch, margin_lines
     from orc_rpl.executive.machine import Options
     from orc_rpl.executive.sim_io import load_script, script_path
 
@@ -227,9 +233,11 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     io_script = script_path(args.file, args.world)
     if io_script is not None:
         load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload)
+    margins = MarginWatch(robot, machine) if args.margins else None
     with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress, _watched(args, executive, robot, program,
                                                                                        registry, watch_how) as watchers:
-        machine.robot = watchers.monitor(progress.monitor(robot)) if watchers is not None else progress.monitor(robot)
+        watched = progress.monitor(margins or robot)
+        machine.robot = watchers.monitor(watched) if watchers is not None else watched
         wall_start = time.perf_counter()  # after the view's page connected
         interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
     machine.robot = robot
@@ -245,7 +253,11 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         result["status"], result["interrupted_by"] = "interrupted", interrupted
         where = "the arm holds its position" if args.port is not None else "the robot stopped on its path"
         sys.stderr.write(f"orc run: interrupted by {interrupted}; {where}\n")
+    if margins is not None:
+        result["margins"] = margins.section(args.file)
     write_summary_text(result, wall_s, sys.stderr, real_arm=args.port is not None)
+    for line in margin_lines(result.get("margins")):
+        sys.stderr.write(f"margins: {line}\n")
     try:
         if args.summary_json:
             write_text_atomic(args.summary_json, json.dumps(result, indent=2) + "\n")

@@ -32,8 +32,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--world", metavar="FILE|DIR", help="the world of every run (orc run --world)")
     parser.add_argument("--out", metavar="PREFIX", help="write PREFIX.csv, PREFIX.jsonl and PREFIX.png "
                                                        "(default sweep-<program name>)")
-    parser.add_argument("--outcome", metavar="FIELD", default="cycle_time_s",
-                        help="the column to plot (default cycle_time_s; e.g. motions, joint_margin_deg, process.*)")
+    parser.add_argument("--outcome", metavar="FIELD[,FIELD...]", default="cycle_time_s",
+                        help="the columns to plot, a panel each (default cycle_time_s; e.g. motions, clearance_mm, "
+                             "joint_margin_deg, figure.*, process.*)")
     parser.add_argument("--x", metavar="NAME", help="the parameter on the plot's x axis (default: the first --set)")
     parser.add_argument("--overwrite", action="store_true", help="replace output files that already exist")
     add_cluster_options(parser)
@@ -131,10 +132,11 @@ def _sweep(args: argparse.Namespace, engine: Any, points: list[Any], options: tu
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
-    from orc_rpl.verify.plot import plot_outcome
+    from orc_rpl.verify.plot import plot_outcomes
     from orc_rpl.verify.task import run_task
 
     specs = [spec_of(point, program, args.robot, args.world, options) for point in points]
+    outcomes = [name.strip() for name in args.outcome.split(",") if name.strip()]
     status = Console(file=sys.stderr, soft_wrap=True)
     records: dict[int, dict[str, Any]] = {}
     interrupted = False
@@ -149,18 +151,19 @@ def _sweep(args: argparse.Namespace, engine: Any, points: list[Any], options: tu
                 records[done.index] = record
                 progress.advance(task)
                 shown = ", ".join(f"{k}={record[k]}" for k in (*names, "seed", "variation") if k in record)
-                progress.console.print(f"[{len(records)}/{len(specs)}] {shown}: {record['status']} "
-                                       f"{record.get(args.outcome)}", markup=False, highlight=False)
+                got = ", ".join(f"{name}={record.get(name)}" for name in outcomes)
+                progress.console.print(f"[{len(records)}/{len(specs)}] {shown}: {record['status']} {got}",
+                                       markup=False, highlight=False)
         except KeyboardInterrupt:
             interrupted = True
     ordered = [records[i] for i in sorted(records)]
     csv_path, jsonl_path, png_path = outputs
     write_table(ordered, csv_path, jsonl_path)
     others = [n for n in names if n != x] + [k for k in ("variation",) if any(k in r for r in ordered)]
-    plotted = plot_outcome(ordered, x, args.outcome, others, png_path, f"{Path(args.program).name}: {args.outcome}")
+    plotted = plot_outcomes(ordered, x, outcomes, others, png_path, f"{Path(args.program).name}: {', '.join(outcomes)}")
     lost = sum(1 for r in ordered if r["status"] == "lost")
     status.print(f"{len(ordered)} of {len(specs)} runs ({time.perf_counter() - start:.1f} s wall); wrote {csv_path}, "
-                 f"{jsonl_path}, {png_path} ({plotted} points of {args.outcome})", markup=False, highlight=False)
+                 f"{jsonl_path}, {png_path} ({plotted} points of {', '.join(outcomes)})", markup=False, highlight=False)
     if interrupted:
         status.print("orc sweep: interrupted: the remaining runs were cancelled", markup=False, highlight=False)
         return 130

@@ -10,7 +10,7 @@ from typing import Any
 from orc_rpl.commands.many_runs import add_cluster_options, check_output, cluster_settings, run_args
 from orc_rpl.errors import OrcError, UsageError
 from orc_rpl.robot.robots import ROBOTS
-from orc_rpl.verify.judge import FAIL, Row, cancelled, judge, load_baseline, skipped
+from orc_rpl.verify.judge import FAIL, Row, Thresholds, cancelled, judge, load_baseline, skipped
 from orc_rpl.verify.programs import Found, find_programs
 from orc_rpl.verify.task import RunSpec
 
@@ -24,8 +24,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         description="Run every .rpl and .orl program found under PATHS on the simulated cell, each exactly as "
                     "`orc run` runs it, on a Dask cluster (a local one on 127.0.0.1 by default), and print a table. "
                     "A program's header comments may say what it must do: `-- expect: Unreachable`, "
-                    "`-- robots: irb2400, ur5e`. Exit 1 when a program does other than expected or runs slower "
-                    "than its baseline by more than the threshold; 2 on usage errors; 130 when interrupted.")
+                    "`-- robots: irb2400, ur5e`, `-- expect: welds_good = 4`. Exit 1 when a program does other "
+                    "than expected, collides, runs slower than its baseline by more than the threshold or its "
+                    "process outcomes are worse; 2 on usage errors; 130 when interrupted.")
     parser.add_argument("paths", nargs="*", metavar="PATHS", default=["."], help="program files or folders (default .)")
     parser.add_argument("--world", metavar="FILE|DIR", help="the world of every run (orc run --world)")
     parser.add_argument("--robot", metavar="NAME", nargs="+", action="extend",
@@ -37,6 +38,12 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--min-clearance", metavar="MM", type=float, default=0.0,
                         help="fail a run whose robot comes nearer than this to the cell's objects (default 0: "
                              "only collisions fail)")
+    parser.add_argument("--clearance-drop", metavar="MM", type=float,
+                        help="fail a run whose clearance shrank by more than this against the baseline (default: "
+                             "the change is shown, not failed)")
+    parser.add_argument("--process-tolerance", metavar="PERCENT", type=float, default=5.0,
+                        help="fail a run whose process figures (burr left, seam error...) are worse than the "
+                             "baseline's by more than this; counts and parts must match (default 5)")
     parser.add_argument("--junit", metavar="FILE", help="write JUnit XML for CI systems")
     parser.add_argument("--json", metavar="FILE", help="write every row as JSON")
     add_cluster_options(parser)
@@ -103,6 +110,7 @@ def _verify(args: argparse.Namespace, engine: Any, pairs: list[tuple[Found, str]
     out = Console(file=sys.stdout, width=None if sys.stdout.isatty() else TABLE_WIDTH_OFF_TERMINAL)
     status = Console(file=sys.stderr, soft_wrap=True)
     interrupted = False
+    limits = Thresholds(args.slowdown, args.min_clearance, args.clearance_drop, args.process_tolerance)
     wall_start = time.perf_counter()
     with engine, StreamingTable(len(specs), bool(baseline), out, status) as table:
         try:
@@ -110,7 +118,7 @@ def _verify(args: argparse.Namespace, engine: Any, pairs: list[tuple[Found, str]
                 index = to_run[done.index]
                 program, robot = pairs[index]
                 rows[index] = judge(program.shown, robot, program.expectation, done.result, done.attempts,
-                                    done.failure, baseline, args.slowdown, args.min_clearance)
+                                    done.failure, baseline, limits)
                 table.add(rows[index])
         except KeyboardInterrupt:
             interrupted = True
@@ -126,6 +134,8 @@ def _verify(args: argparse.Namespace, engine: Any, pairs: list[tuple[Found, str]
     if args.json:
         reports.write_json(args.json, ordered, {"scheduler": args.scheduler or "local", "slowdown_pct": args.slowdown,
                                                "min_clearance_mm": args.min_clearance,
+                                               "clearance_drop_mm": args.clearance_drop,
+                                               "process_tolerance_pct": args.process_tolerance,
                                                "wall_s": round(wall_s, 3)})
     if args.junit:
         reports.write_junit(args.junit, ordered, wall_s)

@@ -70,6 +70,7 @@ class Machine:
         self.trace = False                             #: yield a program-pointer event before each statement
         self.last_tool: Pose | None = None             #: the tool last moved (HERE's TCP)
         self.motions = 0                               #: motion statements executed
+        self.motion_span: Span | None = None           #: the motion statement submitting now (for watchers)
         self.executed = 0                              #: statements (and loop iterations) executed
         self._budget_at = (self.options.statement_budget or 0) or None  #: `executed` at the next budget check
         self._budget_time_s = -1.0                     #: simulated time at the last budget check

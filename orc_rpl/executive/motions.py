@@ -87,6 +87,7 @@ class MotionCompiler:
                 requests = spec.execute(call)
             except BehaviourError as error:
                 raise RunError(f"{keyword}: {error}") from None
+            m.motion_span = span
             if isinstance(requests, GeneratorType):
                 m.last_tool = tool_pose
                 yield from self.procedure(keyword, requests)

@@ -186,9 +186,21 @@ class MotionLayer(MotionPipeline):
         return float(new.s[-1])
 
     def set_mode(self, mode: Mode) -> Mode:
-        """Change the servo mode; leaving run/track stops the current move on its path first."""
+        """Change the servo mode; leaving run/track stops the current move on its path first.
+
+        OFF switches the drives off with the brakes engaged (a backend with drives); leaving OFF
+        switches them on and holds the arm where the brakes kept it. BLOCK and STANDBY hold the arm at
+        standstill with the drives on.
+        """
         if mode not in (Mode.RUN, Mode.TRACK) and not self.idle():
             self.stop_move(by=f"mode {mode.value}")
+            while not self.idle() and mode is Mode.OFF:  # the brakes close on an arm at standstill
+                self.tick()
+        set_drives = getattr(self.backend, "set_drives", None)
+        if set_drives is not None and (mode is Mode.OFF) != (self.mode is Mode.OFF):
+            set_drives(mode is not Mode.OFF)
+            if mode is not Mode.OFF:
+                self.reset_ref()  # on again: hold where the brakes kept the arm
         self.mode = mode
         return mode
 

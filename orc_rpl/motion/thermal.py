@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -68,12 +68,37 @@ class ThermalModel:
         self.load[:] = 0.0
 
 
+#: The drives' winding measurement is sampled every so many motion cycles (20 ms at 4 ms) ...
+SAMPLE_EVERY_CYCLES = 5
+#: ... and the estimate corrected every so many samples (0.1 s), from the resistance over them.
+SAMPLES_PER_CORRECTION = 5
+#: Samples below this current (A) are left out: the voltage's noise would dominate the resistance.
+MIN_CURRENT_A = 2.0
+#: While the model's rise is below this (K), the windings are at a known temperature: the measured
+#: resistance calibrates R20 there (the model, a few percent off, is within about 0.1 K of the truth) ...
+CALIBRATE_BELOW_K = 2.0
+#: ... if the calibration's samples carried at least this sum of i^2 (A^2); else the model alone.
+CALIBRATION_MIN_A2 = 200.0
+#: A correction moves the model's rise S / (S + CORRECTION_A2) of the way to the measured one, S the
+#: sum of i^2 (A^2) of its samples: much current, a precise resistance, a large step (an observer's gain).
+CORRECTION_A2 = 2000.0
+
+
 class WindingTemperature:
     """Estimated rise of each motor winding above ambient (K), from the torque of every motion cycle.
 
     dT/dt = (Rth R20 (1 + 0.00393 (T_ambient + T - 20)) (tau / k)^2 - T) / time_constant, with the data
     sheet's k (torque per ampere at the joint), R20, Rth and time constant, discretised exactly for a
     loss held over each period. The plant's own constants differ from the data sheet (docs/robots.md).
+
+    With `measurement` set (a callable giving each drive's terminal voltage, current and the joint
+    speed), the estimate is corrected online as drives do: the winding's resistance
+    R = sum((V - k w) i) / sum(i^2) over a few samples gives its temperature through copper's
+    coefficient, T = 20 + (R / R20 - 1) / 0.00393, with R20 measured at the cold start (while the
+    model says the winding is still within CALIBRATE_BELOW_K of ambient); the model's rise moves
+    a share of the way to the measured one every SAMPLE_EVERY_CYCLES * SAMPLES_PER_CORRECTION cycles
+    (CORRECTION_A2). A winding that carried too little current while cold (CALIBRATION_MIN_A2) keeps
+    the model alone; so does every winding without `measurement` (None).
     """
 
     def __init__(self, torque_per_amp_nm_a: Sequence[float], resistance_ohm: Sequence[float], rth_k_w: Sequence[float],
@@ -90,9 +115,12 @@ class WindingTemperature:
         self._gain_per_k = (1.0 - self._decay) * self._rth * self._r20 * self._inv_k2 * self._tempco
         self._work, self._heat = np.zeros(len(k)), np.zeros(len(k))
         self.rise_k = np.zeros(len(k))  #: the estimate (K above ambient)
+        self._k = k
+        self.measurement: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
+        self.reset()
 
     def update(self, tau_nm: np.ndarray) -> None:
-        """One period with the torque tau_nm (in place, no allocation)."""
+        """One period with the torque tau_nm (in place, no allocation but for the measurement's cycles)."""
         work, heat, rise = self._work, self._heat, self.rise_k
         multiply(rise, self._gain_per_k, heat)
         add(heat, self._gain, heat)
@@ -100,7 +128,51 @@ class WindingTemperature:
         multiply(work, heat, work)
         multiply(rise, self._decay, rise)
         add(rise, work, rise)
+        if self.measurement is not None:
+            self._cycles += 1
+            if self._cycles % SAMPLE_EVERY_CYCLES == 0:
+                self._sample(*self.measurement())
+
+    def _sample(self, voltage_v: np.ndarray, current_a: np.ndarray, speed_rad_s: np.ndarray) -> None:
+        """One sample of the drives' measurement: calibration at the cold start, then the correction."""
+        i = current_a * (np.abs(current_a) >= MIN_CURRENT_A)
+        ohm_a2 = (voltage_v - self._k * speed_rad_s) * i   # R i^2 of this sample
+        a2 = i * i
+        if self._calibrating:
+            self._calibrate(ohm_a2, a2)
+        self._num += ohm_a2 * self._calibrated
+        self._den += a2 * self._calibrated
+        self._samples += 1
+        if self._samples % SAMPLES_PER_CORRECTION == 0:
+            measured = self._den > 0.0
+            r20 = self._cal_num / np.where(self._cal_den > 0.0, self._cal_den, 1.0)
+            resistance = self._num / np.where(measured, self._den, 1.0)
+            rise = 20.0 + (resistance / np.where(measured, r20, 1.0) - 1.0) / self._tempco - self._ambient_c
+            gain = self._den / (self._den + CORRECTION_A2)
+            self.rise_k += np.where(measured, gain * (rise - self.rise_k), 0.0)
+            self._num[:], self._den[:] = 0.0, 0.0
+
+    def _calibrate(self, ohm_a2: np.ndarray, a2: np.ndarray) -> None:
+        """R20 from the resistance at the model's (known, near ambient) temperature, while the winding is cold."""
+        cold = (self.rise_k < CALIBRATE_BELOW_K) & ~self._calibrated & ~self._uncalibrated
+        at_20 = 1.0 + self._tempco * (self._ambient_c + self.rise_k - 20.0)
+        self._cal_num += np.where(cold, ohm_a2 / at_20, 0.0)
+        self._cal_den += np.where(cold, a2, 0.0)
+        warm = ~cold & ~self._calibrated & ~self._uncalibrated
+        self._calibrated |= warm & (self._cal_den >= CALIBRATION_MIN_A2)
+        self._uncalibrated |= warm & (self._cal_den < CALIBRATION_MIN_A2)  # too little current: the model alone
+        self._calibrating = not bool(np.all(self._calibrated | self._uncalibrated))
+
+    @property
+    def r20_ohm(self) -> np.ndarray:
+        """The winding resistances at 20 C measured at the cold start (NaN where not yet measured)."""
+        return np.where(self._calibrated, self._cal_num / np.where(self._cal_den > 0.0, self._cal_den, 1.0), np.nan)
 
     def reset(self) -> None:
-        """Windings at ambient."""
+        """Windings at ambient (a cold start: the resistances are measured again)."""
+        n = len(self.rise_k)
         self.rise_k[:] = 0.0
+        self._cycles = self._samples = 0
+        self._cal_num, self._cal_den, self._num, self._den = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
+        self._calibrated, self._uncalibrated = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
+        self._calibrating = True

@@ -74,6 +74,11 @@ class ServoBackend:
             cell.clear_collision()
         return hit
 
+    def set_drives(self, on: bool) -> None:
+        """Drives on, or off with the brakes engaged (the OFF mode)."""
+        self.loop.set_drives(on)
+        self._state = self.loop.state()
+
     def set_control_payload(self, mass_kg: float) -> None:
         """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
         self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)
@@ -155,6 +160,7 @@ def make_virtual_motion_layer(
         layer.winding = WindingTemperature(nominal.torque_per_amp_nm_a, nominal.winding_resistance_ohm,
                                            nominal.winding_rth_k_w, nominal.winding_time_constant_s, nominal.ambient_c,
                                            motion_period_s, COPPER_TEMPCO_1_K)
+        layer.winding.measurement = be.loop.cell.winding_measurement  # corrected from the drives' V and i
     # thesis 5.3: torque-limited path following is on where torques can run short of the plan
     layer.path_velocity_control = backend == "servo" and plant == "realistic" and not servo_arm
     # A robot that is set up should move at once: a paced run would start 0.4 s late otherwise.

@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.plant.cell import CellDescription
+from orc_rpl.plant.drives import DRIVE_INPUTS, PidDrives
 from orc_rpl.plant.sim import SimCell, mj_step
 from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, PlantSpec, plant_spec
 
@@ -17,10 +18,13 @@ THERMAL_EVERY_STEPS = 50
 #: Rows of velocity noise drawn at once from the seeded generator (no repetition: a new block when used up).
 NOISE_BLOCK = 8192
 
+#: The drives' measurement of each winding (1 sigma, seeded): terminal voltage (V) and current (A).
+VOLTAGE_NOISE_V, CURRENT_NOISE_A = 0.05, 0.02
+
 multiply, add, rint = np.multiply, np.add, np.rint
 
 
-class RealisticCell(SimCell):
+class RealisticCell(PidDrives, SimCell):
     """A SimCell whose robot is not the controller's model (see `PlantSpec` and docs/robots.md).
 
     `q`, `qd` and `live_state()` are what the servo measures (quantised angles, noisy speeds);
@@ -41,18 +45,34 @@ class RealisticCell(SimCell):
         super().__init__(robot, cell, realtime)
 
     def _edited(self, spec: Any) -> Any:
-        """Elastic gears: a second hinge on each link, about the same axis, with the gear's stiffness.
+        """The drives as MuJoCo PID actuators, and elastic gears when asked for.
 
+        Drives: each motor is a `pid` actuator with position, velocity and feed-forward inputs, so the
+        servo's loops can run in C inside mj_step (`set_drive_gains`, `drive`); with its gains at zero
+        (`torque_mode`, the state after reset) it is a plain torque motor: the force is the feed-forward
+        input, saturated at the motor's limit. The integrator is MuJoCo's Euler (joint damping still
+        implicit): the drive's torque is then computed from the state at the start of each step and held
+        over it, as a digital drive does, and equals the Python servo law's (implicitfast would treat the
+        drive's velocity gain implicitly: a different, unphysical loop).
+
+        Elastic gears: a second hinge on each link, about the same axis, with the gear's stiffness.
         The first hinge (jN, the motor's, with the rotor's armature, the friction and the encoder) and
         the second (jN_gear, the gear's twist) turn one body in series: the rotor turns at the first
         angle, the link at the sum, and the spring acts on the difference (a two-mass joint).
         """
-        if not self.elastic:
-            return spec
         import mujoco
 
         from orc_rpl.plant.cell import ROBOT_PREFIX
 
+        spec.option.integrator = mujoco.mjtIntegrator.mjINT_EULER
+        for actuator in spec.actuators:
+            if actuator.name.startswith(ROBOT_PREFIX):
+                low, high = list(actuator.forcerange)
+                # non-zero gains at compile time: MuJoCo gives the actuator its integral state only then
+                actuator.set_to_pid(kp=1.0, kv=1.0, ki=1.0, imax=1.0, ctrlspec=int(DRIVE_INPUTS))
+                actuator.forcelimited, actuator.forcerange = True, [low, high]
+        if not self.elastic:
+            return spec
         p = self.plant
         for i, (k, damping) in enumerate(zip(p.gear_stiffness_nm_rad, p.gear_damping_nm_s)):  # type: ignore[arg-type]
             joint = spec.joint(f"{ROBOT_PREFIX}j{i + 1}")
@@ -101,6 +121,8 @@ class RealisticCell(SimCell):
         self._qd_meas_view = self._qd_meas.view()
         for view in (self._q_meas_view, self._qd_meas_view):
             view.flags.writeable = False
+        self._setup_drives()
+        self.torque_mode()
         self.set_payload(0.0)
 
     # -- state -------------------------------------------------------------------------
@@ -134,6 +156,21 @@ class RealisticCell(SimCell):
         """Each motor's winding temperature (C)."""
         return self.plant.ambient_c + self.winding_rise_k
 
+    def winding_measurement(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """What each drive measures of its winding now: (terminal voltage V, current A, joint speed rad/s).
+
+        The winding is a resistance R20 (1 + 0.00393 (T - 20 C)) with the back-EMF k * speed (k the
+        torque per ampere: SI units, joint side); no inductance (a 4 ms cycle is long against the
+        electrical time constant). Voltage and current carry seeded noise (VOLTAGE_NOISE_V,
+        CURRENT_NOISE_A, 1 sigma); the speed is the one the servo reads.
+        """
+        current = self._force / self._k_amp
+        resistance = self._r_ohm * (1.0 + COPPER_TEMPCO_1_K * (self.plant.ambient_c + self.winding_rise_k - 20.0))
+        speed = self._qd_meas.copy()
+        voltage = resistance * current + self._k_amp * self.true_qd
+        noise = self._drive_rng.standard_normal((2, self.n_joints))
+        return voltage + VOLTAGE_NOISE_V * noise[0], current + CURRENT_NOISE_A * noise[1], speed
+
     @property
     def friction_factor(self) -> np.ndarray:
         """Friction now over warm friction, per joint (cold_friction_factor at a cold start, 1.0 warm)."""
@@ -154,9 +191,10 @@ class RealisticCell(SimCell):
             self.cool_down()
         super().reset(q, qd)
         self._rng = np.random.default_rng(self.seed)
-        self._noise = self._rng.standard_normal((NOISE_BLOCK, self.n_joints)) * self.plant.velocity_noise_rad_s
+        self._drive_rng = np.random.default_rng([self.seed, 1])  # its own stream: the speed noise is unchanged
+        self._noise = self._new_noise()
         self._noise_row = 0
-        self._steps = 0
+        self._steps = self._heated_at = 0
         self._tau_sq_sum[:] = 0.0
         self._measure()
 
@@ -172,21 +210,49 @@ class RealisticCell(SimCell):
         self._apply_friction()
 
     def step(self, tau_nm: np.ndarray) -> None:
-        """Apply motor torques for one timestep, advance the cell, update what the servo measures."""
+        """Apply motor torques for one timestep, advance the cell, update what the servo measures.
+
+        The drives must be in torque mode (`torque_mode`, their state after a reset): the torque is
+        their feed-forward input.
+        """
         data = self._data
-        self._ctrl[:] = tau_nm
+        self._ff_in[:] = tau_nm
         mj_step(self._model, data)
-        work, tau = self._work, data.actuator_force
-        multiply(tau, tau, work)
-        add(self._tau_sq_sum, work, self._tau_sq_sum)
-        self._steps += 1
-        if self._steps % THERMAL_EVERY_STEPS == 0:
-            self._heat()
+        self._copper()
+        self._next_noise_row()
         self._measure()
         self._after_step(data)
 
+    def _copper(self) -> None:
+        """The copper losses of the last step for the thermal model; the slow states every THERMAL_EVERY_STEPS."""
+        work, tau = self._work, self._force
+        multiply(tau, tau, work)
+        add(self._tau_sq_sum, work, self._tau_sq_sum)
+        self._steps += 1
+        if self._steps - self._heated_at == THERMAL_EVERY_STEPS:
+            self._heat()
+
+    def _copper_rows(self, forces: np.ndarray) -> None:
+        """The copper losses of a drive call's steps (their forces, overwritten); the slow states once
+        THERMAL_EVERY_STEPS have passed (at the call's end: whole motion cycles)."""
+        multiply(forces, forces, forces)
+        add(self._tau_sq_sum, forces.sum(axis=0), self._tau_sq_sum)
+        self._steps += len(forces)
+        if self._steps - self._heated_at >= THERMAL_EVERY_STEPS:
+            self._heat(self._steps - self._heated_at)
+
+    def _next_noise_row(self) -> None:
+        """On to the next row of noise (the next measurement's), drawing a new block at the end of this one."""
+        self._noise_row += 1
+        if self._noise_row == len(self._noise):
+            self._noise, self._noise_row = self._new_noise(), 0
+
+    def _new_noise(self) -> np.ndarray:
+        """The next block of speed noise from the seeded generator."""
+        return self._rng.standard_normal((NOISE_BLOCK, self.n_joints)) * self.plant.velocity_noise_rad_s
+
     def _measure(self) -> None:
-        """Encoder quantisation and velocity noise on the plant's state (no allocation)."""
+        """Encoder quantisation and velocity noise (the current row) on the plant's state (no allocation)."""
         data, qm, qdm = self._data, self._q_meas, self._qd_meas
         if self._q_live is not None:
             multiply(self._q_live, self._count_per_rad, qm)
@@ -196,34 +262,34 @@ class RealisticCell(SimCell):
             add(data.qvel[self._qvel], self._noise[self._noise_row], qdm)
         rint(qm, qm)
         multiply(qm, self._rad_per_count, qm)
-        self._noise_row += 1
-        if self._noise_row == NOISE_BLOCK:
-            self._noise = self._rng.standard_normal((NOISE_BLOCK, self.n_joints)) * self.plant.velocity_noise_rad_s
-            self._noise_row = 0
 
-    def _heat(self) -> None:
-        """Windings and gearboxes over the last THERMAL_EVERY_STEPS steps; friction follows the gearboxes."""
+    def _heat(self, n_steps: int = THERMAL_EVERY_STEPS) -> None:
+        """Windings and gearboxes over the last n_steps steps; friction follows the gearboxes."""
         p = self.plant
-        mean_tau_sq = self._tau_sq_sum / THERMAL_EVERY_STEPS
+        mean_tau_sq = self._tau_sq_sum / n_steps
         self._tau_sq_sum[:] = 0.0
+        self._heated_at = self._steps
+        w_decay, g_decay = self._w_decay, self._g_decay
+        if n_steps != THERMAL_EVERY_STEPS:  # a drive call ended the period (whole motion cycles)
+            w_decay, g_decay = w_decay ** (n_steps / THERMAL_EVERY_STEPS), g_decay ** (n_steps / THERMAL_EVERY_STEPS)
         resistance = self._r_ohm * (1.0 + COPPER_TEMPCO_1_K * (p.ambient_c + self.winding_rise_k - 20.0))
         copper_w = resistance * mean_tau_sq / (self._k_amp * self._k_amp)
-        self.winding_rise_k = self._w_decay * self.winding_rise_k + (1.0 - self._w_decay) * self._w_rth * copper_w
+        self.winding_rise_k = w_decay * self.winding_rise_k + (1.0 - w_decay) * self._w_rth * copper_w
         qd = np.abs(self.true_qd)
         heat_w = self._coulomb_now * qd + self._viscous_now * qd * qd + p.gear_motor_heat_share * copper_w
-        self.gear_rise_k = self._g_decay * self.gear_rise_k + (1.0 - self._g_decay) * self._g_rth * heat_w
+        self.gear_rise_k = g_decay * self.gear_rise_k + (1.0 - g_decay) * self._g_rth * heat_w
         self._apply_friction()
 
     def _apply_friction(self) -> None:
         """Friction for the gearboxes' temperature, written into the model (no recompile needed)."""
         self._coulomb_now, self._viscous_now = self.friction_nm()
-        m = self._model
-        if self._contiguous:
-            m.dof_frictionloss[: self.n_joints] = self._coulomb_now
-            m.dof_damping[: self.n_joints] = self._viscous_now
-        else:
-            m.dof_frictionloss[self._qvel] = self._coulomb_now
-            m.dof_damping[self._qvel] = self._viscous_now
+        self._model.dof_damping[self._qvel] = self._viscous_now
+        self._apply_joint_friction(self._coulomb_now)
+
+    def set_brakes(self, engaged: bool) -> None:
+        """Engage or release the brakes (see SimCell.set_brakes), on top of the joints' own friction now."""
+        super().set_brakes(engaged)
+        self._apply_joint_friction(self._coulomb_now)
 
     def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0)) -> None:
         """The payload on the flange, plus the dress pack the controller's model does not have."""

@@ -12,6 +12,7 @@ from orc_rpl.robot.model import ArmModel, load_robot
 from orc_rpl.errors import UsageError
 from orc_rpl.plant.sim import SimCell
 from orc_rpl.servo.control import JointServo, ServoGains, ServoTuning
+from orc_rpl.servo.drive import CompiledDrives
 from orc_rpl.signals.logger import Logger
 
 
@@ -47,13 +48,49 @@ class ServoLoop:
         # must never change the feed-forward in the middle of a motion.
         self.servo = JointServo(ArmModel(self.arm.spec), self.period_s, gains)
         self.on_step: list[Callable[[], None]] = []  #: called after every servo step (loggers, sensors)
+        # The servo law runs in C inside the drives where the cell has them (the realistic plant);
+        # the Python law (`JointServo.update`) is the reference and drives every other cell.
+        self.drives = CompiledDrives(self.servo, self.cell) if hasattr(self.cell, "drive") else None
+        self.compiled_law = self.drives is not None  #: False: the Python law, step by step
+        self.drives_on = True  #: False: no torque, the brakes hold the joints (set_drives)
+
+    def set_drives(self, on: bool) -> None:
+        """Switch the drives off (no torque, the brakes engaged) or on again (brakes released, the servo
+        starts afresh from where the arm is: the caller's next references should start there)."""
+        on = bool(on)
+        if on == self.drives_on:
+            return
+        if self.drives is not None:
+            self.drives.release()   # the cell's drives as plain torque motors
+        self.servo.reset()
+        self._no_torque = np.zeros(self.arm.n_joints)
+        self.cell.set_brakes(not on)
+        self.drives_on = on
+
+    def use_compiled_law(self, on: bool) -> None:
+        """Run the servo law in the drives (C) or in Python, from the next step; a bumpless hand-over."""
+        if on and self.drives is None:
+            raise UsageError(f"the cell of {self.cell.robot!r} has no drives to run the servo law in")
+        if not on and self.drives is not None:
+            self.drives.release()
+        self.compiled_law = on
 
     # -- the seam -------------------------------------------------------------
 
     def run(self, q_ref: Any, qd_ref: Any, qdd_ref: Any, n_steps: int = 4) -> ServoState:
         """Advance the plant by n_steps servo periods towards the reference; return the measured state."""
         q_ref, qd_ref, qdd_ref = self._checked_references(q_ref, qd_ref, qdd_ref, n_steps)
-        update, step, callbacks = self.servo.update, self.cell.step, self.on_step
+        callbacks = self.on_step
+        if not self.drives_on:  # the references are ignored: the brakes hold the arm
+            for _ in range(len(q_ref)):
+                self.cell.step(self._no_torque)
+                for callback in callbacks:
+                    callback()
+            return self.state()
+        if self.compiled_law:
+            self.drives.run(q_ref, qd_ref, qdd_ref, self._each_step if callbacks else None)  # type: ignore[union-attr]
+            return self.state()
+        update, step = self.servo.update, self.cell.step
         q, qd = self.cell.live_state()
         # The inner loop of the whole stack: 1,000 times per simulated second (measured: the step
         # itself costs about 3 us, so every numpy call and attribute lookup here shows).
@@ -65,6 +102,10 @@ class ServoLoop:
             for callback in callbacks:
                 callback()
         return self.state()
+
+    def _each_step(self) -> None:
+        for callback in self.on_step:
+            callback()
 
     def _checked_references(self, q_ref: Any, qd_ref: Any, qdd_ref: Any, n_steps: int) -> tuple[np.ndarray, ...]:
         """The references of one call as (n_steps, n) arrays, checked once for the whole call."""
@@ -110,6 +151,8 @@ class ServoLoop:
 
     def reset(self, q: Any = None) -> ServoState:
         """Plant and servo back to time 0 at rest at q (home if None)."""
+        if self.drives is not None:
+            self.drives.release()
         self.cell.reset(q)
         self.servo.reset()
         return self.state()
@@ -128,6 +171,8 @@ class ServoLoop:
 
     def set_tuning(self, tuning: ServoTuning | None) -> None:
         """A task-specific tuning from the next step on (a motion WITH TUNING); None: the default gains again."""
+        if self.drives is not None:
+            self.drives.release()  # the tuning's bumpless switch works on the servo's integral
         self.servo.set_tuning(tuning)
 
     def attach_logger(self, logger: Logger, every_steps: int = 1, tool: Any = None) -> None:

@@ -1,4 +1,4 @@
-"""The sweep's plot: one outcome against one parameter, a line per combination of the others, seeds as a band."""
+"""The sweep's plot: outcomes against one parameter, a panel each, a line per combination of the others, seeds as a band."""
 
 from __future__ import annotations
 
@@ -21,12 +21,23 @@ def numeric(text: str) -> tuple[float, str] | None:
     return (float(match.group(1)), match.group(2)) if match else None
 
 
-def plot_outcome(records: list[dict[str, Any]], parameter: str, outcome: str, others: list[str], path: Path,
-                 title: str) -> int:
-    """Plot `outcome` against `parameter`; seeds of one point are averaged with their range as error bars.
+def plot_outcomes(records: list[dict[str, Any]], parameter: str, outcomes: list[str], others: list[str], path: Path,
+                  title: str) -> int:
+    """Plot each of `outcomes` against `parameter`, one panel each, one above the other; seeds of one point are
+    averaged with their range as error bars.
 
-    Returns how many points were plotted (runs without the outcome, e.g. failed ones, are left out).
+    Returns how many points were plotted (runs without an outcome, e.g. failed ones, are left out of its panel).
     """
+    figure, panels = plt.subplots(len(outcomes), 1, figsize=(7, 1.0 + 3.5 * len(outcomes)), squeeze=False)
+    plotted = sum(_panel(axes, records, parameter, outcome, others) for axes, outcome in zip(panels[:, 0], outcomes))
+    panels[0, 0].set_title(title)
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+    plt.close(figure)
+    return plotted
+
+
+def _panel(axes: Any, records: list[dict[str, Any]], parameter: str, outcome: str, others: list[str]) -> int:
     series: dict[tuple[Any, ...], dict[str, list[float]]] = defaultdict(lambda: defaultdict(list))
     for record in records:
         value = record.get(outcome)
@@ -38,7 +49,6 @@ def plot_outcome(records: list[dict[str, Any]], parameter: str, outcome: str, ot
                     key=lambda x: (numeric(x) is None, numeric(x)[0] if numeric(x) else 0.0, x))
     is_numeric = all(numeric(x) is not None for x in xs_all)
     unit = next((numeric(x)[1] for x in xs_all if is_numeric and numeric(x)[1]), "")
-    figure, axes = plt.subplots(figsize=(7, 4.5))
     plotted = 0
     for label, points in sorted(series.items(), key=lambda item: str(item[0])):
         xs = [x for x in xs_all if x in points]
@@ -53,11 +63,7 @@ def plot_outcome(records: list[dict[str, Any]], parameter: str, outcome: str, ot
         axes.set_xticks(range(len(xs_all)), xs_all)
     axes.set_xlabel(f"{parameter} ({unit})" if unit else parameter)
     axes.set_ylabel(outcome)
-    axes.set_title(title)
     axes.grid(True, alpha=0.3)
     if len(series) > 1:
         axes.legend(fontsize="small")
-    figure.tight_layout()
-    figure.savefig(path, dpi=110)
-    plt.close(figure)
     return plotted

@@ -8,14 +8,17 @@ from pathlib import Path
 from typing import Sequence
 
 from orc_rpl.errors import UsageError
+from orc_rpl.verify.outcomes import Condition, parse_condition
 
 SUFFIXES = (".rpl", ".orl")
 
 #: Statuses a program may be expected to end in; any other word is the name of the exception it must fail with.
 STATUSES = ("finished", "stopped", "failed", "rejected")
 
-#: `-- expect: Unreachable` (on-line) or `# robots: irb2400, ur5e` (off-line) among the leading comment lines.
+#: `-- expect: Unreachable` (on-line) or `# robots: irb2400, ur5e` (off-line) among the leading comment lines, and
+#: `-- expect: welds_good = 4` (a condition on the process outcomes, one a line).
 _HEADER = re.compile(r"^(?:--|#)\s*(expect|robots)\s*:\s*(.*?)\s*$")
+_OPERATOR = re.compile(r"[=<>!]")
 _WORD = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
@@ -26,6 +29,7 @@ class Expectation:
     outcome: str = "finished"             #: a status of STATUSES, or the name of the exception it fails with
     robots: tuple[str, ...] = ()          #: the robots it runs on; empty: any robot
     line: int = 0                         #: the header line of `expect:` (0: not stated)
+    process: tuple[Condition, ...] = ()   #: conditions on the process outcomes (verify.outcomes)
 
     def met_by(self, status: str, exception: str | None) -> bool:
         """True when a run that ended in `status` (and `exception`, if it failed) is what the header expects."""
@@ -44,8 +48,10 @@ class Found:
 
 
 def read_expectation(path: Path, text: str) -> Expectation:
-    """The `expect:` and `robots:` lines of the comment block that opens the program (a UsageError naming the line)."""
+    """The `expect:` and `robots:` lines of the comment block that opens the program (a UsageError naming the line).
+    An `expect:` with a comparison (`welds_good = 4`) is a condition on the process figures; one word, the outcome."""
     outcome, robots, where = "finished", (), 0
+    process: list[Condition] = []
     for number, line in enumerate(text.splitlines(), start=1):
         stripped = line.strip()
         if not stripped:
@@ -56,17 +62,23 @@ def read_expectation(path: Path, text: str) -> Expectation:
         if match is None:
             continue
         key, value = match.groups()
-        if key == "expect":
+        if key == "expect" and _OPERATOR.search(value):
+            try:
+                process.append(parse_condition(value, number))
+            except ValueError as error:
+                raise UsageError(f"{path}:{number}: {error}") from None
+        elif key == "expect":
             if not _WORD.match(value):
                 raise UsageError(f"{path}:{number}: 'expect:' takes one word: {', '.join(STATUSES)} "
-                                 f"or the name of an exception such as Unreachable, got {value!r}")
+                                 f"or the name of an exception such as Unreachable; or a condition on a process "
+                                 f"figure such as welds_good = 4; got {value!r}")
             outcome, where = value, number
         else:
             names = tuple(name.strip() for name in value.split(","))
             if not all(_WORD.match(name) for name in names):
                 raise UsageError(f"{path}:{number}: 'robots:' takes robot names separated by commas, got {value!r}")
             robots = names
-    return Expectation(outcome, robots, where)
+    return Expectation(outcome, robots, where, tuple(process))
 
 
 def _shown(path: Path) -> str:

@@ -27,6 +27,22 @@ def write_baseline(path: str, rows: list[Row]) -> None:
     Path(path).write_text(json.dumps(baseline_of(rows), indent=2) + "\n", encoding="utf-8")
 
 
+def _properties(row: Row) -> dict[str, str]:
+    """What a CI system can chart per run: cycle time, clearance and joint margin with their lines, process figures."""
+    values: dict[str, str] = {}
+    if row.cycle_time_s is not None:
+        values["cycle_time_s"] = f"{row.cycle_time_s:.6f}"
+    if row.clearance_mm is not None and row.clearance_bodies is not None:
+        values.update(clearance_mm=f"{row.clearance_mm:.3f}", clearance_at=row.clearance_at,
+                      clearance_bodies=" to ".join(row.clearance_bodies))
+    if row.joint_margin_deg is not None:
+        values.update(joint_margin_deg=f"{row.joint_margin_deg:.3f}", joint=f"j{row.margin_joint}",
+                      joint_margin_at=row.margin_at)
+    for name, value in (row.process_figures or {}).items():
+        values[f"process.{name}"] = str(value)
+    return values
+
+
 def write_junit(path: str, rows: list[Row], wall_s: float) -> None:
     """A JUnit XML test suite: one test case per program and robot, failures with their reasons."""
     tally = counts(rows)
@@ -35,6 +51,11 @@ def write_junit(path: str, rows: list[Row], wall_s: float) -> None:
     for row in rows:
         case = ET.SubElement(suite, "testcase", classname=row.robot, name=row.program,
                              time=f"{row.cycle_time_s or 0.0:.3f}")
+        figures = _properties(row)
+        if figures:
+            properties = ET.SubElement(case, "properties")
+            for name, value in figures.items():
+                ET.SubElement(properties, "property", name=name, value=value)
         if row.verdict == FAIL:
             failure = ET.SubElement(case, "failure", message="; ".join(row.reasons))
             failure.text = row.message

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from orc_rpl.errors import UsageError
+from orc_rpl.verify.outcomes import figures
 from orc_rpl.verify.task import RunOutcome, RunSpec
 
 
@@ -84,6 +85,15 @@ def _flat(prefix: str, value: Any, into: dict[str, Any]) -> None:
         into[prefix] = value
 
 
+def _margin_columns(section: Any) -> dict[str, Any]:
+    """The nearest approach and the smallest joint margin of a run, each with the line of its motion statement."""
+    near = (section or {}).get("clearance") or {}
+    joint = (section or {}).get("joint_margin") or {}
+    return {"clearance_mm": near.get("clearance_mm"), "clearance_line": near.get("line"),
+            "clearance_bodies": f"{near['robot_body']}/{near['obstacle']}" if near else None,
+            "joint_margin_deg": joint.get("joint_margin_deg"), "joint_margin_line": joint.get("line")}
+
+
 def record_of(index: int, point: Point, outcome: RunOutcome | None, attempts: int, failure: str | None) -> dict[str, Any]:
     """One line of the table: the point's parameters, then what the run gave (process outcomes flattened)."""
     record: dict[str, Any] = {"run": index, **dict(point.settings)}
@@ -96,11 +106,9 @@ def record_of(index: int, point: Point, outcome: RunOutcome | None, attempts: in
     status = summary.get("status") or ("lost" if outcome is None else "rejected" if outcome.exit_code == 2 else "failed")
     record.update({"status": status, "exception": error.get("exception"), "cycle_time_s": summary.get("cycle_time_s"),
                    "motions": summary.get("motions"), "warnings": len(summary.get("warnings", ())),
-                   "joint_margin_deg": outcome.joint_margin_deg if outcome is not None else None,
-                   "clearance_mm": (None if outcome is None or outcome.clearance_m is None
-                                    else round(1000 * outcome.clearance_m, 3)),
-                   "attempts": attempts})
+                   **_margin_columns(summary.get("margins")), "attempts": attempts})
     if "process" in summary:
+        record.update({f"figure.{name}": value for name, value in figures(summary["process"]).items()})
         _flat("process", summary["process"], record)
     if outcome is None:
         record["failure"] = failure

@@ -40,10 +40,19 @@ def _process_text(process: Any) -> str:
 
 
 def _clearance(row: Row) -> str:
+    """The nearest approach, the line of its motion and its change against the baseline."""
     if row.clearance_mm is None:
-        return "> 500 mm" if row.nearest else ""
-    text = f"{row.clearance_mm:.0f} mm"
+        return "> 500 mm" if row.measured else ""
+    text = f"{row.clearance_mm:.0f} mm" + (f" @{row.clearance_at.rpartition(':')[2]}" if row.clearance_at else "")
+    if row.baseline_clearance_mm is not None and round(row.clearance_mm - row.baseline_clearance_mm) != 0:
+        text += f" ({row.clearance_mm - row.baseline_clearance_mm:+.0f})"
     return f"[bold red]{text} COLLISION[/]" if row.clearance_mm < 0 else text
+
+
+def _margin(row: Row) -> str:
+    if row.joint_margin_deg is None:
+        return ""
+    return f"{row.joint_margin_deg:.1f} deg j{row.margin_joint} @{row.margin_at.rpartition(':')[2]}"
 
 
 def _change(row: Row, have_baseline: bool) -> str:
@@ -74,7 +83,7 @@ def build_table(rows: list[Row], have_baseline: bool) -> Table:
                  _change(row, have_baseline),
                  "" if row.motions is None else str(row.motions),
                  _clearance(row),
-                 "" if row.joint_margin_deg is None else f"{row.joint_margin_deg:.1f} deg (j{row.margin_joint})"]
+                 _margin(row)]
         if with_process:
             cells.append(_process_text(row.process))
         verdict = row.verdict + (": " + "; ".join(row.reasons) if row.reasons else "")

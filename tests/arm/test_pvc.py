@@ -69,6 +69,21 @@ def test_under_a_torque_limit_time_stretches_and_the_path_is_kept() -> None:
     assert np.all(np.diff(s) >= -1e-12) and s[-1] == pytest.approx(1.0, abs=1e-12)
 
 
+def test_a_late_command_slows_down_once_at_the_end_never_stalls_and_starts_again() -> None:
+    x, sd = trapezoid(4.0, 1.0)
+
+    def against_a_load(q: np.ndarray, d1: np.ndarray, d2: np.ndarray, sd: float) -> tuple[np.ndarray, np.ndarray]:
+        return 2.0 * d1, np.full(2, 3.0)  # tau = 2 q'' + 3: the load slows the acceleration, helps the braking
+
+    # 9 N m: the command accelerates at 3 where the nominal does at 4 and is late when the nominal brakes
+    controller = PathVelocityController(line, x, sd, SUB, H, against_a_load, np.array([9.0, 9.0]) / 0.95)
+    _, commanded = run(controller)
+    speed = np.diff(commanded[:, 0]) / H
+    top = int(np.argmax(speed))
+    assert np.all(np.diff(speed[top:]) <= 1e-9), "from its top speed on, the command only slows down"
+    assert commanded[-1, 0] == pytest.approx(1.0, abs=1e-12)
+
+
 @pytest.mark.sim
 def test_an_undeclared_payload_on_a_cold_plant_keeps_the_path_with_the_controller() -> None:
     errors, saturated = {}, {}

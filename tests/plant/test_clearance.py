@@ -8,7 +8,12 @@ import mujoco
 import numpy as np
 import pytest
 
-from orc_rpl.plant.clearance import ClearanceMeter, nearest_along, nearest_in_default_cell, robot_root
+from orc_rpl.plant.clearance import (DISTMAX_M, TOLERANCE_FRACTION, TOLERANCE_M, ClearanceMeter, RunClearance,
+                                     robot_root)
+from orc_rpl.plant.sim import SimCell
+from orc_rpl.plant.world_scene import cell_from_world
+from orc_rpl.world import loads_world
+from tests.plant.test_world_scene import WORLD
 
 #: A one-joint "robot" (a 1 m arm of radius 0.05 m turning about z at 0.5 m height) beside a box and on a floor.
 SCENE = """
@@ -69,18 +74,34 @@ def test_the_broad_phase_finds_what_every_pair_measured_finds(scene) -> None:
         assert meter.measure().distance_m == pytest.approx(brute, abs=1e-9)
 
 
-def test_the_nearest_approach_along_a_trajectory_is_where_the_arm_faces_the_block(scene) -> None:
-    model, data = scene
-    time_s = np.arange(0.0, 2.0, 0.004)
-    q = (math.pi / 2 - math.pi / 2 * time_s).reshape(-1, 1)  # from 90 deg to -90 deg through 0 at t = 1 s
-    approach = nearest_along(model, data, [0], time_s, q, rate_hz=50.0)
-    assert approach is not None and approach.time_s == pytest.approx(1.0, abs=0.02)
-    assert approach.distance_m == pytest.approx(0.25, abs=1e-3)
-
-
 @pytest.mark.sim
-def test_the_default_cell_measures_the_robot_against_its_table() -> None:
-    q_home = np.radians([[0, 0, 30, 0, 60, 0]])
-    approach = nearest_in_default_cell("irb2400", np.array([0.0]), q_home)
-    assert approach is not None and approach.obstacle_geom.startswith("table")
-    assert 0.0 < approach.distance_m < 0.5
+def test_a_followed_run_is_exact_to_its_tolerance_per_motion_and_skips_samples() -> None:
+    cell = SimCell(cell=cell_from_world(loads_world(WORLD)))
+    follower = RunClearance(cell)
+    brute = ClearanceMeter(follower.model, mujoco.MjData(follower.model), robot_root(follower.model), DISTMAX_M)
+    joints = cell._qpos
+    home = np.array(cell.description.robot_spec.home_q_rad)
+    # two "motions": the wrist swings down towards the block, then back up
+    down = [home + np.array([0, 0.6, 0.2, 0, 0.4, 0]) * f for f in np.linspace(0, 1, 200)]
+    path = [("down", q) for q in down] + [("up", q) for q in down[::-1]]
+    smallest: dict[str, float] = {}
+    for i, (key, q) in enumerate(path):
+        cell._data.qpos[joints] = q
+        follower.sample(key, 0.004 * i)
+        brute.data.qpos[:] = cell._data.qpos
+        mujoco.mj_kinematics(brute.model, brute.data)
+        exact = brute.measure()
+        assert exact is not None
+        smallest[key] = min(smallest.get(key, np.inf), exact.distance_m)
+    for key in ("down", "up"):
+        found = follower.nearest[key]
+        assert found is not None and found.obstacle == "block"
+        assert found.distance_m >= smallest[key] - 1e-9
+        assert found.distance_m - smallest[key] <= max(TOLERANCE_M, TOLERANCE_FRACTION * smallest[key])
+    assert follower.measured < follower.samples / 2, "far from its nearest so far, a sample is not measured"
+
+
+def test_the_work_is_no_obstacle() -> None:
+    follower = RunClearance(SimCell(cell=cell_from_world(loads_world(WORLD))))
+    names = {mujoco.mj_id2name(follower.model, mujoco.mjtObj.mjOBJ_GEOM, int(b)) for b in follower.meter.pairs[:, 1]}
+    assert "block" in names and "part" not in names

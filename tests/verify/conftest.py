@@ -31,10 +31,11 @@ COLLIDES = ("-- Into the table (top at 350 mm) on purpose.\nTOOL probe = POSE(0,
             "LMOVE probe TO POSE(1000mm, 0, 250mm, 0, 180deg, 0) WITH SPEED = 0.5mps\n")
 
 
-def alone(program: str | Path, robot: str = "irb2400") -> dict[str, Any]:
-    """The summary of `orc run PROGRAM` run on its own (in this process), with its exit code."""
+def alone(program: str | Path, robot: str = "irb2400", margins: bool = False) -> dict[str, Any]:
+    """The summary of `orc run PROGRAM` (with `--margins` if asked) run on its own (in this process), with its exit
+    code."""
     out = Path(os.environ.get("PYTEST_TMP", "/tmp")) / f"alone-{os.getpid()}.json"
-    code = main(["run", str(program), "--robot", robot, "--summary-json", str(out)])
+    code = main(["run", str(program), "--robot", robot, "--summary-json", str(out), *(["--margins"] if margins else [])])
     summary = json.loads(out.read_text())
     out.unlink()
     return {**summary, "exit_code": code}

@@ -27,6 +27,28 @@ def test_an_expectation_of_two_words_is_refused_with_its_line() -> None:
         read_expectation(Path("p.rpl"), "-- a program\n-- expect: Unreachable or NotFound\n")
 
 
+def test_process_conditions_are_read_one_a_line() -> None:
+    text = "-- expect: welds_good >= 4\n-- expect: parts = Light, Heavy\n# expect: burr_left_mm<0.05\nPRINT 1\n"
+    expectation = read_expectation(Path("p.rpl"), text)
+    assert expectation.outcome == "finished", "a condition leaves the expected outcome as it was"
+    conditions = expectation.process
+    assert [(c.name, c.op, c.value, c.line) for c in conditions] == [
+        ("welds_good", ">=", 4.0, 1), ("parts", "=", "Light,Heavy", 2), ("burr_left_mm", "<", 0.05, 3)]
+    assert conditions[1].failure({"parts": "Light,Heavy"}) is None
+    assert conditions[0].failure({"welds_good": 3}) == "expected process welds_good >= 4 (header line 1), got 3"
+
+
+@pytest.mark.parametrize("line, message", [
+    ("-- expect: spatter < 2", r"p.rpl:1: 'expect:' names an unknown process figure 'spatter'; known: welds, "),
+    ("-- expect: welds_good =< 4", r"p.rpl:1: 'expect:' with a comparison takes NAME OP VALUE"),
+    ("-- expect: welds_good about 4", r"p.rpl:1: 'expect:' takes one word: .* or a condition on a process figure"),
+    ("-- expect: parts < cube", r"p.rpl:1: 'expect: parts <' needs a number, got 'cube'"),
+])
+def test_a_bad_process_condition_is_refused_with_its_line(line: str, message: str) -> None:
+    with pytest.raises(UsageError, match=message):
+        read_expectation(Path("p.rpl"), line + "\n")
+
+
 @pytest.mark.parametrize("outcome, status, exception, met", [
     ("finished", "finished", None, True),
     ("finished", "failed", "Unreachable", False),

@@ -50,7 +50,7 @@ def _run_with_kills(attempts: set[int]) -> list:
 def test_a_worker_killed_mid_run_is_retried_once_with_the_same_result() -> None:
     [done] = _run_with_kills({1})
     assert done.attempts == 2 and done.failure is None
-    row = judge("demo_recover.rpl", "irb2400", Expectation(), done.result, done.attempts, done.failure, {}, 5.0)
+    row = judge("demo_recover.rpl", "irb2400", Expectation(), done.result, done.attempts, done.failure, {})
     reference = alone(PROGRAM)
     assert (row.verdict, row.attempts, row.cycle_time_s, row.motions) == \
         ("ok", 2, reference["cycle_time_s"], reference["motions"])
@@ -60,5 +60,5 @@ def test_a_worker_killed_mid_run_is_retried_once_with_the_same_result() -> None:
 def test_a_run_whose_worker_dies_twice_is_reported_as_lost() -> None:
     [done] = _run_with_kills({1, 2})
     assert (done.result, done.attempts, done.failure) == (None, 2, "its worker died on every attempt")
-    row = judge("demo_recover.rpl", "irb2400", Expectation(), done.result, done.attempts, done.failure, {}, 5.0)
+    row = judge("demo_recover.rpl", "irb2400", Expectation(), done.result, done.attempts, done.failure, {})
     assert (row.status, row.verdict, row.reasons) == ("lost", "FAIL", ("not run: its worker died on every attempt",))

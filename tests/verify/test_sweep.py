@@ -7,10 +7,12 @@ import json
 from pathlib import Path
 
 import pytest
+from matplotlib import image
 
 from orc_rpl.cli import main
 from orc_rpl.commands.many_runs import run_accepts
 from orc_rpl.errors import UsageError
+from orc_rpl.verify.plot import plot_outcomes
 from orc_rpl.verify.sweep import Variation, grid, record_of, split_values
 from orc_rpl.verify.task import RunOutcome
 from tests.verify.conftest import alone, orc
@@ -109,3 +111,25 @@ def test_a_process_section_becomes_columns_of_the_table() -> None:
     assert record["m"] == "1" and record["status"] == "finished" and record["cycle_time_s"] == 2.0
     assert record["process.identifications.0.part"] == "heavy"
     assert record["process.identifications.0.payload_kg"] == 4.98
+    assert record["figure.parts"] == "heavy" and record["clearance_mm"] is None  # no margins section: not measured
+
+
+def test_each_outcome_chosen_gets_its_panel(tmp_path: Path) -> None:
+    records = [{"v": v, "seed": seed, "cycle_time_s": 2.0 / float(v[:-3]) + seed, "clearance_mm": 10.0 * seed,
+                "status": "finished"} for v in ("1mps", "2mps") for seed in (0, 1)]
+    records.append({"v": "3mps", "seed": 0, "cycle_time_s": None, "status": "failed"})
+    assert plot_outcomes(records, "v", ["cycle_time_s"], [], tmp_path / "one.png", "t") == 4
+    assert plot_outcomes(records, "v", ["cycle_time_s", "clearance_mm"], [], tmp_path / "two.png", "t") == 8
+    one, two = image.imread(tmp_path / "one.png"), image.imread(tmp_path / "two.png")
+    assert two.shape[0] > 1.7 * one.shape[0] and two.shape[1] == one.shape[1]
+
+
+def test_the_margins_become_columns_with_the_line_of_their_motion() -> None:
+    near = {"clearance_mm": 31.5, "file": "p.rpl", "line": 7, "column": 1, "robot_body": "link6", "obstacle": "fence",
+            "time_s": 2.0}
+    joint = {"joint_margin_deg": 9.5, "joint": 5, "file": "p.rpl", "line": 4, "column": 1}
+    summary = {"status": "finished", "cycle_time_s": 2.0, "motions": 3, "warnings": [], "error": None,
+               "margins": {"clearance": near, "joint_margin": joint, "motions": []}}
+    record = record_of(0, grid(["m=1"], None, [])[0], RunOutcome(0, summary, "", ""), 1, None)
+    assert (record["clearance_mm"], record["clearance_line"], record["clearance_bodies"]) == (31.5, 7, "link6/fence")
+    assert (record["joint_margin_deg"], record["joint_margin_line"]) == (9.5, 4)

@@ -32,5 +32,8 @@ def test_rows_show_retries_collisions_baseline_changes_and_reasons() -> None:
     text = _text([row])
     assert "finished, retried 1x" in text and "+10.0 %" in text and "-3 mm COLLISION" in text
     assert "FAIL: collision: robot/link5 to table_top at 1.00 s" in text
+    nearer = Row("e.rpl", "irb2400", "finished", cycle_time_s=1.0, motions=1, clearance_mm=30.2, clearance_at="e.rpl:7",
+                 baseline_clearance_mm=45.0, joint_margin_deg=12.34, margin_joint=4, margin_at="e.rpl:5")
+    assert "30 mm @7 (-15)" in _text([nearer]) and "12.3 deg j4 @5" in _text([nearer])
     fresh = Row("d.rpl", "irb2400", "finished", cycle_time_s=1.0, motions=1)
     assert "new" in _text([fresh]) and "new" not in _text([fresh], have_baseline=False)

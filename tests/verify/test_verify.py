@@ -11,7 +11,13 @@ from pathlib import Path
 
 import pytest
 
+from tests.plant.test_world_scene import WORLD
 from tests.verify.conftest import ROOT, SUBSET, alone, dask_cluster, orc, same_as_alone
+
+#: 80 mm above the block of WORLD (line 3) and back up.
+NEAR_THE_BLOCK = ("MOVE ARM TO POSE(900mm, 0, 800mm, 0, 180deg, 0)\nLMOVE ARM TO POSE(900mm, 0, 700mm, 0, 180deg, 0)\n"
+                  "LMOVE ARM TO POSE(900mm, 0, 560mm, 0, 180deg, 0) WITH SPEED = 0.2mps\n"
+                  "LMOVE ARM TO POSE(900mm, 0, 800mm, 0, 180deg, 0)\n")
 
 
 @pytest.mark.sim
@@ -37,7 +43,8 @@ def test_verify_matches_each_program_run_alone_and_judges_it(extra_programs: dic
     assert rows["ur5e_only.rpl"]["verdict"] == "skipped"
     collided = rows["collides.rpl"]
     assert collided["status"] == "finished" and collided["verdict"] == "FAIL" and collided["clearance_mm"] < 0
-    assert collided["reasons"][0].startswith("collision: robot/") and "table_top" in collided["reasons"][0]
+    assert collided["reasons"][0].startswith("collision: link") and "to table_top at " in collided["reasons"][0]
+    assert collided["clearance_at"] == f"{extra_programs['collides.rpl']}:4", "the LMOVE into the table"
     assert all(rows[Path(shown).name]["clearance_mm"] > 20 for shown in SUBSET)
     assert rows[Path(slower).name]["verdict"] == "FAIL"
     assert rows[Path(slower).name]["reasons"][0].startswith("10.0 % slower than the baseline")
@@ -61,6 +68,68 @@ def test_verify_on_a_separate_dask_cluster_on_loopback_gives_the_same_rows(tmp_p
     for row in rows:
         same_as_alone(row, alone(ROOT / row["program"]))
         assert row["verdict"] == "ok" and row["attempts"] == 1
+
+
+@pytest.mark.slow
+def test_verify_over_all_of_programs_gives_what_each_program_gives_alone(tmp_path: Path) -> None:
+    result = orc("verify", "programs/", "--workers", "2", "--json", str(tmp_path / "r.json"))
+    assert result.returncode in (0, 1), result.stderr
+    rows = json.loads((tmp_path / "r.json").read_text())["runs"]
+    assert sorted({row["program"] for row in rows}) == sorted(
+        path.relative_to(ROOT).as_posix() for path in (ROOT / "programs").rglob("*") if path.suffix in (".rpl", ".orl"))
+    with_process = 0
+    for row in rows:
+        summary = alone(ROOT / row["program"], row["robot"], margins=True)
+        same_as_alone(row, summary)
+        assert row["process"] == summary.get("process"), row["program"]
+        with_process += summary.get("process") is not None
+        near = (summary.get("margins") or {}).get("clearance")
+        assert row["clearance_mm"] == (near["clearance_mm"] if near else None), row["program"]
+        if near:
+            assert row["clearance_at"] == f"{row['program']}:{near['line']}"
+    assert with_process >= 5, "the application programs report their process outcomes"
+
+
+@pytest.mark.sim
+def test_verify_measures_clearance_in_the_cell_of_the_world_given(tmp_path: Path) -> None:
+    (tmp_path / "cell.yaml").write_text(WORLD, encoding="utf-8")
+    (tmp_path / "near.rpl").write_text(NEAR_THE_BLOCK, encoding="utf-8")
+    result = orc("verify", "near.rpl", "--world", "cell.yaml", "--workers", "1", "--min-clearance", "100",
+                 "--json", "r.json", "--junit", "j.xml", cwd=tmp_path)
+    assert result.returncode == 1, result.stderr
+    row = json.loads((tmp_path / "r.json").read_text())["runs"][0]
+    assert row["clearance_bodies"] == ["link5", "block"] and row["clearance_at"] in ("near.rpl:3", "near.rpl:4")
+    assert 75.0 < row["clearance_mm"] < 85.0
+    assert row["reasons"] == [f"near miss: {row['clearance_mm']:.1f} mm, link5 to block at {row['clearance_at']} "
+                              f"(t = {row['clearance_time_s']:.2f} s) (below 100 mm)"]
+    case = ET.parse(tmp_path / "j.xml").getroot().find("testcase")
+    assert case is not None
+    properties = {p.get("name"): p.get("value") for p in case.iter("property")}
+    assert properties["clearance_mm"] == f"{row['clearance_mm']:.3f}" and properties["clearance_at"] == row["clearance_at"]
+
+
+@pytest.mark.sim
+def test_process_outcomes_are_judged_against_the_header_and_the_baseline(tmp_path: Path) -> None:
+    source = ROOT / "programs/online/thesis_3_1_deburring.rpl"
+    header = "-- expect: burr_left_mm <= 0.2\n-- expect: bulges = 3\n"
+    (tmp_path / "deburr.rpl").write_text(header + source.read_text(encoding="utf-8"), encoding="utf-8")
+    (tmp_path / "deburr.sim.yaml").write_text(source.with_suffix(".sim.yaml").read_text(encoding="utf-8"))
+    reference = alone(source)["process"]
+    key = "deburr.rpl [irb2400]"
+    baseline = {"version": 1, "runs": {key: {"cycle_time_s": 100.0, "process": {"bulges_within_tolerance": 3}}}}
+    (tmp_path / "base.json").write_text(json.dumps(baseline), encoding="utf-8")
+    result = orc("verify", "deburr.rpl", "--workers", "1", "--baseline", "base.json", "--json", "r.json",
+                 "--save-baseline", "new.json", "--junit", "j.xml", cwd=tmp_path)
+    assert result.returncode == 1, result.stderr
+    row = json.loads((tmp_path / "r.json").read_text())["runs"][0]
+    bulges = len(reference["bulges"])
+    assert row["process"] == reference and row["process_figures"]["bulges"] == bulges == 2
+    assert row["reasons"] == ["expected process bulges = 3 (header line 2), got 2",
+                              "process bulges_within_tolerance: 2, 3 in the baseline"]
+    saved = json.loads((tmp_path / "new.json").read_text())["runs"][key]["process"]
+    assert saved == row["process_figures"] and saved["burr_left_mm"] <= 0.2
+    properties = {p.get("name"): p.get("value") for p in ET.parse(tmp_path / "j.xml").getroot().iter("property")}
+    assert properties["process.bulges"] == "2"
 
 
 def test_ctrl_c_cancels_the_remaining_runs_and_keeps_the_finished_ones(tmp_path: Path) -> None:

@@ -1,0 +1,179 @@
+"""The servo room's drives in C: the servo law of `JointServo` run as MuJoCo PID actuators, one motion cycle per call."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S, JointServo
+
+add, subtract, multiply, tanh = np.add, np.subtract, np.multiply, np.tanh
+
+
+class CompiledDrives:
+    """Runs `JointServo`'s law inside mj_step, with the gains and feed-forward computed once a motion cycle.
+
+    The law tau = kv (qd_ref - qd + kp (q_ref - q)) + I + tau_ff, I = integral of kv ki (the same
+    velocity error), is a PID on the position error: tau = kv (kp + ki) e + kv (qd_ref - qd)
+    + kv ki kp * integral(e) + tau_ff, with e = q_ref - q. The drives (plant/realistic.py) compute that
+    in C each step; this class schedules kv = M_ii(q) * bandwidth at the measured pose at the start of
+    each call (the Python law: every `inertia_every_steps` = one motion cycle) and gives them, one
+    row a step, the references and the feed-forward: the model's inverse dynamics of the reference,
+    the nominal friction, a tuning's terms, the torque offset, and the speed noise the servo reads
+    (-kv * noise: the drive's velocity input is the plant's own speed).
+
+    Differences from the Python law, all small (tests/servo/test_drives.py bounds their effect):
+    the encoder's quantisation (half a count) is not seen inside the cycle; the friction
+    feed-forward's position correction is the one at the start of the cycle; the integral is not
+    frozen while a motor saturates (its limit, 0.25 tau_max, still holds).
+    """
+
+    def __init__(self, servo: JointServo, cell: Any) -> None:
+        self.servo, self.cell = servo, cell
+        n = servo.arm.n_joints
+        self._ff, self._rows = np.zeros((0, n)), np.zeros((0, n))
+        self._work, self._integral = np.zeros(n), np.zeros(n)
+        self._gain_p, self._gain_i, self._kv_ibw = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._kp, self._kv, self._ibw = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._pid_p, self._pid_i = np.zeros(n), np.zeros(n)   #: kp + ki and ki * kp of the law, per kv
+        self._integral_start = np.zeros(n)
+        self._tau_abs = np.zeros(n)
+        self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
+
+    def engage(self) -> None:
+        """Take over from the Python law: the drives' integral from the servo's (bumpless)."""
+        self.engaged = True
+        q, _ = self.cell.live_state()
+        self._schedule(q)
+
+    def release(self) -> None:
+        """Hand back to the Python law: the servo's integral from the drives', the drives as torque motors."""
+        if self.engaged:
+            self.servo.integral = self.cell.integral_nm() + self._kv * self._ibw * self.servo.position_error
+            self.cell.torque_mode()
+            self.servo._steps = 0  # its gains are scheduled again at the next step
+            self.engaged = False
+
+    def _schedule(self, q: np.ndarray) -> None:
+        """Gains at the measured pose (the Python law's gain scheduling), written into the drives."""
+        servo = self.servo
+        if servo._kp is not self._kp:  # another tuning (or the first call): the law's constants
+            self._kp, self._ibw = servo._kp, servo._integral_bw_dt / servo.period_s
+            self._pid_p, self._pid_i = self._kp + self._ibw, self._ibw * self._kp
+            self._friction_p = self._kp * (1.0 / FRICTION_SMOOTH_RAD_S)
+            self._integral_max = servo._integral_max
+        kv, pid_p, pid_i = self._kv, self._gain_p, self._gain_i
+        multiply(servo.arm.mass_matrix_diagonal_unchecked(q), servo._velocity_bw, kv)
+        multiply(kv, self._pid_p, pid_p)
+        multiply(kv, self._pid_i, pid_i)
+        multiply(kv, self._ibw, self._kv_ibw)
+        # The integral torque of the Python law is kept across the new kv, not the PID's ki * int(e):
+        # its kv ki e part changes with kv (unchecked, it drifts by about 10 N m over a fast move)
+        work = self._work
+        multiply(self._kv_ibw, servo.position_error, work)
+        subtract(servo.integral, work, work)
+        self.cell.set_drive_gains(pid_p, kv, pid_i, self._integral_max, work)
+
+    def run(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, each_step: Any = None) -> None:
+        """One call of the servo loop: len(q_ref) steps of per-step references (rows), the drives in C."""
+        servo, cell = self.servo, self.cell
+        if not self.engaged:
+            self.engage()
+        q, qd = cell.live_state()
+        self._schedule(q)
+        n_steps = len(q_ref)
+        ff, work = self._ff, self._rows
+        if ff.shape[0] != n_steps:
+            ff, work = self._ff, self._rows = np.zeros((n_steps, len(q))), np.zeros((n_steps, len(q)))
+        rnea = servo._inverse_dynamics
+        for i in range(n_steps):
+            ff[i] = rnea(q_ref[i], qd_ref[i], qdd_ref[i])
+        servo.torque_ff = ff[-1].copy()
+        if servo._coulomb is not None:
+            # the speed the loop asks for, with the position error at the start of the cycle (/ smoothing)
+            error = self._work
+            subtract(q_ref[0], q, error)
+            multiply(error, self._friction_p, error)
+            multiply(qd_ref, 1.0 / FRICTION_SMOOTH_RAD_S, work)
+            add(work, error, work)
+            tanh(work, work)
+            multiply(work, servo._coulomb, work)
+            add(ff, work, ff)
+            multiply(qd_ref, servo._viscous, work)
+            add(ff, work, ff)
+        if servo.tuning is not None:
+            ff += servo._d_inertia * qdd_ref + servo._d_viscous * qd_ref + servo._d_offset
+        add(ff, servo.torque_offset, ff)
+        noise = cell.noise_rows(n_steps)
+        multiply(noise, self._kv, work)
+        subtract(ff, work, ff)   # the velocity loop reads the noisy speed
+        state = cell._integral_state
+        self._integral_start[:] = state
+        true_q, true_qd = cell.true_live_state()
+        integral_before, q_before, qd_before = servo.integral.copy(), true_q.copy(), true_qd.copy()
+        if each_step is None:
+            cell.drive(q_ref, qd_ref, ff)
+            self._signals(q_ref[-1], qd_ref[-1], False)
+        else:
+            row = [0]
+
+            def step() -> None:
+                self._signals(q_ref[row[0]], qd_ref[row[0]])
+                row[0] += 1
+                each_step()
+
+            cell.drive(q_ref, qd_ref, ff, step)
+        servo._steps += n_steps
+        # The Python law's integral over the call, from the drives' states: it sums h (qd_ref - qd + kp e)
+        # step by step, and with MuJoCo's semi-implicit Euler sum(h qd_k) = q_n - q_0 - h (qd_n - qd_0)
+        # and sum(h e_k) is the drives' integral state's change (the noise the law reads is known)
+        h, work = servo.period_s, self._rows
+        true_q, true_qd = cell.true_live_state()
+        subtract(qd_ref, noise, work)
+        increment = np.add.reduce(work, 0)
+        subtract(true_qd, qd_before, qd_before)
+        add(increment, qd_before, increment)
+        multiply(increment, h, increment)
+        subtract(true_q, q_before, q_before)
+        subtract(increment, q_before, increment)
+        subtract(state, self._integral_start, q_before)
+        multiply(q_before, self._kp, q_before)
+        add(increment, q_before, increment)
+        multiply(increment, self._kv_ibw, increment)
+        integral = integral_before
+        if True in servo.saturated.tolist():
+            # the anti-windup, once a call: a motor that ended it saturated keeps its integral
+            increment[servo.saturated] = 0.0
+        add(integral, increment, integral)
+        np.minimum(integral, servo._integral_max, out=integral)
+        np.maximum(integral, servo._integral_min, out=integral)
+        servo.integral = integral
+
+    def _integral_now(self) -> None:
+        """servo.integral: the Python law's integral torque I = kv ki e + ki_pid * integral(e)."""
+        servo, work, integral = self.servo, self._work, self._integral
+        multiply(self._kv_ibw, servo.position_error, work)
+        multiply(self.cell._integral_state, self.cell._ki, integral)
+        add(integral, work, integral)
+        servo.integral = integral
+
+    def _signals(self, q_ref: np.ndarray, qd_ref: np.ndarray, integral: bool = True) -> None:
+        """The servo's internal signals after a step, as the Python law shows them (measured state).
+
+        position_error, integral (unless False: the end of a call sets it), torque and saturated;
+        velocity_error is the Python law's only.
+        """
+        servo, cell = self.servo, self.cell
+        q, _ = cell.live_state()
+        error = servo.position_error
+        # the Python law's error is the last step's, measured before it: the reference a step on, against now
+        multiply(qd_ref, servo.period_s, error)
+        add(error, q_ref, error)
+        subtract(error, q, error)
+        if integral:
+            self._integral_now()
+        tau = servo.torque
+        tau[:] = cell._force
+        np.abs(tau, self._tau_abs)
+        np.greater_equal(self._tau_abs, servo._tau_max, servo.saturated)
