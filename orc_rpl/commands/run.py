@@ -305,11 +305,12 @@ def add_cell_options(parser: argparse.ArgumentParser) -> None:
 def simulated_plant(args: argparse.Namespace, robot: str) -> str:
     """--plant, or the robot's default: realistic where it has a plant description (said when it has none)."""
     from orc_rpl.robot.plants import PLANTS, default_plant
+    from orc_rpl.robot.servo_plants import SERVO_PLANTS
 
     if args.plant is not None:
         return str(args.plant)
     plant = default_plant(robot)
     if plant != "realistic":
         sys.stderr.write(f"orc: robot {robot!r} has no realistic plant description yet "
-                         f"(robots with one: {', '.join(sorted(PLANTS))}): running on the ideal plant\n")
+                         f"(robots with one: {', '.join(sorted([*PLANTS, *SERVO_PLANTS]))}): running on the ideal plant\n")
     return plant

@@ -40,7 +40,10 @@ class EmulatedArm:
         self._hand_eye = DroopCorrection(self.n, self._rad)  #: the person holds a pose where they see it
         self._enabled = np.zeros(self.n, dtype=bool)
         self.cell.set_torque(self._enabled)
+        self._servo_list = list(servos.values())
+        self._hand_goals = False
         self._read_registers()
+        self.cell.set_goals(self._goals)
         self.publish()
 
     @property
@@ -58,16 +61,20 @@ class EmulatedArm:
 
         The registers the host reads are written by `publish`, called before each packet is answered."""
         cell = self.cell
-        if any(s.changed for s in self.servos.values()):
+        changed = any(s.changed for s in self._servo_list)
+        if changed:
             self._read_registers()
         if self.hand is not None:
             # a hand moves the limp joints (calibration): as strong as a servo, and it corrects what it sees
             enabled = np.ones(self.n, dtype=bool)
             hand = self._hand_eye.goal(np.array(self.hand), cell.q, cell.qd)
             cell.set_goals(np.where(self._torque_on, self._goals, hand))
+            self._hand_goals = True
         else:
             enabled = self._torque_on
-            cell.set_goals(self._goals)
+            if changed or self._hand_goals:
+                cell.set_goals(self._goals)
+                self._hand_goals = False
         if not np.array_equal(enabled, self._enabled):
             self._enabled = enabled
             cell.set_torque(enabled)
