@@ -118,6 +118,7 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
+    from orc_rpl.robot.servo_plants import servo_plant_spec
     from orc_rpl.syntax.files import declared_world, is_offline
     from orc_rpl.transform.loading import load_program_and_attributes
     from orc_rpl.transform.overrides import override_constants
@@ -160,6 +161,10 @@ def run(args: argparse.Namespace) -> int:
     diagnostics = check(program, args.file, registry, attributes, cell_world)
     if args.port is not None:
         diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot)
+    elif cell is None and servo_plant_spec(args.robot) is not None and args.plant != "ideal":
+        # the realistic plant of an arm on bus servos measures what the real one does: no joint torque
+        diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot,
+                                                    hint="--plant ideal runs it on the controller's own model")
     if diagnostics:
         for diagnostic in capped(diagnostics):
             sys.stderr.write(diagnostic.format(source) + "\n")
@@ -267,7 +272,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         watched = progress.monitor(margins or robot)
         machine.robot = watchers.monitor(watched) if watchers is not None else watched
         wall_start = time.perf_counter()  # after the view's page connected
-        interrupted = _run_until_done(executive, args.timeout)
+        interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
     machine.robot = robot
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
@@ -279,10 +284,11 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         sys.stderr.write(executive.report() + "\n")
     if interrupted:
         result["status"], result["interrupted_by"] = "interrupted", interrupted
-        sys.stderr.write(f"orc run: interrupted by {interrupted}; the robot stopped on its path\n")
+        where = "the arm holds its position" if args.port is not None else "the robot stopped on its path"
+        sys.stderr.write(f"orc run: interrupted by {interrupted}; {where}\n")
     if margins is not None:
         result["margins"] = margins.section(args.file)
-    write_summary_text(result, wall_s, sys.stderr)
+    write_summary_text(result, wall_s, sys.stderr, real_arm=args.port is not None)
     for line in margin_lines(result.get("margins")):
         sys.stderr.write(f"margins: {line}\n")
     try:
@@ -305,7 +311,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     return 1 if executive.status == "failed" or interrupted else 0
 
 
-def _run_until_done(executive: Any, timeout_s: float | None) -> str:
+def _run_until_done(executive: Any, timeout_s: float | None, simulated: bool = True) -> str:
     """Run the program; what interrupted it ("Ctrl-C", the timeout) or "" when it ended by itself."""
     limit = TimeLimit(executive.machine.robot, timeout_s, executive) if timeout_s is not None else None
     if limit is not None:
@@ -315,7 +321,7 @@ def _run_until_done(executive: Any, timeout_s: float | None) -> str:
     except KeyboardInterrupt:
         return "Ctrl-C"
     if limit is not None and limit.reached and executive.status == "paused":
-        return f"--timeout {timeout_s:g} s (simulated)"
+        return f"--timeout {timeout_s:g} s" + (" (simulated)" if simulated else "")
     return ""
 
 
@@ -332,11 +338,12 @@ def add_cell_options(parser: argparse.ArgumentParser) -> None:
 def simulated_plant(args: argparse.Namespace, robot: str) -> str:
     """--plant, or the robot's default: realistic where it has a plant description (said when it has none)."""
     from orc_rpl.robot.plants import PLANTS, default_plant
+    from orc_rpl.robot.servo_plants import SERVO_PLANTS
 
     if args.plant is not None:
         return str(args.plant)
     plant = default_plant(robot)
     if plant != "realistic":
         sys.stderr.write(f"orc: robot {robot!r} has no realistic plant description yet "
-                         f"(robots with one: {', '.join(sorted(PLANTS))}): running on the ideal plant\n")
+                         f"(robots with one: {', '.join(sorted([*PLANTS, *SERVO_PLANTS]))}): running on the ideal plant\n")
     return plant
