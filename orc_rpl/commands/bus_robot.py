@@ -29,6 +29,11 @@ def add_options(parser: argparse.ArgumentParser) -> None:
 
 def check_options(args: argparse.Namespace) -> None:
     """Usage errors before anything moves."""
+    sim = getattr(args, "sim", None)
+    if sim is not None and args.port is not None:
+        raise UsageError("--sim: a real arm (--port) has its own equipment; --sim describes the simulated cell's")
+    if sim is not None and not os.path.isfile(sim):
+        raise UsageError(f"--sim: {sim!r} is not a regular file" if os.path.exists(sim) else f"--sim: no such file {sim!r}")
     if args.port is None:
         for option in ("calibration", "bus"):
             if getattr(args, option) is not None:

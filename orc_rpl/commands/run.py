@@ -235,7 +235,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     from orc_rpl.executive.executive import Executive
     from orc_rpl.executive.margins import MarginWatch, margin_lines
     from orc_rpl.executive.machine import Options
-    from orc_rpl.executive.sim_io import load_script, script_path
+    from orc_rpl.executive.sim_io import load_script
 
     record = bool(args.log or args.plot)
     paced = args.realtime or (args.view and not args.fast)
@@ -263,7 +263,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
     # the run's process record; with --log/--plot, the tool's TCP and the process signals beside the flange
     submit_process_signals(robot.layer.logger if record else None, robot, lambda: machine.last_tool)
-    io_script = script_path(args.file, args.world)
+    io_script = equipment_script(args, args.file, args.world)
     if io_script is not None:
         load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload)
     margins = MarginWatch(robot, machine) if args.margins else None
@@ -326,13 +326,25 @@ def _run_until_done(executive: Any, timeout_s: float | None, simulated: bool = T
 
 
 def add_cell_options(parser: argparse.ArgumentParser) -> None:
-    """--allow-devices, --plant and --seed: what the simulated cell is made of (orc run and orc pendant)."""
+    """--allow-devices, --plant, --seed and --sim: what the simulated cell is made of (orc run and orc pendant)."""
     parser.add_argument("--allow-devices", action="store_true",
                         help="let the program open the serial devices its PORT attributes name (default: none is opened)")
     parser.add_argument("--plant", choices=("realistic", "ideal"), default=None,
                         help="realistic: friction, motor heat, encoders, masses off the model (default); "
                              "ideal: the controller's own model, exactly (simulation only: not with --port)")
     parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
+    parser.add_argument("--sim", metavar="FILE.sim.yaml",
+                        help="the simulated equipment (IO events, weld guns, parts, castings, seam) instead of the "
+                             "program's own <name>.sim.yaml: a variation of the cell (simulation only)")
+
+
+def equipment_script(args: argparse.Namespace, program: str | None, world_dir: str | None) -> Path | None:
+    """The simulated equipment of a run: --sim FILE, else the program's <name>.sim.yaml (in world_dir or beside it)."""
+    from orc_rpl.executive.sim_io import script_path
+
+    if args.sim is not None:
+        return Path(args.sim)
+    return None if program is None else script_path(program, world_dir)
 
 
 def simulated_plant(args: argparse.Namespace, robot: str) -> str:
