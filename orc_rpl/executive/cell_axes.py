@@ -34,7 +34,8 @@ class CellAxes:
         measured = getattr(self.layer.backend, "axis_values", None)
         values = dict(measured()) if measured is not None else dict(self.external.planned if self.external else {})
         now = self.layer.now_s()
-        values.update({name: axis.speed_si * now for name, axis in self._conveyors.items()})
+        # a simulated cell measures its belts; elsewhere a conveyor is where its speed has taken it
+        values.update({name: axis.speed_si * now for name, axis in self._conveyors.items() if name not in values})
         return values
 
     def base(self, values: dict[str, float]) -> np.ndarray:
