@@ -1,0 +1,37 @@
+"""The conveyor demo through `orc run`: every part is picked off the moving belt, the TCP riding with each part."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from orc_rpl.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+#: Where the parts are at t = 0 in the cell (worlds/conveyor_cell.yaml: the belt at y = -700 mm, parts 800 mm apart,
+#: their tops 50 mm above it) and the belt's speed along y.
+PART_TOPS_M = [(0.9, -0.7 - 0.8 * k, 0.45) for k in range(3)]
+BELT_SPEED_M_S = 0.1
+TOLERANCE_M = 0.002  # the TCP stays within 2 mm of the moving part while it rides with it
+
+
+def test_the_conveyor_demo_picks_every_part_tracking_it(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    log = tmp_path / "run.npz"
+    code = main(["run", str(ROOT / "programs/online/demo_conveyor.rpl"), "--world", str(ROOT / "worlds/conveyor_cell.yaml"),
+                 "--log", str(log)])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "parts picked from the moving belt:  3" in out
+    data = np.load(log)
+    names = [str(name) for name in data["__names__"]]  # the signals are stored as s0, s1, ... in this order
+    t, tcp = data["time_s"], data[f"s{names.index('tool_tcp')}"]
+    # riding: the TCP at the parts' top height (measured in the cell); three separate rides, one per part
+    riding = np.abs(tcp[:, 2] - 0.45) < 1e-3
+    starts = np.flatnonzero(np.diff(riding.astype(int)) == 1)
+    assert len(starts) == 3
+    assert riding.sum() * float(t[1] - t[0]) > 3 * 0.5  # each ride lasts over half a second
+    parts = [np.stack([np.full_like(t, x), y + BELT_SPEED_M_S * t, np.full_like(t, z)], axis=1) for x, y, z in PART_TOPS_M]
+    nearest = np.min([np.linalg.norm(tcp - p, axis=1) for p in parts], axis=0)
+    assert nearest[riding].max() < TOLERANCE_M
