@@ -35,3 +35,34 @@ def test_the_conveyor_demo_picks_every_part_tracking_it(tmp_path: Path, capsys: 
     parts = [np.stack([np.full_like(t, x), y + BELT_SPEED_M_S * t, np.full_like(t, z)], axis=1) for x, y, z in PART_TOPS_M]
     nearest = np.min([np.linalg.norm(tcp - p, axis=1) for p in parts], axis=0)
     assert nearest[riding].max() < TOLERANCE_M
+
+
+RIDE = """\
+TOOL gripper = POSE(0, 0, 150mm, 0, 0, 0)
+MOVE gripper TO POSE(900mm, -300mm, 550mm, 0, 180deg, 0)
+FRAME belt
+    start = HERE
+ENDFRAME
+FUNC ride(t)
+    RETURN start
+ENDFUNC
+before = HERE
+FRAME belt
+    LMOVE gripper TO ride WITH TIME = 1s
+ENDFRAME
+PRINT "carried ", HERE.y - before.y
+"""
+
+
+def test_a_function_of_time_relative_to_a_belt_rides_with_it(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    program, log = tmp_path / "ride.rpl", tmp_path / "ride.npz"
+    program.write_text(RIDE)
+    assert main(["run", str(program), "--world", str(ROOT / "worlds/conveyor_cell.yaml"), "--log", str(log)]) == 0
+    carried_m = float(capsys.readouterr().out.split("carried ")[1].split()[0])
+    assert carried_m == pytest.approx(BELT_SPEED_M_S * 1.0, abs=1e-3)  # where the belt took the pose in the motion's TIME
+    data = np.load(log)
+    names = [str(name) for name in data["__names__"]]
+    t, y = data["time_s"], data[f"s{names.index('tool_tcp')}"][:, 1]
+    riding = np.flatnonzero(np.abs(np.gradient(y, t) - BELT_SPEED_M_S) < 0.1 * BELT_SPEED_M_S)
+    assert t[riding[-1]] - t[riding[0]] > 0.9
+    assert np.ptp(y[riding] - BELT_SPEED_M_S * t[riding]) < 1e-3  # still relative to the belt while riding
