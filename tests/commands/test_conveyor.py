@@ -1,4 +1,4 @@
-"""The conveyor demo through `orc run`: every part is picked off the moving belt, the TCP riding with each part."""
+"""A conveyor in the cell through `orc run`: the demo picks every part off the moving belt, motions meet targets on the belt."""
 
 from __future__ import annotations
 
@@ -66,3 +66,29 @@ def test_a_function_of_time_relative_to_a_belt_rides_with_it(tmp_path: Path, cap
     riding = np.flatnonzero(np.abs(np.gradient(y, t) - BELT_SPEED_M_S) < 0.1 * BELT_SPEED_M_S)
     assert t[riding[-1]] - t[riding[0]] > 0.9
     assert np.ptp(y[riding] - BELT_SPEED_M_S * t[riding]) < 1e-3  # still relative to the belt while riding
+
+
+MEET = """\
+TOOL gripper = POSE(0, 0, 150mm, 0, 0, 0)
+FRAME part1 = POSE(0, 0, 0, 0, 0, 0) IN belt
+POS top = POSE(0, 0, 50mm, 0, 180deg, 0) IN part1
+FRAME part1
+    MOVE gripper TO OFFS(top, 0, 400mm, 100mm)
+    LMOVE gripper TO OFFS(top, 0, 300mm, 100mm)
+ENDFRAME
+"""
+
+
+def test_a_motion_to_a_target_on_the_belt_ends_where_the_belt_has_carried_it(tmp_path: Path) -> None:
+    program, log = tmp_path / "meet.rpl", tmp_path / "meet.npz"
+    program.write_text(MEET)
+    assert main(["run", str(program), "--world", str(ROOT / "worlds/conveyor_cell.yaml"), "--log", str(log)]) == 0
+    data = np.load(log)
+    names = [str(name) for name in data["__names__"]]
+    t, tcp, s = data["time_s"], data[f"s{names.index('tool_tcp')}"], data[f"s{names.index('s')}"]
+    ends = np.flatnonzero((s[1:] >= 1.0) & (s[:-1] < 1.0)) + 1  # when each motion's path reaches its end
+    assert len(ends) == 2
+    x, y, z = PART_TOPS_M[0]
+    for i, ahead_m in zip(ends, (0.4, 0.3)):
+        target = np.array([x, y + ahead_m + BELT_SPEED_M_S * t[i], z + 0.1])  # where the belt has carried it by then
+        assert np.linalg.norm(tcp[i] - target) < 1e-3
