@@ -23,7 +23,7 @@ def test_the_conveyor_demo_picks_every_part_tracking_it(tmp_path: Path, capsys: 
                  "--log", str(log)])
     out = capsys.readouterr().out
     assert code == 0, out
-    assert "pick motions done on the moving belt:  3" in out
+    assert "pick motions done on the moving belt: 3" in out
     data = np.load(log)
     names = [str(name) for name in data["__names__"]]  # the signals are stored as s0, s1, ... in this order
     t, tcp = data["time_s"], data[f"s{names.index('tool_tcp')}"]
