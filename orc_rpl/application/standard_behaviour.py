@@ -171,6 +171,16 @@ class Grinder:
         self._channel = context.attributes.get("SPINDLE")
         if self._channel is None:
             raise BehaviourError(f"INSTALL {context.name} AS Grinder needs WITH SPINDLE = DigOut[n]")
+        force_in, stroke = context.attributes.get("FORCE_IN"), context.attributes.get("STROKE")
+        if (force_in is None) != (stroke is None):
+            raise BehaviourError(f"INSTALL {context.name} AS Grinder: a force flange needs both FORCE_IN = AnalogIn[n] "
+                                 "and STROKE = AnalogOut[n]")
+        for channel, bank in ((force_in, "AnalogIn"), (stroke, "AnalogOut")):
+            if channel is not None and getattr(getattr(channel, "bank", None), "name", None) != bank:
+                raise BehaviourError(f"INSTALL {context.name} AS Grinder: expected {bank}[n], got {channel}")
+        #: the force flange's (force input, stroke output) channel numbers, None without one (GRINDMOVE presses
+        #: with the arm itself then)
+        self.force_flange = None if force_in is None else (int(force_in.number), int(stroke.number))
 
     def On(self) -> None:  # noqa: N802
         self._context.write(self._channel, 1)

@@ -110,7 +110,8 @@ def _run(args: argparse.Namespace) -> int:
         if args.file is not None:
             io_script = script_path(args.file, args.world)
             if io_script is not None:
-                load_script(io_script, robot.io, lambda: robot.tcp_pose(session.execution.tool_pose()))
+                load_script(io_script, robot.io, lambda: robot.tcp_pose(session.execution.tool_pose()),
+                            push=getattr(robot, "push_on_arm", None))
         if not interactive:
             return _run_script(session, sys.stdin, message)
         return PendantApp(session, message=message).run()

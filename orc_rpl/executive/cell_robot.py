@@ -130,6 +130,29 @@ class CellRobot:
         if cell is not None:
             cell.set_payload(mass_kg)
 
+    def push_on_arm(self, force_n: Any, point_m: Any) -> None:
+        """Simulation only: an external force (world, N) on the arm at a world point (a casting's contact)."""
+        cell = getattr(getattr(self.layer.backend, "loop", None), "cell", None)
+        if cell is not None:
+            cell.push(force_n, point_m)
+
+    def joint_speeds(self) -> tuple[float, ...]:
+        """Measured joint speeds (rad/s)."""
+        return tuple(float(v) for v in self.layer.backend.qd())
+
+    def model_torques(self, q: tuple[float, ...], qd: tuple[float, ...]) -> tuple[float, ...]:
+        """The controller's own model of the torques for a steady motion state (qdd = 0): rigid-body dynamics with
+        the declared payload plus the NOMINAL joint friction (not the plant's), what the servo feeds forward."""
+        servo = getattr(getattr(self.layer.backend, "loop", None), "servo", None)
+        q_a, qd_a = np.array(q, dtype=float), np.array(qd, dtype=float)
+        if servo is not None:
+            return tuple(float(t) for t in servo.model_torque(q_a, qd_a, np.zeros_like(q_a)))
+        return tuple(float(t) for t in self.layer.dynamics(q_a, qd_a, np.zeros_like(q_a), 0.0).torque_nm)
+
+    def jacobian_linear(self, tool: Pose | None) -> np.ndarray:
+        """d(TCP position)/dq (3 x n, world) at the measured joint angles."""
+        return np.asarray(self.layer.kin.arm.jacobian(self.layer.current_q(), _tool_matrix(tool)))[:3]
+
     def inverse_dynamics(self, q: tuple[float, ...], qd: tuple[float, ...], qdd: tuple[float, ...],
                          load_kg: float) -> tuple[float, ...]:
         return tuple(float(t) for t in self.layer.dynamics(np.array(q), np.array(qd), np.array(qdd), load_kg).torque_nm)
@@ -155,7 +178,10 @@ class CellRobot:
         elif request.kind == "linear":  # a straight line (through its VIA points, blended)
             corner = _params(request, zone_m=max(request.zone_m, VIA_ZONE_M))
             for point in request.via:
-                handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, _until_actions(request)))
+                leg = _until_actions(request)
+                if request.correction is not None:  # the path correction holds on every leg
+                    leg = _correction_action(request, layer, tool, leg)
+                handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, leg))
             handles.append(layer.move(_motion(layer, request.target, "linear", None, tool), params, actions))
         elif request.kind == "function":
             handles.append(layer.move(_function_motion(request.target, tool), params, actions))  # type: ignore[arg-type]

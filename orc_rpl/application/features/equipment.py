@@ -30,7 +30,11 @@ def register(registry: Registry) -> None:
                         (MethodSpec("Open", "open the gripper"), MethodSpec("Close", "close the gripper"),
                          MethodSpec("Closed", "TRUE while the gripper is closed", returns="bool"))),
         InstallKindSpec("Grinder", "a grinding spindle driven by a digital output",
-                        (AttributeSpec("SPINDLE", IO_CHANNEL, None, "digital output that runs the spindle", function_ok=False),),
+                        (AttributeSpec("SPINDLE", IO_CHANNEL, None, "digital output that runs the spindle", function_ok=False),
+                         AttributeSpec("FORCE_IN", IO_CHANNEL, None, "analog input of a force flange's normal force (N); "
+                                       "with STROKE, GRINDMOVE presses through the flange", function_ok=False),
+                         AttributeSpec("STROKE", IO_CHANNEL, None, "analog output of a force flange's stroke (m, toward "
+                                       "the part)", function_ok=False)),
                         (MethodSpec("On", "start the spindle"), MethodSpec("Off", "stop the spindle"))),
         InstallKindSpec("Switch", "a digital input read as a sensor",
                         (AttributeSpec("INPUT", IO_CHANNEL, None, "digital input of the switch", function_ok=False),),
