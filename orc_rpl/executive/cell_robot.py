@@ -178,10 +178,7 @@ class CellRobot:
         elif request.kind == "linear":  # a straight line (through its VIA points, blended)
             corner = _params(request, zone_m=max(request.zone_m, VIA_ZONE_M))
             for point in request.via:
-                leg = _until_actions(request)
-                if request.correction is not None:  # the path correction holds on every leg
-                    leg = _correction_action(request, layer, tool, leg)
-                handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, leg))
+                handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, _until_actions(request)))
             handles.append(layer.move(_motion(layer, request.target, "linear", None, tool), params, actions))
         elif request.kind == "function":
             handles.append(layer.move(_function_motion(request.target, tool), params, actions))  # type: ignore[arg-type]
