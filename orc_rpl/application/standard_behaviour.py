@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
+from orc_rpl.application.process_log import process_log
 from orc_rpl.application.registry import Registry, default_registry
 from orc_rpl.application.runtime import (BehaviourError, Fine, FunctionParam, InstallContext, MotionCall, MotionRequest,
                                         attached)
@@ -187,6 +188,12 @@ class Grinder:
 
     def Off(self) -> None:  # noqa: N802
         self._context.write(self._channel, 0)
+
+    def Bulges(self) -> int:  # noqa: N802
+        return len(process_log(self._context.robot).bulges)
+
+    def Left(self) -> Quantity:  # noqa: N802
+        return Quantity(max((b.left_m for b in process_log(self._context.robot).bulges), default=0.0), LENGTH)
 
 
 class Switch:

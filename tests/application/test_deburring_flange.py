@@ -20,11 +20,11 @@ GRINDER = "INSTALL grinder AS Grinder WITH SPINDLE = DigOut[5]{flange}\n"
 
 
 def run(tmp_path: Path, flange: str, capsys: pytest.CaptureFixture[str]) -> tuple[int, str, dict]:
-    """`orc run` of thesis_2_1_grindmove.rpl with the TOOL installed as a Grinder (its casting beside it)."""
+    """`orc run` of thesis_2_1_grindmove.rpl, its Grinder given `flange` (its casting beside it)."""
     source = THESIS.read_text(encoding="utf-8")
-    anchor = "TOOL grinder = POSE(0, 0, 150mm, 0, 0, 0)\n"
     program = tmp_path / THESIS.name
-    program.write_text(source.replace(anchor, anchor + GRINDER.format(flange=flange)), encoding="utf-8")
+    assert GRINDER.format(flange="") in source
+    program.write_text(source.replace(GRINDER.format(flange=""), GRINDER.format(flange=flange)), encoding="utf-8")
     program.with_suffix(".sim.yaml").write_text(THESIS.with_suffix(".sim.yaml").read_text(encoding="utf-8"))
     summary = tmp_path / "summary.json"
     code = main(["run", str(program), "--summary-json", str(summary), "--plant", "ideal"])
@@ -77,3 +77,18 @@ def test_the_arm_feels_the_casting_it_presses_on() -> None:
     assert np.abs(expected).max() > 10.0
     assert np.allclose(change, expected, atol=0.1 * np.abs(expected).max()), (change, expected)
     assert not math.isnan(change.sum())
+
+
+@pytest.mark.sim
+@pytest.mark.parametrize("name", ["thesis_2_1_grindmove.rpl", "thesis_3_1_deburring.rpl"])
+def test_the_thesis_programs_print_what_the_summary_says(name: str, tmp_path: Path,
+                                                         capsys: pytest.CaptureFixture[str]) -> None:
+    summary = tmp_path / "summary.json"
+    code = main(["run", str(ROOT / "programs/online" / name), "--summary-json", str(summary)])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    printed = next(line for line in out.splitlines() if line.startswith("bulges caught:"))
+    words = printed.split()
+    bulges = json.loads(summary.read_text())["process"]["bulges"]
+    assert int(words[2]) == len(bulges) >= 1
+    assert float(words[-1]) == pytest.approx(1000 * max(b["left_m"] for b in bulges), abs=1e-9)

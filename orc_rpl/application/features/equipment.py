@@ -35,7 +35,11 @@ def register(registry: Registry) -> None:
                                        "with STROKE, GRINDMOVE presses through the flange", function_ok=False),
                          AttributeSpec("STROKE", IO_CHANNEL, None, "analog output of a force flange's stroke (m, toward "
                                        "the part)", function_ok=False)),
-                        (MethodSpec("On", "start the spindle"), MethodSpec("Off", "stop the spindle"))),
+                        (MethodSpec("On", "start the spindle"), MethodSpec("Off", "stop the spindle"),
+                         MethodSpec("Bulges", "number of bulges GRINDMOVE has caught on this robot so far",
+                                    returns=DIMENSIONLESS),
+                         MethodSpec("Left", "the highest burr GRINDMOVE's last pass measured on a caught bulge "
+                                    "(0 when none was caught)", returns=LENGTH))),
         InstallKindSpec("Switch", "a digital input read as a sensor",
                         (AttributeSpec("INPUT", IO_CHANNEL, None, "digital input of the switch", function_ok=False),),
                         (MethodSpec("State", "1 when the switch is closed", returns=DIMENSIONLESS),), is_sensor=True),
