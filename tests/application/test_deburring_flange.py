@@ -78,17 +78,3 @@ def test_the_arm_feels_the_casting_it_presses_on() -> None:
     assert np.allclose(change, expected, atol=0.1 * np.abs(expected).max()), (change, expected)
     assert not math.isnan(change.sum())
 
-
-@pytest.mark.sim
-@pytest.mark.parametrize("name", ["thesis_2_1_grindmove.rpl", "thesis_3_1_deburring.rpl"])
-def test_the_thesis_programs_print_what_the_summary_says(name: str, tmp_path: Path,
-                                                         capsys: pytest.CaptureFixture[str]) -> None:
-    summary = tmp_path / "summary.json"
-    code = main(["run", str(ROOT / "programs/online" / name), "--summary-json", str(summary)])
-    out, err = capsys.readouterr()
-    assert code == 0, err
-    printed = next(line for line in out.splitlines() if line.startswith("bulges caught:"))
-    words = printed.split()
-    bulges = json.loads(summary.read_text())["process"]["bulges"]
-    assert int(words[2]) == len(bulges) >= 1
-    assert float(words[-1]) == pytest.approx(1000 * max(b["left_m"] for b in bulges), abs=1e-9)
