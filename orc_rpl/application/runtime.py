@@ -57,6 +57,14 @@ class MotionRequest:
     #: path correction (TRACKMOVE), called every motion cycle: the TCP offset (world, m) from the planned path
     #: to apply from the next cycle on, or None to stop the motion on its path (the sensor lost the seam)
     correction: Callable[[MotionView], tuple[float, float, float] | None] | None = None
+    #: external-axis targets (m or rad) the axes reach with the arm, in the same path coordinate (AXES(p, ...))
+    axes: tuple[tuple[str, float], ...] = ()
+    #: coordinated motion: the world pose of the target's frame (on a moving frame) for given axis values
+    frame_of: Callable[[dict[str, float]], Pose] | None = None
+    target_in_frame: Pose | None = None           #: the target relative to that frame
+    #: how well the program knows the motion (KNOWN): "completely" and "almost" known motions are planned ahead,
+    #: "almost" and "partly" leave part of the limits to sensor corrections, "not" is generated at run time
+    known: str = "completely"
 
 
 class MoveTicket(Protocol):
@@ -192,10 +200,12 @@ class InstallContext:
 
 @dataclass(frozen=True, slots=True)
 class FunctionParam:
-    """An attribute given as a FUNC name: `fn(s)` gives the RPL value at path coordinate s in [0, 1]."""
+    """An attribute given as a FUNC name: `fn(s)` gives the RPL value at path coordinate s in [0, 1]; a target
+    given as a FUNC of `t` (`variable` "t") gives the pose t seconds after the motion's start."""
 
     name: str
     fn: Callable[[float], Any]
+    variable: str = "s"
 
 
 def attached(robot: Any, name: str, make: Callable[[], Any]) -> Any:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
+from orc_rpl.application.features.standard import known_problem
 from orc_rpl.application.process_log import process_log
 from orc_rpl.application.registry import Registry, default_registry
 from orc_rpl.application.runtime import (BehaviourError, Fine, FunctionParam, InstallContext, MotionCall, MotionRequest,
@@ -90,6 +91,9 @@ def standard_motion(call: MotionCall) -> MotionRequest:
         raise BehaviourError("needs a TO target or an ALONG path")
     if isinstance(target, FunctionParam):
         kind = "function"  # a path in function space: the FUNC of s gives the TCP pose, from the TCP at s = 0
+        if target.variable == "t" and not _quantity(attrs.get("TIME"), TIME, "TIME"):
+            raise BehaviourError(f"FUNC {target.name}(t) is a function of time: give the motion's duration, "
+                                 "WITH TIME = 5s")
     elif kind != "joint" and type(target) is not Pose:
         raise BehaviourError("a Cartesian motion needs a pose as its target, not a joint position")
     if kind == "circular" and (len(via) != 1 or type(via[0]) is not Pose):
@@ -110,8 +114,17 @@ def standard_motion(call: MotionCall) -> MotionRequest:
         speed_m_s=speed_m_s, speed_fraction=speed_fraction, accel_fraction=accel_fraction,
         zone_m=_zone(attrs.get("ZONE")), time_s=duration or None,
         load_kg=_quantity(attrs.get("LOAD"), MASS, "LOAD") or 0.0, tuning=attrs.get("TUNING"), until=call.until,
-        path_control=attrs.get("PATHCONTROL"),
+        path_control=attrs.get("PATHCONTROL"), known=_known(attrs.get("KNOWN")),
     )
+
+
+def _known(value: Any) -> str:
+    if value is None:
+        return "completely"
+    problem = known_problem(value) if isinstance(value, str) else "KNOWN must be a string such as \"almost\""
+    if problem is not None:
+        raise BehaviourError(problem)
+    return value
 
 
 def _angle(value: Any, what: str) -> float:
@@ -141,10 +154,12 @@ class Gripper:
         self._closed = False
         self._state = attached(context.robot, "grippers_closed", dict) if context.robot is not None else {}
         self._state[context.name] = False  # what IDENTMOVE asks: is anything held?
+        self._holding = False
 
     def _servo_to(self, closed: bool) -> None:
-        self._context.robot.drive_gripper(int(self._servo), self._angles_rad[closed], self._current_a)
+        holding = self._context.robot.drive_gripper(int(self._servo), self._angles_rad[closed], self._current_a)
         self._closed = closed
+        self._holding = bool(holding) and closed
 
     def Open(self) -> None:  # noqa: N802 - the language's method names
         self._state[self._context.name] = False
@@ -162,6 +177,10 @@ class Gripper:
         if self._servo is not None:
             return self._closed
         return bool(self._context.read(self._channel))
+
+    def Holding(self) -> bool:  # noqa: N802
+        """TRUE when the last Close of a servo gripper stopped on an object, squeezing it at GRIP_CURRENT."""
+        return self._holding
 
 
 class Grinder:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from typing import Any
@@ -40,6 +41,22 @@ def _pose(value: Any, function: str) -> Pose:
 def pose(x: Any, y: Any, z: Any, a: Any = 0, b: Any = 0, c: Any = 0) -> Pose:
     return Pose(si(x, LENGTH, "POSE x"), si(y, LENGTH, "POSE y"), si(z, LENGTH, "POSE z"),
                 si(a, ANGLE, "POSE a"), si(b, ANGLE, "POSE b"), si(c, ANGLE, "POSE c"))
+
+
+def axes(p: Any, **values: Any) -> Pose:
+    """AXES(p, track = 200mm, turn = 90deg): the position p carrying external-axis values (m or rad)."""
+    base = _pose(p, "AXES")
+    if not values:
+        raise BehaviourError("AXES needs at least one axis value, as in AXES(p, track = 200mm)")
+    out = dict(base.axes)
+    for name, value in values.items():
+        if type(value) is Quantity and value.dim in (LENGTH, ANGLE):
+            out[name] = value.value
+        elif type(value) in (int, float):
+            out[name] = float(value)
+        else:
+            raise BehaviourError(f"AXES: the value of axis '{name}' must be a length or an angle, got {_describe(value)}")
+    return dataclasses.replace(base, axes=tuple(sorted(out.items())))
 
 
 def joints(*values: Any) -> Joints:
@@ -165,7 +182,7 @@ def length(items: Any) -> int:
 
 #: name -> implementation, for the registry's `implementation` slots.
 IMPLEMENTATIONS: dict[str, Callable[..., Any]] = {
-    "POSE": pose, "JOINTS": joints, "TRANSL": transl, "INV": inv, "OFFS": offs, "RELTOOL": reltool,
+    "POSE": pose, "AXES": axes, "JOINTS": joints, "TRANSL": transl, "INV": inv, "OFFS": offs, "RELTOOL": reltool,
     "ABS": absolute, "ROUND": round_, "SQRT": sqrt, "SIN": sin, "COS": cos, "ATAN2": atan2,
     "MIN": minimum, "MAX": maximum, "LEN": length,
 }

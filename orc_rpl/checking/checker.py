@@ -192,6 +192,13 @@ class Checker:
             self.report(stmt, f"{stmt.keyword} does not move ALONG a path; use TO")
         if spec.needs_via and counts["VIA"] == 0:
             self.report(stmt, f"{stmt.keyword} needs a VIA point (the circle passes through it)")
+        target = stmt.target
+        if isinstance(target, n.Name) and "TIME" not in seen:
+            symbol = scope.lookup(target.id)
+            routine = symbol.node if symbol is not None and symbol.kind == "func" else None
+            if isinstance(routine, n.Routine) and [p.id for p in routine.params] == ["t"]:
+                self.report(target, f"FUNC {target.id}(t) is a function of time: the motion needs its duration",
+                            "add WITH TIME = 5s (t runs from 0 to that duration)")
         for required in spec.requires:
             if self.installs.get(stmt.tool.id) != required:
                 self.report(stmt.tool, f"{stmt.keyword} needs a {required} installed on tool '{stmt.tool.id}'",
@@ -265,6 +272,10 @@ class Checker:
                 return
         if not accepts(attribute.types, value):
             self.report(clause.value, f"attribute {attribute.name} of {stmt.keyword} expects {describe_types(attribute.types)}, got {value}")
+        elif attribute.literal_check is not None and isinstance(clause.value, n.String):
+            problem = attribute.literal_check(clause.value.value)
+            if problem is not None:
+                self.report(clause.value, f"attribute {attribute.name} of {stmt.keyword}: {problem}")
 
     def _Assign(self, stmt: n.Assign, scope: Scope, frame: str) -> None:
         value = self.infer(stmt.value, scope, frame)
@@ -453,31 +464,45 @@ def _describe(expr: n.Expression) -> str:
 
 
 def check_program(program: n.Program, path: str = "<input>", registry: Registry | None = None,
-                  world_attributes: Mapping[str, Mapping[str, object]] | None = None) -> list[Diagnostic]:
+                  world_attributes: Mapping[str, Mapping[str, object]] | None = None,
+                  moving_frames: Mapping[str, str] | None = None) -> list[Diagnostic]:
     """Every static error of a program, in file order (empty when the program is clean).
 
     `world_attributes` (object -> soft and spatial attributes) are the program's world: `pallet.next_row` is checked
-    against it; without it such a field is an error.
+    against it; without it such a field is an error. `moving_frames` (name -> linear, rotary or conveyor) are the
+    cell's moving frames: frames a program may name (`FRAME part = POSE(...) IN turn`) and, but for conveyors, the
+    external axes AXES(p, ...) may give values to; None when the cell is not known (axis names are not checked).
     """
     registry = registry or default_registry()
     checker = Checker(path, registry)
     checker.types.world_attributes = world_attributes or {}
-    scope = Scope(parent=builtin_scope(list(registry.functions)))
+    scope = Scope(parent=_cell_scope(checker, registry, moving_frames))
     checker.collect(program.body, scope, top_level=True)
     checker.check_body(program.body, scope, WORLD)
     checker.finish(scope)
     return sorted(checker.diagnostics, key=lambda d: (d.location.line, d.location.column))
 
 
+def _cell_scope(checker: Checker, registry: Registry, moving_frames: Mapping[str, str] | None) -> Scope:
+    """The built-in names, and the cell's moving frames as frames (their axes the ones AXES may move)."""
+    builtins = builtin_scope(list(registry.functions))
+    if moving_frames is not None:
+        checker.types.external_axes = {k: v for k, v in moving_frames.items() if v != "conveyor"}
+        for name in moving_frames:
+            builtins.symbols[name] = Symbol(name, "frame", StaticType("frame", frame=WORLD))
+    return builtins
+
+
 def check_in_context(program: n.Program, statement: n.Statement, routine: str | None = None, frame: str = WORLD,
                      path: str = "<typed>", registry: Registry | None = None,
-                     live_names: Iterable[str] = ()) -> list[Diagnostic]:
+                     live_names: Iterable[str] = (), moving_frames: Mapping[str, str] | None = None) -> list[Diagnostic]:
     """The static errors of one statement as if it stood in `program`: inside routine `routine` (None: the main
-    program) and FRAME block `frame`; `live_names` are globals that exist already (earlier typed assignments).
-    The program's own errors are not reported (the pendant's typed statements)."""
+    program) and FRAME block `frame`; `live_names` are globals that exist already (earlier typed assignments),
+    `moving_frames` the cell's (see check_program). The program's own errors are not reported (the pendant's
+    typed statements)."""
     registry = registry or default_registry()
     checker = Checker(path, registry)
-    scope = Scope(parent=builtin_scope(list(registry.functions)))
+    scope = Scope(parent=_cell_scope(checker, registry, moving_frames))
     checker.collect(program.body, scope, top_level=True)
     for name in live_names:
         if scope.lookup(name) is None:

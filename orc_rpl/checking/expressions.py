@@ -66,6 +66,8 @@ class ExpressionTyper:
         self.registry = registry
         self.report = report
         self.world_attributes: Mapping[str, Mapping[str, object]] = {}   #: the world's soft and spatial attributes
+        #: the cell's external axes, name -> "linear" or "rotary" (None: the cell is not known, names are not checked)
+        self.external_axes: Mapping[str, str] | None = None
         # One dispatch table instead of a getattr per node: the checker runs on every keystroke of the pendant.
         self._dispatch = {cls: getattr(self, "_" + cls.__name__) for cls in (
             n.Number, n.String, n.Boolean, n.Name, n.ListExpr, n.Field, n.Index, n.Call, n.Unary, n.Binary)}
@@ -186,6 +188,8 @@ class ExpressionTyper:
                             f"{'s' if symbol.params != 1 else ''}, got {len(expr.arguments)}", "")
             return ANY
         spec = self.registry.functions.get(name)
+        if name == "AXES" and spec is not None:
+            return self.axes_call(expr, arg_types)
         if spec is None:
             self.report(expr.function, f"'{name}' is not a routine or a function", "")
             return ANY
@@ -210,6 +214,31 @@ class ExpressionTyper:
             return StaticType("pose", frame=frame)
         returns = spec.returns
         return number(returns) if isinstance(returns, Dimension) else StaticType(str(returns))
+
+    def axes_call(self, expr: n.Call, arg_types: list[StaticType]) -> StaticType:
+        """AXES(p, name = value, ...): a pose, then external-axis values by the cell's axis names (a length for a
+        linear axis, an angle for a rotary one)."""
+        positional = [(a, t) for a, t in zip(expr.arguments, arg_types) if a.name is None]
+        if len(positional) != 1 or positional[0][1].kind not in ("pose", "any"):
+            self.report(expr, "AXES takes a pose, then axis values by name: AXES(p, track = 200mm)", "")
+            return ANY
+        named = [(a, t) for a, t in zip(expr.arguments, arg_types) if a.name is not None]
+        if not named:
+            self.report(expr, "AXES needs at least one axis value, as in AXES(p, track = 200mm)", "")
+        axes = self.external_axes
+        for argument, actual in named:
+            axis = argument.name.id  # type: ignore[union-attr]
+            if axes is not None and axis not in axes:
+                guess = suggest(axis, list(axes))
+                known = f"the cell's axes are {', '.join(axes)}" if axes else "the cell has no external axes"
+                self.report(argument.name, f"unknown external axis '{axis}'" + (f"; did you mean '{guess}'?" if guess else ""),
+                            known + " (moving frames with 'axis:' in the world model, --world FILE)")
+                continue
+            wanted = (ANGLE,) if axes is not None and axes[axis] == "rotary" else (LENGTH,) if axes is not None else (LENGTH, ANGLE)
+            if actual.kind == "number" and actual.dim not in (None, DIMENSIONLESS, *wanted):
+                what = " or ".join(str(d) for d in wanted)
+                self.report(argument.value, f"axis '{axis}' takes a{'n' if str(wanted[0])[0] in 'aeiou' else ''} {what}, got {actual}", "")
+        return positional[0][1]
 
     def _Unary(self, expr: n.Unary, scope: Scope, frame: str) -> StaticType:
         operand = self.infer(expr.operand, scope, frame)
@@ -241,3 +270,4 @@ class ExpressionTyper:
         if op == "*":
             return number(left.dim * right.dim)
         return number(left.dim / right.dim)
+

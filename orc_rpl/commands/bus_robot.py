@@ -45,8 +45,10 @@ def check_options(args: argparse.Namespace) -> None:
         raise UsageError(f"--calibration: no such file {args.calibration!r}")
 
 
-def torque_diagnostics(program: Any, path: str, robot: str) -> list[Diagnostic]:
-    """Check-time refusals on a real arm: features that need joint torques its bus servos cannot measure."""
+def torque_diagnostics(program: Any, path: str, robot: str,
+                       hint: str = "run it on the simulated cell (without --port)") -> list[Diagnostic]:
+    """Check-time refusals on an arm on bus servos (real, or its realistic plant): features that need joint
+    torques its servos cannot measure."""
     from orc_rpl.syntax import nodes
 
     found: list[Diagnostic] = []
@@ -55,7 +57,7 @@ def torque_diagnostics(program: Any, path: str, robot: str) -> list[Diagnostic]:
         span = node.span
         found.append(Diagnostic(Location(path, span.line or 1, span.column or 1, span.end_line, span.end_column),
                                 f"{what} {why}; {robot}'s bus servos report load and current, not joint torque",
-                                hint="run it on the simulated cell (without --port)"))
+                                hint=hint))
 
     for node in program.walk():
         if isinstance(node, nodes.Motion) and node.keyword.upper() in TORQUE_MOTIONS:
@@ -78,8 +80,10 @@ def connect(args: argparse.Namespace, record: bool) -> Any:
     from orc_rpl.hardware.bus import ServoBus
     from orc_rpl.hardware.calibration import load, nominal
     from orc_rpl.hardware.emulator import codec_for
+    from orc_rpl.motion.ahead import PlanAhead
     from orc_rpl.motion.kinematics import Kinematics
     from orc_rpl.motion.layer import MotionLayer
+    from orc_rpl.motion.planner import Planner
     from orc_rpl.motion.timing import preload
     from orc_rpl.motion.virtual import attach_recorder
     from orc_rpl.robot import ArmModel, solve_ik
@@ -101,6 +105,8 @@ def connect(args: argparse.Namespace, record: bool) -> Any:
     arm = ArmModel(dataclasses.replace(spec, q_min_rad=lows, q_max_rad=highs, home_q_rad=home))
     backend = BusBackend(ServoBus(args.port, codec_for(cal.bus), args.baud), cal)
     layer = MotionLayer(Kinematics(arm, solve_ik), backend, backend.servo_period_s)
+    # the next move is planned on a worker thread over an arm model of its own: planning never delays a bus cycle
+    layer.ahead = PlanAhead(lambda: Planner(Kinematics(ArmModel(arm.spec), solve_ik), layer.dt_s, layer.sub), paced=True)
     preload()
     if record:
         attach_recorder(layer)

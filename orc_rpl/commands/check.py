@@ -20,6 +20,12 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     return parser
 
 
+def _cell_of(path: str, text: str) -> str | None:
+    """The cell named by an on-line program's `-- world: FILE` line, or None."""
+    cell = declared_world(path, text)
+    return None if cell is None else str(cell)
+
+
 def check_file(path: str, registry=None, world: str | None = None) -> tuple[str | None, list[Diagnostic]]:  # type: ignore[no-untyped-def]
     """The source text and every diagnostic of one file (syntax errors first stop the static checks)."""
     try:
@@ -37,15 +43,19 @@ def check_file(path: str, registry=None, world: str | None = None) -> tuple[str 
         except SourceError as error:
             return error.source, error.diagnostics
         return text, check_offline(program, model, path, text, registry)
+    try:
+        world = world if world is not None else _cell_of(path, text)
+    except SourceError as error:  # a `-- world:` line naming no world model
+        return error.source, error.diagnostics
     if world is not None:  # an on-line program reads the soft and spatial attributes of the world it travels with
         from orc_rpl.transform.checks import load_world_file
-        from orc_rpl.transform.loading import world_attributes
+        from orc_rpl.transform.loading import moving_frames, world_attributes
 
         try:
             model = load_world_file(world)
         except SourceError as error:
             return error.source, error.diagnostics
-        return text, check_program(program, path, registry, world_attributes(model))
+        return text, check_program(program, path, registry, world_attributes(model), moving_frames(model))
     return text, check_program(program, path, registry)
 
 

@@ -31,6 +31,10 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("-o", "--output", metavar="OUT", help="output program (default: standard output)")
     parser.add_argument("--online-world", metavar="FILE",
                         help="also write the reduced on-line world (model attributes replaced by keys into WORLD)")
+    parser.add_argument("--base", metavar="FILE",
+                        help="the program (in the target representation) this one was converted from: every statement "
+                             "that did not change keeps its text from FILE byte for byte; changed and new statements "
+                             "are printed canonically (orc fmt gives the canonical text of all)")
     return parser
 
 
@@ -48,8 +52,6 @@ def _target(args: argparse.Namespace) -> str:
 
 def convert(args: argparse.Namespace) -> dict[str, str]:
     """Every output file's text, computed before anything is written."""
-    from orc_rpl.syntax.offline_printer import print_offline
-    from orc_rpl.syntax.printer import print_program
     from orc_rpl.transform.checks import load_world_file
     from orc_rpl.transform.pipeline import to_offline, to_online
 
@@ -65,17 +67,17 @@ def convert(args: argparse.Namespace) -> dict[str, str]:
         _refuse_check_errors(program, text, args.file, world)
         job = to_online(program, world, args.file, text, reduce=bool(args.online_world))
         # The world line is the off-line program's: the on-line program travels with its (reduced) world instead.
-        outputs[args.output or "-"] = print_program(_without_world_line(job.program))
+        outputs[args.output or "-"] = _print(_without_world_line(job.program), args.base, offline=False)
         if args.online_world:
             outputs[args.online_world] = job.world.dump()
         return outputs
     world = load_world_file(args.world) if args.world and Path(args.world).exists() else None
-    _refuse_check_errors(program, text, args.file, None)
+    _refuse_check_errors(program, text, args.file, None, world)
     job = to_offline(program, world, args.file, move_declarations=True)
     result = job.program
     if args.world:
-        result = _with_world_line(result, args.world, args.output or args.file)
-    outputs[args.output or "-"] = print_offline(result)
+        result = _with_world_line(result, args.world, args.output or args.file, _base(args.base, offline=True))
+    outputs[args.output or "-"] = _print(result, args.base, offline=True)
     if args.world:
         if world is None or job.world.dump() != world.dump():
             outputs[args.world] = job.world.dump()
@@ -84,14 +86,42 @@ def convert(args: argparse.Namespace) -> dict[str, str]:
     return outputs
 
 
-def _refuse_check_errors(program: n.Program, text: str, path: str, world) -> None:  # type: ignore[no-untyped-def]
-    """A program `orc check` rejects is not converted: its errors, as `orc check` prints them."""
+def _base(path: str | None, offline: bool) -> tuple[str, n.Program] | None:
+    """The --base program's text and tree (UsageError when it is not a program of the target representation)."""
+    if path is None:
+        return None
+    if is_offline(path) != offline:
+        kind = "an off-line (.orl)" if offline else "an on-line (.rpl)"
+        raise UsageError(f"--base: the layout of the output comes from {kind} program, got '{path}'")
+    if not Path(path).is_file():
+        raise UsageError(f"--base: '{path}' does not exist")
+    return parse_file(path)
+
+
+def _print(program: n.Program, base_path: str | None, offline: bool) -> str:
+    """The output text: canonical, or in the layout of --base for the statements that did not change."""
+    from orc_rpl.syntax.layout import print_offline_keeping, print_online_keeping
+    from orc_rpl.syntax.offline_printer import print_offline
+    from orc_rpl.syntax.printer import print_program
+
+    base = _base(base_path, offline)
+    if base is None:
+        return print_offline(program) if offline else print_program(program)
+    return (print_offline_keeping if offline else print_online_keeping)(program, base[0], base[1])
+
+
+def _refuse_check_errors(program: n.Program, text: str, path: str, world, cell=None) -> None:  # type: ignore[no-untyped-def]
+    """A program `orc check` rejects is not converted: its errors, as `orc check` prints them (an on-line program in
+    the cell `cell`, whose moving frames it may name)."""
     from orc_rpl.application.registry import default_registry
     from orc_rpl.checking.checker import check_program
     from orc_rpl.transform.checks import check_offline
 
     registry = default_registry()
-    found = check_offline(program, world, path, text, registry) if world is not None else check_program(program, path, registry)
+    from orc_rpl.transform.loading import moving_frames
+
+    found = (check_offline(program, world, path, text, registry) if world is not None else
+             check_program(program, path, registry, moving_frames=moving_frames(cell) if cell is not None else None))
     if found:
         raise SourceError(found, text)
 
@@ -111,17 +141,29 @@ def _without_world_line(program: n.Program) -> n.Program:
     return program if at is None else dataclasses.replace(program, body=program.body[:at] + program.body[at + 1:])
 
 
-def _with_world_line(program: n.Program, world: str, output: str) -> n.Program:
-    """The program naming the world it was converted with, relative to the file it is written to, as its first line."""
+def _with_world_line(program: n.Program, world: str, output: str, base: tuple[str, n.Program] | None = None) -> n.Program:
+    """The program naming the world it was converted with, relative to the file it is written to, as its first line
+    (the --base program's own world line, as written, when it names that world from there)."""
     relative = Path(os.path.relpath(Path(world).resolve(), Path(output).resolve().parent)).as_posix()
+    line, at = n.Comment(f" world: {relative}"), 0
+    found = _world_line_at(base[1]) if base is not None else None
+    if base is not None and found is not None:
+        written = base[1].body[found]
+        assert isinstance(written, n.Comment)
+        named = (Path(output).resolve().parent / written.text.split(":", 1)[1].strip()).resolve()
+        if named == Path(world).resolve():
+            line = written
+            at = found
     body = _without_world_line(program).body
-    return dataclasses.replace(program, body=(n.Comment(f" world: {relative}"),) + body)
+    if not all(isinstance(stmt, n.Comment) for stmt in body[:at]):
+        at = 0
+    return dataclasses.replace(program, body=body[:at] + (line,) + body[at:])
 
 
 def _check_paths(args: argparse.Namespace) -> None:
     """Outputs that are inputs or each other are refused before anything is read; --world may be updated in place."""
     to_offline = (args.to or ("online" if is_offline(args.file) else "offline")) == "offline"
-    check_outputs({"FILE": args.file, "--world": args.world},
+    check_outputs({"FILE": args.file, "--world": args.world, "--base": args.base},
                   {"-o": args.output, "--online-world": args.online_world, "--world": args.world if to_offline else None},
                   in_place=(("--world", "--world"),))
 

@@ -100,11 +100,14 @@ def speed_override(text: str) -> float:
     return value
 
 
-def check(program: Any, path: str, registry: Any, attributes: Any = None) -> list[Diagnostic]:
-    """The static checks (the one place the run command calls the checker); `attributes`: the world's soft and spatial ones."""
+def check(program: Any, path: str, registry: Any, attributes: Any = None, cell_world: Any = None) -> list[Diagnostic]:
+    """The static checks (the one place the run command calls the checker); `attributes`: the world's soft and spatial
+    ones; `cell_world`: the cell's world model, whose moving frames and external axes a program may name."""
     from orc_rpl.checking.checker import check_program
 
-    return check_program(program, path, registry, attributes)
+    from orc_rpl.transform.loading import moving_frames
+
+    return check_program(program, path, registry, attributes, None if cell_world is None else moving_frames(cell_world))
 
 
 def _fail_usage(message: str) -> int:
@@ -115,7 +118,8 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
-    from orc_rpl.syntax.files import is_offline
+    from orc_rpl.robot.servo_plants import servo_plant_spec
+    from orc_rpl.syntax.files import declared_world, is_offline
     from orc_rpl.transform.loading import load_program_and_attributes
     from orc_rpl.transform.overrides import override_constants
 
@@ -135,9 +139,17 @@ def run(args: argparse.Namespace) -> int:
                       {"--log": args.log, "--plot": args.plot, "--summary-json": args.summary_json})
         # An off-line program (.orl) runs as its on-line form; --world FILE (or its `# world:` line) names its world model.
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
+        if args.world is None and not is_offline(args.file):
+            world_file = _declared_cell(args.file)  # an on-line program's `-- world: FILE` line names its cell
         source, program, attributes = load_program_and_attributes(args.file, world_file)
         program = override_constants(program, args.set)
         cell = None if is_offline(args.file) or args.port is not None else _world_cell(world_file, args.robot)
+        cell_world = _moving_world(world_file) if cell is not None else None
+        if is_offline(args.file) and args.port is None:
+            # an off-line program whose world has a track or a positioner runs in that world's cell
+            offline_world = world_file or declared_world(args.file, source)
+            cell_world = _moving_world(str(offline_world) if offline_world is not None else None)
+            cell = _world_cell(str(offline_world), args.robot) if cell_world is not None else None
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
@@ -146,16 +158,20 @@ def run(args: argparse.Namespace) -> int:
     except OrcError as error:  # an off-line program its world model cannot map
         return _fail_usage(str(error))
     registry = runtime_registry()
-    diagnostics = check(program, args.file, registry, attributes)
+    diagnostics = check(program, args.file, registry, attributes, cell_world)
     if args.port is not None:
         diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot)
+    elif cell is None and servo_plant_spec(args.robot) is not None and args.plant != "ideal":
+        # the realistic plant of an arm on bus servos measures what the real one does: no joint torque
+        diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot,
+                                                    hint="--plant ideal runs it on the controller's own model")
     if diagnostics:
         for diagnostic in capped(diagnostics):
             sys.stderr.write(diagnostic.format(source) + "\n")
         sys.stderr.write(f"orc run: {len(diagnostics)} check error{'s' if len(diagnostics) != 1 else ''}; nothing moved\n")
         return 2
     try:
-        return _run(args, source, program, registry, override, attributes, watch_how, cell)
+        return _run(args, source, program, registry, override, attributes, watch_how, cell, cell_world)
     except UsageError as error:
         return _fail_usage(str(error))
     except OrcError as error:
@@ -182,6 +198,26 @@ def _world_cell(world_file: str | None, robot: str) -> Any:
     return cell_from_world(world, model)
 
 
+def _declared_cell(path: str) -> str | None:
+    from orc_rpl.syntax.files import declared_world
+    from orc_rpl.syntax.reading import read_text
+
+    try:
+        text = read_text(path, "program")
+    except OrcError:
+        return None  # reading the program reports it
+    cell = declared_world(path, text)
+    return None if cell is None else str(cell)
+
+
+def _moving_world(world_file: str | None) -> Any:
+    """The world model of the cell when it has moving frames (a track, a positioner, a conveyor), else None."""
+    from orc_rpl.world import load_world
+
+    world = load_world(world_file) if world_file is not None else None
+    return world if world is not None and world.moving_frames() else None
+
+
 def _watched(args: argparse.Namespace, executive: Any, robot: Any, program: Any, registry: Any, how: Any) -> Any:
     """The view and video around the run (view/), or nothing."""
     if how is None:
@@ -192,7 +228,7 @@ def _watched(args: argparse.Namespace, executive: Any, robot: Any, program: Any,
 
 
 def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, override: float, attributes: Any,
-         watch_how: Any = None, cell: Any = None) -> int:
+         watch_how: Any = None, cell: Any = None, cell_world: Any = None) -> int:
     from orc_rpl.executive.process_report import SIGNAL_UNITS, plotted_signals, submit_process_signals
     from orc_rpl.executive.report import Progress, summary, write_summary_text
     from orc_rpl.executive.cell_robot import CellRobot
@@ -210,6 +246,8 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         robot = CellRobot.virtual(robot=name, realtime=paced, record=record, plant=simulated_plant(args, name),
                                   seed=args.seed, cell=cell)
         robot.sensors.allow_devices = args.allow_devices  # a simulated run touches no device unless asked
+        if cell_world is not None:
+            robot.attach_world(cell_world)  # its tracks and positioners move with the arm
 
     def out(line: str) -> None:
         try:
@@ -219,7 +257,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
             quiet_stdout()
 
     executive = Executive(program, robot, registry, path=args.file, source=source, output=out,
-                          options=Options(speed_override=override, world_attributes=attributes,
+                          options=Options(speed_override=override, world_attributes=attributes, cell_world=cell_world,
                                           statement_budget=args.statement_budget or None))
     machine = executive.machine
     machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
@@ -235,7 +273,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         watched = progress.monitor(margins or robot)
         machine.robot = watchers.monitor(watched) if watchers is not None else watched
         wall_start = time.perf_counter()  # after the view's page connected
-        interrupted = _run_until_done(executive, args.timeout)
+        interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
     machine.robot = robot
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
@@ -247,10 +285,11 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         sys.stderr.write(executive.report() + "\n")
     if interrupted:
         result["status"], result["interrupted_by"] = "interrupted", interrupted
-        sys.stderr.write(f"orc run: interrupted by {interrupted}; the robot stopped on its path\n")
+        where = "the arm holds its position" if args.port is not None else "the robot stopped on its path"
+        sys.stderr.write(f"orc run: interrupted by {interrupted}; {where}\n")
     if margins is not None:
         result["margins"] = margins.section(args.file)
-    write_summary_text(result, wall_s, sys.stderr)
+    write_summary_text(result, wall_s, sys.stderr, real_arm=args.port is not None)
     for line in margin_lines(result.get("margins")):
         sys.stderr.write(f"margins: {line}\n")
     try:
@@ -273,7 +312,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     return 1 if executive.status == "failed" or interrupted else 0
 
 
-def _run_until_done(executive: Any, timeout_s: float | None) -> str:
+def _run_until_done(executive: Any, timeout_s: float | None, simulated: bool = True) -> str:
     """Run the program; what interrupted it ("Ctrl-C", the timeout) or "" when it ended by itself."""
     limit = TimeLimit(executive.machine.robot, timeout_s, executive) if timeout_s is not None else None
     if limit is not None:
@@ -283,7 +322,7 @@ def _run_until_done(executive: Any, timeout_s: float | None) -> str:
     except KeyboardInterrupt:
         return "Ctrl-C"
     if limit is not None and limit.reached and executive.status == "paused":
-        return f"--timeout {timeout_s:g} s (simulated)"
+        return f"--timeout {timeout_s:g} s" + (" (simulated)" if simulated else "")
     return ""
 
 
@@ -300,11 +339,12 @@ def add_cell_options(parser: argparse.ArgumentParser) -> None:
 def simulated_plant(args: argparse.Namespace, robot: str) -> str:
     """--plant, or the robot's default: realistic where it has a plant description (said when it has none)."""
     from orc_rpl.robot.plants import PLANTS, default_plant
+    from orc_rpl.robot.servo_plants import SERVO_PLANTS
 
     if args.plant is not None:
         return str(args.plant)
     plant = default_plant(robot)
     if plant != "realistic":
         sys.stderr.write(f"orc: robot {robot!r} has no realistic plant description yet "
-                         f"(robots with one: {', '.join(sorted(PLANTS))}): running on the ideal plant\n")
+                         f"(robots with one: {', '.join(sorted([*PLANTS, *SERVO_PLANTS]))}): running on the ideal plant\n")
     return plant

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
 
 from orc_rpl.application.runtime import FunctionParam, MotionRequest, MotionView, Sample
 from orc_rpl.errors import OrcError, PlanningError
-from orc_rpl.motion import ActionSlot, Actions, CartesianMotion, FuncParams, FunctionMotion, JointMotion, MotionData, MotionLayer, MoveStatus, Params
+from orc_rpl.motion import (ActionSlot, Actions, CartesianMotion, Computation, FuncParams, FunctionMotion, JointMotion, Known,
+                            MotionData, MotionLayer, MoveStatus, Params)
 from orc_rpl.plant.io import CellIO
 from orc_rpl.world.pose import Joints, Pose
 
@@ -56,6 +58,18 @@ class CellRobot:
         self.sensors = _sensor_manager(self)
         layer.sensors = self.sensors
         self.gripper_angles_rad: dict[int, float] = {}  #: servo grippers on the simulated cell (ideal)
+        self._ahead: tuple[MotionRequest, int] | None = None  #: the request planned ahead and its descriptor
+        self.axes: Any = None  #: the cell's moving frames (executive.cell_axes.CellAxes), after attach_world
+
+    def attach_world(self, world: Any) -> None:
+        """The cell's world model with moving frames: the robot drives its external axes and knows where its base is."""
+        from orc_rpl.executive.cell_axes import CellAxes
+
+        self.axes = CellAxes(world, self.layer)
+
+    def axis_values(self) -> dict[str, float]:
+        """Where the cell's moving frames are now (m or rad); empty without any."""
+        return {} if self.axes is None else self.axes.values()
 
     @classmethod
     def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False,
@@ -87,14 +101,18 @@ class CellRobot:
             self.io.update(self.layer.now_s())
 
     def pending(self) -> int:
-        return self.layer.pending()
+        external = self.layer.external
+        return self.layer.pending() + int(external is not None and external.solo is not None)  # axes moving alone
 
     def stop(self) -> None:
         if not self.layer.idle():
             self.layer.stop_move(by="program")
 
     def tcp_pose(self, tool: Pose | None) -> Pose:
-        return Pose.from_matrix(self.layer.tcp_pose(_tool_matrix(tool)))
+        tcp = self.layer.tcp_pose(_tool_matrix(tool))
+        if self.axes is not None:  # the track carries the base: the program's world is not the base frame
+            tcp = self.axes.base(self.axes.values()) @ tcp
+        return Pose.from_matrix(tcp)
 
     def joints(self) -> tuple[float, ...]:
         return tuple(float(q) for q in self.layer.current_q())
@@ -109,19 +127,21 @@ class CellRobot:
     def thermal_loads(self) -> tuple[float, ...]:
         return tuple(float(x) for x in self.layer.thermal_load())
 
-    def drive_gripper(self, servo_id: int, angle_rad: float, current_limit_a: float) -> None:
+    def drive_gripper(self, servo_id: int, angle_rad: float, current_limit_a: float) -> bool:
         """A gripper on a servo of the arm's bus: move it and wait until it is there (or squeezes at its current limit).
 
-        On the simulated cell the gripper is ideal: it is where it was sent at once."""
+        True when it stopped on an object, squeezing it (a grip). A backend without gripper servos (the
+        ideal plant) has an ideal gripper: it is where it was sent at once, and holds nothing."""
         backend = self.layer.backend
         drive = getattr(backend, "drive_servo", None)
         if drive is None:
             self.gripper_angles_rad[servo_id] = angle_rad
-            return
+            return False
         drive(servo_id, angle_rad, current_limit_a)
         deadline = self.layer.now_s() + GRIPPER_TIMEOUT_S
         while not backend.servo_arrived(servo_id) and self.layer.now_s() < deadline:
             self.tick()
+        return bool(backend.servo_holding(servo_id))
 
     def set_plant_payload(self, mass_kg: float) -> None:
         """Simulation only: a part of `mass_kg` in the gripper, felt by the plant (not told to the controller)."""
@@ -157,11 +177,50 @@ class CellRobot:
                          load_kg: float) -> tuple[float, ...]:
         return tuple(float(t) for t in self.layer.dynamics(np.array(q), np.array(qd), np.array(qdd), load_kg).torque_nm)
 
+    def plan_ahead(self, request: MotionRequest) -> bool:
+        """Start planning `request` on the motion layer's worker, to follow the moves accepted so far (thesis 5.2,
+        computation save); submit() uses the plan when it is given the same request and the robot is where the plan
+        starts. False when the request is not planned ahead (partly or not known, a FUNC in it, several pieces)."""
+        if self.axes is not None:  # a cell with moving frames re-bases targets where the track will be: planned then
+            return False
+        params = _params(request)
+        motion = self._single_motion(request)
+        if motion is None or type(params) is not Params:  # a FUNC of s runs the program's code: never on the worker
+            return False
+        descriptor = self.layer.plan_ahead(motion, params)
+        if descriptor is None:
+            return False
+        self._ahead = (_plan_key(request), descriptor)
+        return True
+
+    def ahead_ready(self) -> bool:
+        """The plan started by plan_ahead() is made (or none is being made)."""
+        return self._ahead is None or self.layer.ahead_ready(self._ahead[1])
+
+    @property
+    def planning(self) -> Any:
+        """What planning ahead achieved (`motion.ahead.Counts`), or None without a worker."""
+        return None if self.layer.ahead is None else self.layer.ahead.counts
+
+    def _single_motion(self, request: MotionRequest) -> Any:
+        """The one motion-layer motion of a request planned ahead: to a single target, nothing computed at run time."""
+        if request.short or request.via or request.known in ("partly", "not") or request.kind not in ("joint", "linear"):
+            return None
+        tool = _tool_matrix(request.tool)
+        if type(request.target) is Pose:
+            return CartesianMotion(target=request.target, kind=request.kind, tool=tool)  # type: ignore[arg-type]
+        if type(request.target) is Joints and request.kind == "joint":
+            return JointMotion(target_rad=tuple(request.target.values), tool=tool)
+        return None
+
     def submit(self, request: MotionRequest) -> HandleTicket:
         """Plan and start the request's move(s); planning errors (Unreachable, JointLimit...) are raised here."""
         tool = _tool_matrix(request.tool)
         self.last_tool = request.tool
         params = _params(request)
+        ahead, self._ahead = self._ahead, None
+        if ahead is not None and ahead[0] == _plan_key(request):  # the program's knowledge proved right (done)
+            params = dataclasses.replace(params, computation=Computation.DONE, descriptor=ahead[1])
         actions = _until_actions(request)
         layer = self.layer
         handles = []
@@ -170,7 +229,22 @@ class CellRobot:
             actions = _application_actions(request, ticket, actions)
         if request.correction is not None:
             actions = _correction_action(request, layer, tool, actions)
-        if request.short and request.kind in ("joint", "linear") and not request.via and request.until is None \
+        if self.axes is not None and (request.axes or request.frame_of is not None):
+            handles.append(self.axes.submit(request, tool, params, actions))
+            request = None  # type: ignore[assignment]
+        elif self.axes is not None:  # targets in the program's world, in the base frame where the track will be
+            planned = self.axes.planned()
+            request = dataclasses.replace(request, target=_based(self.axes, request.target, planned),
+                                          via=tuple(_based(self.axes, p, planned) for p in request.via))
+        if request is None:
+            pass
+        elif request.known == "not" and type(request.target) is Pose and request.kind in ("joint", "linear") \
+                and not request.via:
+            # not known: no path or time-optimal planning in advance; a jerk-limited trajectory generated from where
+            # the robot is when it starts (thesis 5.2: run-time trajectory generation)
+            motion = CartesianMotion(target=request.target, kind=request.kind, tool=tool)  # type: ignore[arg-type]
+            handles.append(layer.short_move(motion, _params(request, zone_m=0.0), actions))
+        elif request.short and request.kind in ("joint", "linear") and not request.via and request.until is None \
                 and type(request.target) is Pose:
             # ShortMove: jerk- and acceleration-limited, dynamics taken as constant, always FINE
             motion = CartesianMotion(target=request.target, kind=request.kind, tool=tool)  # type: ignore[arg-type]
@@ -181,7 +255,7 @@ class CellRobot:
                 handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, _until_actions(request)))
             handles.append(layer.move(_motion(layer, request.target, "linear", None, tool), params, actions))
         elif request.kind == "function":
-            handles.append(layer.move(_function_motion(request.target, tool), params, actions))  # type: ignore[arg-type]
+            handles.append(layer.move(_function_motion(request.target, tool, request.time_s), params, actions))  # type: ignore[arg-type]
         elif request.kind == "circular":
             handles.append(layer.move(_motion(layer, request.target, "circular", request.via[0], tool), params, actions))
         else:
@@ -192,6 +266,11 @@ class CellRobot:
             if h.status is MoveStatus.ILLEGAL:
                 raise PlanningError(f"the motion layer refused the move (mode {layer.get_mode().value})")
         return ticket
+
+
+def _based(axes: Any, point: Any, values: dict[str, float]) -> Any:
+    """A world pose in the base frame where the axes will be; joints and functions as they are."""
+    return axes.in_base(point, values) if type(point) is Pose else point
 
 
 def _sensor_manager(robot: Any) -> Any:
@@ -225,6 +304,11 @@ def _correction_action(request: MotionRequest, layer: MotionLayer, tool: np.ndar
     return acts
 
 
+def _plan_key(request: MotionRequest) -> MotionRequest:
+    """What a plan depends on: the request without its run-time closures (UNTIL, correction), made anew each time."""
+    return dataclasses.replace(request, until=None, correction=None)
+
+
 def _tool_matrix(tool: Pose | None) -> np.ndarray | None:
     if tool is None or (tool.x, tool.y, tool.z, tool.a, tool.b, tool.c) == (0.0, 0.0, 0.0, 0.0, 0.0, 0.0):
         return None
@@ -238,7 +322,7 @@ def _params(request: MotionRequest, zone_m: float | None = None) -> Params:
         return kind(speed_m_s=request.speed_m_s, speed_fraction=request.speed_fraction,
                     accel_fraction=request.accel_fraction, zone_m=request.zone_m if zone_m is None else zone_m,
                     time_s=request.time_s, load_kg=request.load_kg,
-                    tuning=request.tuning, path_velocity=request.path_control)
+                    tuning=request.tuning, path_velocity=request.path_control, known=Known(request.known))
     except OrcError as error:
         raise PlanningError(f"{request.keyword}: {error}") from None
 
@@ -290,8 +374,9 @@ def _motion(layer: MotionLayer, point: Pose | Joints, kind: str, via: Pose | Joi
     return CartesianMotion(target=point, kind=kind, via=via, tool=tool)  # type: ignore[arg-type]
 
 
-def _function_motion(target: FunctionParam, tool: np.ndarray | None) -> FunctionMotion:
-    """A FUNC of s giving world poses as the motion layer's FunctionMotion (one call of the FUNC per sample)."""
+def _function_motion(target: FunctionParam, tool: np.ndarray | None, duration_s: float | None = None) -> FunctionMotion:
+    """A FUNC of s (or of t, lasting `duration_s`) giving world poses as the motion layer's FunctionMotion (one call of
+    the FUNC per sample)."""
     memo: dict[float, Pose] = {}
 
     def component(name: str) -> Any:
@@ -302,6 +387,8 @@ def _function_motion(target: FunctionParam, tool: np.ndarray | None) -> Function
             return getattr(memo[s], name)
         return at
 
+    if target.variable == "t":
+        return FunctionMotion(*(component(c) for c in "xyzabc"), variable="t", duration_s=duration_s or 0.0, tool=tool)
     return FunctionMotion(*(component(c) for c in "xyzabc"), tool=tool)
 
 

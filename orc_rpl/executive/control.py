@@ -162,7 +162,7 @@ class ControlFlow:
         run = body.run(m)
 
         def enter() -> None:
-            if name not in m.frames:
+            if name not in m.frames and name not in m.moving_frames():
                 raise RunError(f"FRAME {name}: '{name}' is not a declared FRAME (declare it with FRAME {name} = POSE(...))")
 
         def gen(L: Locals) -> Iterator[object]:

@@ -108,7 +108,7 @@ class DeclarationCompiler:
 
 def in_frame(m: Machine, value: Any, frame: str, name: str) -> Any:
     """`... IN frame`: a pose's (or a path's) numbers are relative to `frame`."""
-    if frame != "world" and frame not in m.frames:
+    if frame != "world" and frame not in m.frames and frame not in m.moving_frames():
         raise RunError(f"'{frame}' is not a declared FRAME")
     if type(value) is Pose:
         if value.frame not in ("world", frame):

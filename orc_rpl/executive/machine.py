@@ -51,6 +51,8 @@ class Options:
     #: the world's soft and spatial attributes, object -> name -> value (`pallet.next_row`), read by programs
     world_attributes: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
     statement_budget: int | None = 1_000_000   #: statements in a row without simulated time passing (None: no limit)
+    #: the cell's world model when it has moving frames (tracks, positioners): frames a program may name
+    cell_world: Any = None
 
 
 class Machine:
@@ -188,11 +190,40 @@ class Machine:
 
     # -- frames --------------------------------------------------------------------------
 
-    def frame_matrix(self, frame: str) -> np.ndarray:
-        """World transform of an on-line frame (through its parents)."""
+    def moving_frame_of(self, frame: str) -> str | None:
+        """The cell's moving frame an on-line frame hangs on (through its parents), or None."""
+        moving = self.moving_frames()
+        seen = 0
+        while frame != "world" and seen <= 64:
+            if frame in moving:
+                return frame
+            pose = self.frames.get(frame)
+            if pose is None:
+                return None
+            frame, seen = pose.frame, seen + 1
+        return None
+
+    def moving_frames(self) -> tuple[str, ...]:
+        world = self.options.cell_world
+        return () if world is None else world.moving_frames()
+
+    def axis_values(self) -> dict[str, float]:
+        """Where the cell's external axes are now (empty without any)."""
+        values = getattr(self.robot, "axis_values", None)
+        return {} if values is None else values()
+
+    def frame_matrix(self, frame: str, axis_values: dict[str, float] | None = None) -> np.ndarray:
+        """World transform of an on-line frame (through its parents; a moving frame where its axis is, or at
+        `axis_values`)."""
         chain = np.eye(4)
         seen = 0
+        moving = self.moving_frames()
         while frame != "world":
+            if frame in moving:
+                world = self.options.cell_world
+                values = self.axis_values() if axis_values is None else axis_values
+                base_home = world.world_pose("robot").matrix()  # the program's world: the base with the axes at home
+                return np.linalg.inv(base_home) @ world.with_axes(values).world_pose(frame).matrix() @ chain
             pose = self.frames.get(frame)
             if pose is None:
                 raise RunError(f"'{frame}' is not a declared FRAME")
@@ -215,7 +246,10 @@ class Machine:
         world = self.robot.tcp_pose(self.last_tool)
         pose = world if frame == "world" else Pose.from_matrix(np.linalg.inv(self.frame_matrix(frame)) @ world.matrix(), frame)
         # below a picometre and a picoradian is rounding noise of the transforms: PRINT HERE.z shows 0.2 m, not 0.19999999999999996 m
-        return Pose(*(round(v, 12) + 0.0 for v in (pose.x, pose.y, pose.z, pose.a, pose.b, pose.c)), frame=pose.frame)
+        world_model = self.options.cell_world
+        axes = () if world_model is None else tuple(sorted(
+            (k, round(v, 12) + 0.0) for k, v in self.axis_values().items() if world_model.object(k).axis.joint != "conveyor"))
+        return Pose(*(round(v, 12) + 0.0 for v in (pose.x, pose.y, pose.z, pose.a, pose.b, pose.c)), frame=pose.frame, axes=axes)
 
     # -- IO --------------------------------------------------------------------------------
 

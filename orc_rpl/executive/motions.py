@@ -13,7 +13,15 @@ from orc_rpl.executive.scope import ProgramScopes, Scope
 from orc_rpl.executive.signals import RunError
 from orc_rpl.executive.values import Installed, Routine, type_name
 from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.units import TIME, Quantity
 from orc_rpl.world.pose import Joints, Pose
+
+
+#: The parameter name that makes a FUNC target a function of time (docs/language.md section 4).
+TIME_PARAMETER = "t"
+
+#: Keywords whose requests can be computed early: the standard motions (an application feature's behaviour may act).
+PREDICTABLE = frozenset({"MOVE", "JMOVE", "LMOVE", "CMOVE"})
 
 
 class MotionCompiler:
@@ -21,8 +29,52 @@ class MotionCompiler:
 
     def __init__(self, machine: Machine, scopes: ProgramScopes, exprs: Any) -> None:
         self.m, self.scopes, self.exprs = machine, scopes, exprs
+        self.builders: dict[int, Callable[..., Any]] = {}   #: id(statement) -> its request builder (for predictions)
 
-    def compile(self, stmt: n.Motion, scope: Scope) -> Callable[[Locals], Iterator[object]]:
+    def planned_ahead(self, requests: Any) -> Iterator[object]:
+        """Plan a motion that follows a running one on the robot's worker, the motion cycle going on meanwhile
+        (KNOWN "completely" or "almost"); a plan already under way (the FINE motion before predicted this one) is
+        waited for the same way. Submitting it then costs the cycle nothing."""
+        robot = self.m.robot
+        if not hasattr(robot, "plan_ahead"):
+            return
+        if robot.pending() > 0 and len(requests) == 1:
+            robot.plan_ahead(requests[0])
+        while not robot.ahead_ready():
+            robot.tick()
+            yield TICK
+
+    def predictor(self, stmt: n.Motion, scope: Scope) -> Callable[[Locals], Any] | None:
+        """The request the motion statement `stmt` will make, computed early without side effects (None when it may
+        have some: a call anywhere in it, a keyword of an application feature, a motion not known well enough)."""
+        if stmt.keyword not in PREDICTABLE or any(isinstance(node, n.Call) for node in stmt.walk()):
+            return None
+        if any(isinstance(c, n.With) and c.name.id == "KNOWN" and c.value in (n.String("partly"), n.String("not"))
+               for c in stmt.clauses):
+            return None
+        builder = self.builders.get(id(stmt))
+        if builder is None:
+            try:
+                self.compile(stmt, scope)
+            except RunError:
+                return None
+            builder = self.builders[id(stmt)]
+
+        names = {node.id for node in stmt.walk() if isinstance(node, n.Name)}
+
+        def predict(L: Locals) -> Any:
+            if not names.isdisjoint(self.m.routines):  # a FUNC target or parameter: the program's code would run
+                return None
+            try:
+                requests = builder(L, lambda message: None)[-1]
+            except Exception:  # whatever goes wrong is found again, and reported, when the statement runs
+                return None
+            if isinstance(requests, (list, tuple, GeneratorType)) or requests.axes or requests.frame_of is not None:
+                return None  # external axes move through the cell's stages, never from a plan made ahead
+            return requests
+        return predict
+
+    def compile(self, stmt: n.Motion, scope: Scope, following: n.Motion | None = None) -> Callable[[Locals], Iterator[object]]:
         m, keyword, frame = self.m, stmt.keyword, scope.frame
         compile_ = self.exprs.compile
         tool = compile_(stmt.tool, scope)
@@ -40,6 +92,9 @@ class MotionCompiler:
                     where = f"inside FRAME {frame}" if frame != "world" else "outside every FRAME block (relative to world)"
                     raise RunError(f"{keyword}: the {role} is relative to {value.frame}, but this motion is {where}; "
                                    "nothing moved")
+                if role != "target" and (value.axes or m.moving_frame_of(value.frame)):
+                    raise RunError(f"{keyword}: a {role} cannot carry external-axis values or lie on a moving frame; "
+                                   "give them to the target")
                 return m.to_world(value)
             if type(value) is Joints:
                 return value
@@ -47,7 +102,8 @@ class MotionCompiler:
                 return self.path_function(value, position, span)
             raise RunError(f"{keyword}: the {role} must be a position (a pose or JOINTS), got {type_name(value)}")
 
-        def motion(L: Locals) -> Iterator[object]:
+        def build(L: Locals, warn: Callable[[str], None]) -> tuple[Any, Any, Any, Any, Any]:
+            """(spec, tool value, tool pose, UNTIL closure, what the keyword's behaviour asks for)."""
             spec = m.registry.motions.get(keyword)
             if spec is None:
                 raise RunError(f"unknown motion keyword '{keyword}'")
@@ -56,6 +112,7 @@ class MotionCompiler:
             tool_value = tool(L)
             tool_pose = resolve_tool(tool_value)
             resolve_target = None
+            coordination = None
             if spec.output_functions and target is not None:
                 goal = None  # the target may use the output bindings (DropPositions[Id]): evaluated later
 
@@ -63,7 +120,9 @@ class MotionCompiler:
                     m.globals.update(bindings)
                     return position(target(L), "target")
             else:
-                goal = position(target(L), "target") if target is not None else None
+                raw = target(L) if target is not None else None
+                coordination = axes_target(m, raw, keyword)
+                goal = coordination[0] if coordination is not None else position(raw, "target") if raw is not None else None
             along = None
             if path is not None:
                 points = path(L)
@@ -78,8 +137,7 @@ class MotionCompiler:
 
                 def until(view: MotionView) -> bool:
                     return any(c(L) for c in conditions)
-            call = MotionCall(keyword, goal, along, via, tool_pose, attributes, until, m.options.speed_override,
-                              lambda message: m.warn(message, span),
+            call = MotionCall(keyword, goal, along, via, tool_pose, attributes, until, m.options.speed_override, warn,
                               equipment=tool_value.behaviour if type(tool_value) is Installed else None,
                               robot=m.robot, resolve_target=resolve_target,
                               call_function=lambda routine, args: m.call_now(m.routines[routine.name], args, span))
@@ -87,6 +145,15 @@ class MotionCompiler:
                 requests = spec.execute(call)
             except BehaviourError as error:
                 raise RunError(f"{keyword}: {error}") from None
+            if coordination is not None and resolve_target is None:
+                requests = with_axes(requests, coordination, keyword)
+            return spec, tool_value, tool_pose, until, requests
+
+        self.builders[id(stmt)] = build
+        predict = self.predictor(following, scope) if following is not None else None
+
+        def motion(L: Locals) -> Iterator[object]:
+            spec, tool_value, tool_pose, until, requests = build(L, lambda message: m.warn(message, span))
             m.motion_span = span
             if isinstance(requests, GeneratorType):
                 m.last_tool = tool_pose
@@ -99,12 +166,17 @@ class MotionCompiler:
                 robot.tick()
                 yield TICK
             m.check_outstanding()
+            yield from self.planned_ahead(requests)
             tickets = [robot.submit(r) for r in requests]
             m.motions += 1
             m.last_tool = tool_pose
             if until is None and requests[-1].zone_m > 0:
                 m.outstanding.append(Outstanding(tickets[-1], span, m.stack_entries()))
                 return  # blended: the next statement runs while this motion goes on
+            if predict is not None and until is None:  # FINE: the next motion is planned while this one runs
+                upcoming = predict(L)
+                if upcoming is not None and hasattr(robot, "plan_ahead"):
+                    robot.plan_ahead(upcoming)
             while not all(t.done for t in tickets):
                 robot.tick()
                 yield TICK
@@ -146,14 +218,17 @@ class MotionCompiler:
         if routine.kind != "FUNC" or len(routine.params) != 1:
             raise RunError(f"a position given as a routine must be a FUNC of one parameter (s, 0..1), not {routine.kind} {routine.name}")
 
-        def world_pose(s: float) -> Pose:
-            value = position(m.call_now(m.routines[routine.name], [float(s)], span), f"value of {routine.name}")
+        of_time = routine.params[0] == TIME_PARAMETER  # FUNC f(t): t is the time since the motion started, in s
+
+        def world_pose(u: float) -> Pose:
+            argument = Quantity(float(u), TIME) if of_time else float(u)
+            value = position(m.call_now(m.routines[routine.name], [argument], span), f"value of {routine.name}")
             if type(value) is not Pose:
                 raise RunError(f"FUNC {routine.name} must give poses, got {type_name(value)}")
             return value
         at = memoised(world_pose)
         at(0.0)  # the frame rule, before anything moves
-        return FunctionParam(routine.name, at)
+        return FunctionParam(routine.name, at, "t" if of_time else "s")
 
     def attributes(self, spec: Any, withs: list[tuple[str, Any]], L: Locals, span: n.Span) -> dict[str, Any]:
         """WITH values by canonical attribute name; a FUNC name becomes a function of the path coordinate."""
@@ -207,3 +282,40 @@ def resolve_tool(value: Any) -> Pose:
             raise RunError(f"{value.name} is installed but not mounted as a TOOL; declare TOOL {value.name} = POSE(...) first")
         return value.tool
     raise RunError(f"the tool must be a TOOL, ARM or installed equipment, got {type_name(value)}")
+
+
+def axes_target(m: Machine, value: Any, keyword: str) -> tuple[Pose, dict[str, Any]] | None:
+    """A target with external-axis values or on a moving frame: its world pose where the axes will be, and what the
+    robot needs to move the arm and the axes in one path coordinate; None for any other target."""
+    if type(value) is not Pose:
+        return None
+    moving = m.moving_frame_of(value.frame)
+    if not value.axes and moving is None:
+        return None
+    if m.options.cell_world is None:
+        raise RunError(f"{keyword}: the target carries external-axis values, but the cell has no external axes "
+                       "(run with --world FILE of a cell with a track or a positioner)")
+    world = m.options.cell_world
+    known = set(world.moving_frames())
+    for name, _ in value.axes:
+        if name not in known:
+            raise RunError(f"{keyword}: the cell has no external axis '{name}'")
+    end = {**m.axis_values(), **dict(value.axes)}
+    goal = Pose.from_matrix(m.frame_matrix(value.frame, end) @ value.matrix(), "world")
+    extra: dict[str, Any] = {"axes": value.axes}
+    if moving is not None:
+        frame, local = value.frame, value.with_frame(value.frame)
+        extra["frame_of"] = lambda values: Pose.from_matrix(m.frame_matrix(frame, values), "world")
+        extra["target_in_frame"] = Pose(local.x, local.y, local.z, local.a, local.b, local.c, frame)
+    return goal, extra
+
+
+def with_axes(requests: Any, coordination: tuple[Pose, dict[str, Any]], keyword: str) -> Any:
+    """The motion's last request carrying the axis targets (and the moving frame) of its target."""
+    import dataclasses
+
+    if isinstance(requests, GeneratorType) or not requests:
+        raise RunError(f"{keyword} does not move external axes; use MOVE or LMOVE for a target with axis values")
+    listed = list(requests) if isinstance(requests, (list, tuple)) else [requests]
+    listed[-1] = dataclasses.replace(listed[-1], **coordination[1])
+    return listed

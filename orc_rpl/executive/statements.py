@@ -33,7 +33,17 @@ class StatementCompiler(ControlFlow):
     # -- blocks ----------------------------------------------------------------------------
 
     def block(self, body: n.Body, scope: Scope) -> Block:
-        items = [self.statement(stmt, scope) for stmt in body if not isinstance(stmt, (n.Comment, n.Blank, n.Routine))]
+        statements = [stmt for stmt in body if not isinstance(stmt, (n.Comment, n.Blank, n.Routine))]
+        items = []
+        for i, stmt in enumerate(statements):
+            following = statements[i + 1] if i + 1 < len(statements) else None
+            if isinstance(stmt, n.Motion) and isinstance(following, n.Motion):  # planned while this one runs
+                try:
+                    items.append(Compiled(stmt, None, self.motions.compile(stmt, scope, following)))
+                    continue
+                except RunError:  # reported when run, as statement() does
+                    pass
+            items.append(self.statement(stmt, scope))
         return make_block(self.m, items)
 
     def _blank(self, stmt: n.Statement, scope: Scope) -> tuple[Any, Any]:
@@ -192,7 +202,7 @@ class StatementCompiler(ControlFlow):
                     if timeout is not None:
                         raise RunError(f"Timeout: the condition did not become true within {format_value(timeout(L))}",
                                        name="Timeout")
-                    raise RunError(f"WAIT UNTIL waited {limit:g} s of simulated time and the condition never became true")
+                    raise RunError(f"WAIT UNTIL waited {limit:g} s of robot time and the condition never became true")
                 robot.tick()
                 yield TICK
         return None, wait_until

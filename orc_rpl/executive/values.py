@@ -113,6 +113,8 @@ def format_value(value: Any, nested: bool = False) -> str:
         numbers = [Quantity(value.x, _LENGTH), Quantity(value.y, _LENGTH), Quantity(value.z, _LENGTH),
                    Quantity(value.a, _ANGLE), Quantity(value.b, _ANGLE), Quantity(value.c, _ANGLE)]
         text = "POSE(" + ", ".join(str(q) for q in numbers) + ")"
+        if value.axes:  # external-axis values, plain numbers in SI (m for a linear axis, rad for a rotary one)
+            text = "AXES(" + text + "".join(f", {k} = {round(v, 12) + 0.0!r}" for k, v in value.axes) + ")"
         return text if value.frame == "world" else f"{text} IN {value.frame}"
     if kind is Joints:
         return "JOINTS(" + ", ".join(str(Quantity(v, _ANGLE)) for v in value.values) + ")"

@@ -11,6 +11,7 @@ import numpy as np
 from orc_rpl.errors import UsageError
 from orc_rpl.motion import services
 from orc_rpl.motion.actions import Actions, MoveSignal
+from orc_rpl.motion.ahead import PLANNED_AHEAD, PlanAhead
 from orc_rpl.motion.backend import Backend
 from orc_rpl.motion.braking import brake
 from orc_rpl.motion.handle import MoveHandle
@@ -53,6 +54,8 @@ class MotionLayer(MotionPipeline):
         self._tuning: Any = None  # the servo tuning in use (None: the default gains)
         self._wall_start: float | None = None
         self.cycles = 0
+        #: plans the next move on a worker thread while this one runs (None: every move is planned when requested)
+        self.ahead: PlanAhead | None = None
         #: the planned-path signal: each listener is told (move id, planned TCP positions (N, 3) in m) when a
         #: move is accepted, before it starts (a 3D view draws the path the robot is about to take)
         self.plan_listeners: list[Callable[[int, np.ndarray], None]] = []
@@ -118,9 +121,14 @@ class MotionLayer(MotionPipeline):
         plan = None
         if params.computation is Computation.DONE:
             assert params.descriptor is not None
-            plan = self.planner.recall(params.descriptor, motion, q_start)
+            if params.descriptor < 0 and self.ahead is not None:  # planned ahead on the worker
+                plan = self.ahead.take(-params.descriptor, motion, q_start, self.planner)
+            else:
+                plan = self.planner.recall(params.descriptor, motion, q_start)
             h.replanned_during = plan is None
         if plan is None:
+            if self.ahead is not None:
+                self.ahead.counts.at_start += 1
             plan = self.planner.plan(h.id, motion, params, q_start)
         else:
             plan = _reowned(plan, h.id)
@@ -142,6 +150,18 @@ class MotionLayer(MotionPipeline):
         self._queue.append(h)
         self._admit()
         return h
+
+    def plan_ahead(self, motion: Motion, params: Params = DEFAULT_PARAMS) -> int | None:
+        """Start planning `motion` (to follow every accepted move) on the worker; submit it later with
+        `Params(computation=Computation.DONE, descriptor=<the returned value>)`, best once `ahead_ready()`.
+        None: not planned ahead (no worker, or the motion is only partly or not known: it is planned when requested)."""
+        if self.ahead is None or params.known not in PLANNED_AHEAD or self.mode not in (Mode.RUN, Mode.TRACK):
+            return None
+        return -self.ahead.start(motion, params, self._tail_q(), self.planner)
+
+    def ahead_ready(self, descriptor: int) -> bool:
+        """The plan started by plan_ahead() is made (submitting the move now costs the motion cycle nothing)."""
+        return self.ahead is None or self.ahead.ready(-descriptor)
 
     def planned_end_q(self) -> np.ndarray:
         """Where the robot will be when every accepted move is done: the start (and IK seed) of the next move."""

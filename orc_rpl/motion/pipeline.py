@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.arm.external import StagedPathVelocityController
 from orc_rpl.arm.pvc import PathVelocityController
 from orc_rpl.errors import Collision, MotionFault, OrcError, PlanningError
 from orc_rpl.motion.actions import Actions, MotionData
@@ -68,6 +69,9 @@ class MotionPipeline:
     path_velocity_control: bool = False
     #: the path velocity controller of the running trajectory (None: the nominal one is played as planned)
     pvc: PathVelocityController | None = None
+    #: the cell's external axes (motion.external.ExternalAxes), None when it has none
+    external: Any = None
+    _stages: list[Any] = []
 
     def now_s(self) -> float:
         """The controller clock (simulated time on the virtual robot)."""
@@ -138,10 +142,15 @@ class MotionPipeline:
     def _path_velocity_controller(self, traj: Trajectory, handles: list[MoveHandle]) -> PathVelocityController | None:
         """A path velocity controller for a trajectory timed along its path, when its first move asks for one."""
         dynamics = getattr(self.backend, "path_dynamics", None)
+        self._stages = self.external.stages(traj, handles) if self.external is not None and traj.kind == "path" else []
+        wanted = handles[0].params.path_velocity if handles else None
+        arm_control = self.path_velocity_control if wanted is None else wanted
+        if self._stages:  # external axes in the same path coordinate: the combined range (thesis fig. 5.6)
+            return StagedPathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
+                                                dynamics if arm_control else None, self.kin.arm.tau_max, self._stages)
         if traj.kind != "path" or dynamics is None or not handles:
             return None
-        wanted = handles[0].params.path_velocity
-        if not (self.path_velocity_control if wanted is None else wanted):
+        if not arm_control:
             return None
         return PathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
                                       dynamics, self.kin.arm.tau_max)
@@ -201,11 +210,16 @@ class MotionPipeline:
             if self._track_dq is not None:
                 q_r = q_r + self._track_dq
             self._hold_cache = None
+            if self.external is not None:
+                x_end = (pvc.x, pvc.sd) if scaled is not None else (float(traj.x_f[rows][-1]), float(traj.sd_f[rows][-1]))
+                self.external.cycle(self.backend, self._stages, x_end[0], x_end[1], self.dt_s)
         else:
             if self._hold_cache is None:
                 self._hold_cache = (np.tile(self._q_ref, (self.sub, 1)), np.zeros((self.sub, len(self._q_ref))))
             q_r, qd_r = self._hold_cache
             qdd_r = qd_r
+            if self.external is not None:
+                self.external.cycle(self.backend, [], None, 0.0, self.dt_s)
         try:
             self.backend.advance(q_r, qd_r, qdd_r)
         except MotionFault as fault:  # a real drive failed (DriveFault): the backend holds, the moves fail

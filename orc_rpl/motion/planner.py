@@ -20,8 +20,10 @@ from orc_rpl.motion.trajectory import SplinePath, Trajectory
 
 #: share of the torque limits the planner may use; the rest is the servo's, for feedback
 TORQUE_SHARE = 0.9
-#: limits left for sensor corrections when a motion is only `almost` known
+#: share of the limits a motion that is only `almost` known may use: the rest is left for sensor corrections
 ALMOST_SHARE = 0.9
+#: share for a `partly` known motion: its nominal path is a guess the sensor will change
+PARTLY_SHARE = 0.5
 
 
 @dataclass(slots=True)
@@ -62,7 +64,7 @@ class Planner:
 
     def limits(self, params: Params, tool: np.ndarray | None = None) -> TimingLimits:
         """The timing limits a move's parameters ask for."""
-        share = ALMOST_SHARE if params.known is Known.ALMOST else 1.0
+        share = {Known.ALMOST: ALMOST_SHARE, Known.PARTLY: PARTLY_SHARE}.get(params.known, 1.0)
         load = params.load_kg
         arm = self.arm
 

@@ -7,11 +7,14 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.errors import UsageError
+from orc_rpl.motion.ahead import PlanAhead
 from orc_rpl.motion.backend import KinematicBackend
 from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.layer import MotionLayer
+from orc_rpl.motion.planner import Planner
 from orc_rpl.motion.thermal import WindingTemperature
 from orc_rpl.motion.timing import preload as preload_planning
+from orc_rpl.robot.servo_plants import servo_plant_spec
 
 
 class ServoBackend:
@@ -78,6 +81,22 @@ class ServoBackend:
         self.loop.set_drives(on)
         self._state = self.loop.state()
 
+    def drive_axes(self, references: dict[str, tuple[float, float, float]], period_s: float) -> None:
+        """The external axes' references (position, speed, acceleration) at the end of the next motion cycle;
+        none: the drives hold where they are."""
+        axes = getattr(self.loop.cell, "axes", None)
+        if axes is None:
+            return
+        if not references:
+            axes.hold()
+            return
+        axes.command({name: axes.axes[name].command(*ref) for name, ref in references.items()}, period_s)
+
+    def axis_values(self) -> dict[str, float]:
+        """Where the external axes are (m or rad), measured; empty when the cell has none."""
+        axes = getattr(self.loop.cell, "axes", None)
+        return {} if axes is None else axes.values()
+
     def set_control_payload(self, mass_kg: float) -> None:
         """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
         self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)
@@ -127,7 +146,15 @@ def make_virtual_motion_layer(
     kin = Kinematics(arm, solve_ik)
     start = np.array(arm.home_q if q0 is None else q0, dtype=float)
     kin.check_limits(start, "start position")
-    if backend == "servo":
+    servo_arm = backend == "servo" and plant == "realistic" and servo_plant_spec(robot) is not None
+    if servo_arm:
+        # an arm on bus servos: its position loops are the servos' own; goals are streamed to them
+        from orc_rpl.motion.servo_arm import ServoArmBackend
+        from orc_rpl.plant.servo_arm import ServoArmCell
+
+        be: Any = ServoArmBackend(ServoArmCell(None if cell is not None else robot, cell), motion_period_s)
+        be.reset(start)
+    elif backend == "servo":
         from orc_rpl.servo.loop import ServoLoop
 
         # The servo gets its own model: a payload is state of an ArmModel, and the planner's
@@ -146,14 +173,16 @@ def make_virtual_motion_layer(
     else:
         raise UsageError(f"backend must be 'servo' or 'kinematic', not {backend!r}")
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
-    if backend == "servo" and plant == "realistic":
+    # the next move is planned on a worker thread, over an arm model of its own (made when first needed)
+    layer.ahead = PlanAhead(lambda: Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub), paced=realtime)
+    if backend == "servo" and plant == "realistic" and not servo_arm:
         layer.planner.friction_reserve_nm = reserve_nm
         layer.winding = WindingTemperature(nominal.torque_per_amp_nm_a, nominal.winding_resistance_ohm,
                                            nominal.winding_rth_k_w, nominal.winding_time_constant_s, nominal.ambient_c,
                                            motion_period_s, COPPER_TEMPCO_1_K)
         layer.winding.measurement = be.loop.cell.winding_measurement  # corrected from the drives' V and i
     # thesis 5.3: torque-limited path following is on where torques can run short of the plan
-    layer.path_velocity_control = backend == "servo" and plant == "realistic"
+    layer.path_velocity_control = backend == "servo" and plant == "realistic" and not servo_arm
     # A robot that is set up should move at once: a paced run would start 0.4 s late otherwise.
     preload_planning()
     if record and logger is None:

@@ -189,6 +189,7 @@ class PendantApp:
             elif session.execution.notices:
                 self._take_notices()
                 self.application.invalidate()
+            session.refresh_view()  # the cursor moved by keys, a jog ended: the view follows
 
     def _start_pump(self, application: Application[int]) -> None:
         self._pump_task = asyncio.ensure_future(self._pump())

@@ -148,6 +148,12 @@ COMMANDS: dict[str, Command] = _table()
 
 def run_line(session: PendantSession, line: str) -> Outcome:
     """Carry out one line typed at the command line: a `:` command, or an RPL statement executed at once."""
+    outcome = _run_line(session, line)
+    session.refresh_view()
+    return outcome
+
+
+def _run_line(session: PendantSession, line: str) -> Outcome:
     text = line.strip()
     if not text:
         return Outcome("")

@@ -16,6 +16,7 @@ from orc_rpl.pendant.events import EventLog
 from orc_rpl.pendant.journal import Journal, JournalError, journal_path, recoverable
 from orc_rpl.pendant.tree import BodyPath, EditError, Stop, reparse, stops
 from orc_rpl.syntax import nodes as n
+from orc_rpl.syntax.layout import ONLINE, keep_layout
 from orc_rpl.syntax.lexicon import PREDEFINED_NAMES, is_reserved
 from orc_rpl.syntax.parser import parse, parse_statement
 from orc_rpl.syntax.printer import simple_statement
@@ -96,6 +97,7 @@ class Editor:
         self.originals: dict[str, str] = {}     #: position name -> its declaration before the first :modpos
         self._undo: list[str] = []
         self.on_change: list[Callable[[], None]] = []  #: called after every edit (the executive recompiles)
+        self.moving_frames: dict[str, str] | None = None  #: the cell's moving frames the program may name (None: none)
 
     # -- the program and the cursor ----------------------------------------------------
 
@@ -118,9 +120,18 @@ class Editor:
         """(routine, frame) of the cursor: where a typed statement runs and a taught position is relative to."""
         return context_of(self.at_cursor) if self.stops else (None, "world")
 
-    def commit(self, program: n.Program, action: str, cursor: tuple | None = None, cursor_line: int | None = None) -> None:
-        """Make an edited tree the program: printed canonically, parsed back, journaled, undoable."""
-        text, parsed = reparse(program, str(self.path))
+    def commit(self, program: n.Program, action: str, cursor: tuple | None = None, cursor_line: int | None = None,
+               text: str | None = None) -> None:
+        """Make an edited tree the program: printed in the program's layout (statements the edit did not touch keep
+        their text; the rest canonical), parsed back, journaled, undoable."""
+        parsed: n.Program | None = None
+        if text is None:  # (undo gives the text as it was)
+            text, parsed = keep_layout(program, self.text, self.program, ONLINE, str(self.path))
+        if parsed is None:
+            try:
+                parsed = parse(text, str(self.path))
+            except SourceError:  # the printer and parser disagree: the canonical text says why, or refuses the edit
+                text, parsed = reparse(program, str(self.path))
         if text == self.text:
             return
         self._undo.append(self.text)
@@ -350,13 +361,13 @@ class Editor:
             raise EditError("nothing to undo")
         line = self.cursor_line
         previous = self._undo.pop()
-        self.commit(parse(previous, str(self.path)), "undo", cursor_line=line)
+        self.commit(parse(previous, str(self.path)), "undo", cursor_line=line, text=previous)
         self._undo.pop()  # commit pushed the undone text: undoing is not itself undoable
         return self.events.record("undid the last edit")
 
     def check_diagnostics(self) -> list[Diagnostic]:
         """The checker's findings on the program as it is now."""
-        return check_program(self.program, str(self.path), self.registry)
+        return check_program(self.program, str(self.path), self.registry, None, self.moving_frames)
 
     # -- saving and recovery --------------------------------------------------------------
 

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterator
+from typing import Any
 
 import numpy as np
 
@@ -13,12 +15,13 @@ from orc_rpl.executive.machine import Options
 from orc_rpl.executive.motions import resolve_tool
 from orc_rpl.executive.signals import RunError
 from orc_rpl.pendant.adapter import point_at, prepare, statement_steps
-from orc_rpl.pendant.editing import Editor, joints_text, pose_text
+from orc_rpl.pendant.editing import Editor, joints_text, number_text, pose_text
 from orc_rpl.pendant.events import EventLog
 from orc_rpl.pendant.robot import PendantRobot
 from orc_rpl.pendant.tree import EditError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.parser import parse_statement
+from orc_rpl.transform.loading import moving_frames
 from orc_rpl.world.pose import Pose
 
 #: A synchronous session lets a job run this many motion cycles at most (an hour at 4 ms).
@@ -53,6 +56,9 @@ class Execution:
         self._sliced = False
         robot.set_mode(mode)
         editor.on_change.append(self._program_changed)
+        cell_world = _cell_world(robot)
+        if cell_world is not None:  # the checks know the cell's moving frames, as orc check --world does
+            editor.moving_frames = moving_frames(cell_world)
 
     def _program_changed(self) -> None:
         self._ex_dirty = True
@@ -68,7 +74,7 @@ class Execution:
         old = self._ex
         keep = old.pointer.statement if old is not None and old.pointer is not None and old.status == "paused" else None
         ex = Executive(editor.program, self.robot, self.registry, path=str(editor.path), source=editor.text,
-                       output=self._print, options=Options(speed_override=self.override))
+                       output=self._print, options=Options(speed_override=self.override, cell_world=_cell_world(self.robot)))
         ex.tracing = True  # the pointer follows every statement, so :stop can stop anywhere
         self._ex, self._ex_dirty = ex, False
         for failure in prepare(ex, editor.program):
@@ -112,7 +118,7 @@ class Execution:
             raise EditError(f"cannot teach relative to FRAME {frame}: {error.message}") from None
         world = self.robot.commanded_tcp(self.tool_pose())
         relative = Pose.from_matrix(np.linalg.inv(frame_world) @ world.matrix(), frame)
-        return pose_text(relative) + (f" IN {frame}" if frame != "world" else "")
+        return axes_text(pose_text(relative), self.robot) + (f" IN {frame}" if frame != "world" else "")
 
     def current_joints_text(self) -> str:
         """The commanded joints as a JOINTS(...) literal (after the robot came to rest)."""
@@ -272,7 +278,7 @@ class Execution:
         routine, frame = self.editor.context()
         # checked where it will run, so an error points at the offending word before anything moves
         problems = check_in_context(self.editor.program, stmt, routine, frame, "<typed>", self.registry,
-                                    self.executive().machine.globals)
+                                    self.executive().machine.globals, self.editor.moving_frames)
         if problems:
             raise EditError("\n".join(problem.format(text) for problem in problems))
         return self.statement_job("typed", stmt, routine, frame, 0, text)
@@ -301,3 +307,20 @@ class Execution:
                 where = f" in FRAME {frame}" if frame != "world" else ""
                 self.notify(f"done{where}: {(typed or editor.text.splitlines()[line - 1]).strip().splitlines()[0]}")
         return self.start(name, job())
+
+
+def axes_text(pose: str, robot: Any) -> str:
+    """A taught pose with the cell's external axes where they are commanded to be: `AXES(POSE(...), turn = 90deg)`."""
+    cell_axes = getattr(getattr(robot, "cell", None), "axes", None)
+    if cell_axes is None or cell_axes.external is None:
+        return pose
+    world = cell_axes.world
+    values = [f"{name} = " + (number_text(math.degrees(v), "deg", 3) if world.object(name).axis.rotary
+                                else number_text(v * 1000.0, "mm", 3)) for name, v in cell_axes.external.planned.items()]
+    return f"AXES({pose}, {', '.join(values)})"
+
+
+def _cell_world(robot: Any) -> Any:
+    """The cell's world model when it has moving frames (programs may name them), else None."""
+    cell_axes = getattr(getattr(robot, "cell", None), "axes", None)
+    return None if cell_axes is None else cell_axes.world

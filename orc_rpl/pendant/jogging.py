@@ -40,8 +40,10 @@ class Jogger:
         The jog keys go on from here: the space, axis and frame typed become the ones the keys jog and the
         state pane shows.
         """
+        if space == "axis":
+            return self.jog_axis(axis, amount)
         if space not in SPACES:
-            raise JogError(f":jog: unknown space {space!r}; use joint, world, tool or frame NAME")
+            raise JogError(f":jog: unknown space {space!r}; use joint, world, tool, frame NAME or axis NAME")
         axis = axis.lower()
         if space == "joint":
             if not axis.isdigit():
@@ -59,6 +61,28 @@ class Jogger:
         if space == "frame":
             self.frame = frame or "world"
         return self.events.record(f"jog {space}{' ' + frame if frame else ''} {axis} {amount}")
+
+    def jog_axis(self, name: str, amount: str) -> str:
+        """`:jog axis turn +10deg`: an external axis of the cell (a track, a positioner) moves alone, the arm stands."""
+        cell_axes = getattr(getattr(self.robot, "cell", None), "axes", None)
+        external = None if cell_axes is None else cell_axes.external
+        if external is None:
+            raise JogError(":jog axis: this cell has no external axes (a world with a track or a positioner)")
+        if name not in external.limits:
+            raise JogError(f":jog axis: no external axis {name!r}; the cell has {', '.join(external.limits)}")
+        if self.execution.job is not None:
+            raise JogError(f"busy: {self.execution.job_name} is running (:stop stops it)")
+        axis = cell_axes.world.object(name).axis
+        target = external.planned[name] + parse_amount(amount, axis.rotary)
+        why = axis.clamp_message(target)
+        if why is not None:
+            raise JogError(f"jog refused, nothing moved: axis {name}: {why}")
+        self.last_sent_s = time.perf_counter()
+        external.move_alone(None, {name: target})
+        if self.execution.synchronous:
+            while external.solo is not None:
+                self.robot.tick()
+        return self.events.record(f"jog axis {name} {amount}")
 
     def jog_key(self, sign: int) -> str:
         """A jog key: the selected axis, one increment (or, continuous, a little more motion while keys repeat)."""
@@ -114,6 +138,9 @@ class Jogger:
             except RunError as error:
                 raise JogError(f":jog frame {jog.frame}: {error.message}") from None
         tool = None if tool_pose is None else tool_pose.matrix()
+        cell_axes = getattr(getattr(self.robot, "cell", None), "axes", None)
+        if cell_axes is not None:  # a frame of the program's world, seen from the base the track carries
+            frame_world = np.linalg.inv(cell_axes.base(cell_axes.planned())) @ frame_world
         try:
             motion = jog_motion(layer, jog, tool, frame_world)
             q_start = tuple(float(v) for v in layer.planned_end_q())

@@ -46,6 +46,8 @@ class PendantRobot:
         self.on_slice_end: Callable[[], None] | None = None
         self.last_submit_s = 0.0                     #: perf_counter() when the last motion reached the motion layer
         self.mode = "auto"
+        self.tick_listeners: list[Callable[[], None]] = []   #: called after every motion cycle (the 3D view)
+        self.asking_line = 0                         #: while a program motion is submitted: its statement's line
 
     @classmethod
     def virtual(cls, robot: str = "irb2400", backend: str = "servo") -> PendantRobot:
@@ -59,6 +61,8 @@ class PendantRobot:
     def tick(self) -> None:
         self.cell.tick()
         self.ticks += 1
+        for listener in self.tick_listeners:
+            listener()
         if self.slice_end is not None and self.ticks >= self.slice_end and self.on_slice_end is not None:
             self.on_slice_end()
 
@@ -90,8 +94,13 @@ class PendantRobot:
     def submit(self, request: MotionRequest) -> Any:
         q_start = tuple(float(v) for v in self.layer.planned_end_q())
         self.last_submit_s = time.perf_counter()
-        ticket = self.cell.submit(request)
-        self.remember(Done(q_start, request.kind, request.tool, self.line_source(), request.keyword))
+        line = self.line_source()
+        self.asking_line = line  # the motion layer's planned-path signal, heard inside submit, learns the statement
+        try:
+            ticket = self.cell.submit(request)
+        finally:
+            self.asking_line = 0
+        self.remember(Done(q_start, request.kind, request.tool, line, request.keyword))
         return ticket
 
     # -- the pendant's own -------------------------------------------------------------
@@ -122,7 +131,11 @@ class PendantRobot:
         from orc_rpl.world.pose import Pose
 
         matrix = None if tool is None else tool.matrix()
-        return Pose.from_matrix(self.layer.fk(self.layer.reference_q(), matrix))
+        tcp = self.layer.fk(self.layer.reference_q(), matrix)
+        axes = getattr(self.cell, "axes", None)
+        if axes is not None:  # the track carries the base: where the axes are commanded to be
+            tcp = axes.base(axes.planned()) @ tcp
+        return Pose.from_matrix(tcp)
 
     def joints_deg(self) -> tuple[float, ...]:
         return tuple(float(np.degrees(q)) for q in self.joints())
@@ -135,6 +148,8 @@ class PendantRobot:
         from orc_rpl.errors import UsageError
 
         loop = getattr(self.layer.backend, "loop", None)
+        if getattr(self.layer.backend, "real_arm", False):
+            raise UsageError("a real arm has no simulated cell to render: take a photograph")
         if loop is None:
             raise UsageError("this robot has no simulated cell to render (kinematic backend)")
         return str(loop.cell.render_png(path, width, height))

@@ -14,6 +14,7 @@ from orc_rpl.pendant.journal import Journal, journal_beside, journal_path
 from orc_rpl.pendant.panels import Panels
 from orc_rpl.pendant.pointer import ProgramPointer
 from orc_rpl.pendant.robot import PendantRobot
+from orc_rpl.pendant.viewing import View, ViewLink
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.printer import simple_statement
 from orc_rpl.world.pose import Joints
@@ -28,8 +29,8 @@ class PendantSession:
     """One pendant, nothing here knows about the terminal: each part owns its state, the session wires them.
 
     `editor` (the program, cursor, undo, journal, saving), `execution` (the executive, tool, override, mode
-    and the running job), `jogger` (jog settings and jog moves), `pointer` (:pp and :back) and `panels`
-    (read-outs). What needs two parts at once, teaching, lives here. Every command returns the text to show.
+    and the running job), `jogger` (jog settings and jog moves), `pointer` (:pp and :back), `panels`
+    (read-outs) and, with a 3D view, `view` (keeps it in step). What needs two parts at once, teaching, lives here. Every command returns the text to show.
     The session starts in manual mode (every motion capped at 250 mm/s at the TCP), as an industrial
     pendant does.
     """
@@ -50,6 +51,7 @@ class PendantSession:
         self.jogger = Jogger(self.editor, self.execution, self.robot, self.events)
         self.pointer = ProgramPointer(self.editor, self.execution, self.robot, self.events)
         self.panels = Panels(self.editor, self.execution, self.robot, self.registry, self.events)
+        self.view: ViewLink | None = None   #: the 3D view, when one is shown (show_in)
         self.events.record(f"opened {file} ({len(text.splitlines())} lines)")
         where = self.editor.journal.path if self.editor.journal is not None else None
         if where is not None and where != journal_beside(file):
@@ -63,7 +65,21 @@ class PendantSession:
             session.editor.recover()
         return session
 
+    def show_in(self, view: View, url: str | None = None) -> ViewLink:
+        """Keep a 3D view in step with this session from now on (`orc pendant --view`)."""
+        self.view = ViewLink(view, self.editor, self.execution, self.robot, self.events, url)
+        self.view.refresh()
+        return self.view
+
+    def refresh_view(self) -> None:
+        """After a command, and while the screen idles: the view shows the program and the selection as they are."""
+        if self.view is not None:
+            self.view.refresh()
+
     def close(self) -> None:
+        if self.view is not None:
+            self.view.close()
+            self.view = None
         self.editor.close()
 
     # -- teaching: the robot's pose (execution) written into the program (editor) ------------------

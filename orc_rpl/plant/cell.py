@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.plant.axes import AxisDrive, add_axes, add_drives
 from orc_rpl.plant.gl import import_mujoco
 from orc_rpl.robot.robots import ROBOTS, RobotSpec
 from orc_rpl.world.pose import rotation_zyx
@@ -42,6 +43,7 @@ class Solid:
     on_flange: bool = False
     work: bool = False
     rgba: tuple[float, float, float, float] = (0.6, 0.6, 0.62, 1.0)
+    mount: str = ""                                 #: the external axis it rides on (placed in its frame), "" for none
 
 
 @dataclass(frozen=True, slots=True)
@@ -59,6 +61,8 @@ class CellDescription:
     notes: tuple[str, ...] = field(default=())
     solids: tuple[Solid, ...] = ()                             #: a world model's objects (contacts on)
     contacts: bool = False                                     #: the robot collides with the floor and the solids
+    axes: tuple[AxisDrive, ...] = ()                           #: external axes (track, positioner), parents first
+    robot_mount: str = ""                                      #: the axis the robot's base rides on (a track), "" for none
 
     @property
     def robot_spec(self) -> RobotSpec:
@@ -129,8 +133,13 @@ def build_spec(cell: CellDescription) -> Any:
     robot = mujoco.MjSpec.from_file(str(cell.robot_spec.mjcf_path))
     flange_site = robot.site(cell.robot_spec.flange_frame)
     flange_link, flange_pos, flange_quat = flange_site.parent.name, list(flange_site.pos), list(flange_site.quat)
-    mount = world.add_frame(pos=list(cell.robot_base_m))
-    mount.attach_body(robot.worldbody.first_body(), ROBOT_PREFIX, "")
+    axis_bodies = add_axes(mujoco, spec, cell.axes)
+    mount = (axis_bodies[cell.robot_mount] if cell.robot_mount else world).add_frame(pos=list(cell.robot_base_m))
+    base_body = robot.worldbody.first_body()
+    mount.attach_body(base_body, ROBOT_PREFIX, "")
+    add_drives(mujoco, spec, cell.axes)
+    if cell.robot_mount:  # the base slides over the floor on its carriage: that is no contact
+        spec.add_exclude(bodyname1="world", bodyname2=base_body.name)  # already prefixed by attach_body
     # A massless body at the flange: the plant's payload, set at run time (SimCell.set_payload).
     payload = spec.body(ROBOT_PREFIX + flange_link).add_body(name="payload", pos=flange_pos, quat=flange_quat)
     if cell.contacts:
@@ -142,6 +151,8 @@ def build_spec(cell: CellDescription) -> Any:
         kind = {"box": mujoco.mjtGeom.mjGEOM_BOX, "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER,
                 "sphere": mujoco.mjtGeom.mjGEOM_SPHERE}[solid.geometry]
         body, (ctype, caff) = (payload, (2, 1)) if solid.on_flange else (world, (cell_type, cell_affinity))
+        if solid.mount:
+            body = axis_bodies[solid.mount]
         # no mass: the plant's payload is set apart (set_payload), and a fixture weighs nothing to the robot
         quat = np.zeros(4)
         mujoco.mju_mat2Quat(quat, np.asarray(solid.rotation, dtype=float))

@@ -51,6 +51,15 @@ class Poses:
     wxyz: np.ndarray
 
 
+@dataclass(frozen=True)
+class Frames:
+    """Where every geom is at one instant as MuJoCo keeps it: positions (n, 3) in m, rotation matrices (n, 3, 3)."""
+
+    time_s: float
+    position_m: np.ndarray
+    rotation: np.ndarray
+
+
 def cell_shapes(cell: SimCell) -> tuple[Shape, ...]:
     """The visible geoms of the cell as built (robot, fixed geometry, whatever the scene contains), in model order."""
     m = cell._model
@@ -80,3 +89,10 @@ def cell_poses(cell: SimCell) -> Poses:
     for i in range(m.ngeom):
         mujoco.mju_mat2Quat(wxyz[i], d.geom_xmat[i])
     return Poses(float(d.time), d.geom_xpos.copy(), wxyz)
+
+
+def cell_frames(cell: SimCell) -> Frames:
+    """Every geom's world pose now, as copies of MuJoCo's arrays: cheap enough to take in a motion cycle (a viewer
+    turns the matrices into quaternions on its own thread)."""
+    d = cell._data
+    return Frames(float(d.time), d.geom_xpos.copy(), d.geom_xmat.reshape(-1, 3, 3).copy())

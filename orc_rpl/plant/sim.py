@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.errors import UsageError
+from orc_rpl.plant.axes import AxisDrives
 from orc_rpl.plant.cell import ROBOT_PREFIX, CellDescription, build_spec, default_cell
 from orc_rpl.plant.gl import import_mujoco, render_error, request_rendering
 from orc_rpl.plant.io import CellIO
@@ -49,7 +50,7 @@ class SimCell:
         if m.npair == 0 and not (int(np.bitwise_or.reduce(m.geom_contype)) & int(np.bitwise_or.reduce(m.geom_conaffinity))):
             m.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
         self._data = mujoco.MjData(m)
-        self.n_joints: int = int(m.nactuator)
+        self.n_joints: int = int(m.nactuator) - len(self.description.axes)  # the axes' drives come after the robot's
         joint_ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"{ROBOT_PREFIX}j{i + 1}") for i in range(self.n_joints)]
         if min(joint_ids) < 0:
             raise UsageError(f"robot {self.robot!r}: its MJCF must name its joints j1..j{self.n_joints}")
@@ -59,13 +60,14 @@ class SimCell:
         self._contiguous = bool(np.array_equal(self._qpos, np.arange(self.n_joints)) and m.nv == self.n_joints)
         # Views into MjData (its arrays live as long as it does): the servo loop reads and writes
         # through them instead of making and copying arrays every step.
-        self._ctrl = self._data.ctrl
+        self._ctrl = self._data.ctrl[: self.n_joints]
         self._q_live = self._data.qpos[: self.n_joints] if self._contiguous else None
         self._qd_live = self._data.qvel[: self.n_joints] if self._contiguous else None
         for view in (self._q_live, self._qd_live):
             if view is not None:
                 view.flags.writeable = False
-        self.tau_max = m.actuator_forcerange[:, 1].copy()
+        self.tau_max = m.actuator_forcerange[: self.n_joints, 1].copy()
+        self.axes = AxisDrives(mujoco, m, self._data, self.description.axes) if self.description.axes else None
         self.timestep_s: float = float(m.opt.timestep)
         self._flange_site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, ROBOT_PREFIX + self.description.robot_spec.flange_frame)
         self._payload_body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "payload")
@@ -109,7 +111,7 @@ class SimCell:
     @property
     def tau(self) -> np.ndarray:
         """Torques the motors applied in the last step (N m, after saturation), a copy."""
-        return self._data.actuator_force.copy()
+        return self._data.actuator_force[: self.n_joints].copy()
 
     @property
     def time_s(self) -> float:
@@ -128,6 +130,8 @@ class SimCell:
     def reset(self, q: Any = None, qd: Any = None) -> None:
         """Back to time 0 at q (the robot's home if None) at rest or at qd; IO cleared, the payload kept."""
         mujoco.mj_resetData(self._model, self._data)
+        if self.axes is not None:
+            self.axes.reset()
         q0 = self.description.robot_spec.home_q_rad if q is None else q
         self._data.qpos[self._qpos] = self._checked(q0, "q")
         if qd is not None:

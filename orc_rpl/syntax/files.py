@@ -65,18 +65,21 @@ def parse_file(path: str | Path) -> tuple[str, n.Program]:
 
 
 def declared_world(path: str | Path, text: str) -> Path | None:
-    """The world named by a `# world: FILE` line among the program's leading comments (relative to the program).
+    """The world named by a `# world: FILE` line among the program's leading comments (relative to the program);
+    an on-line program's is a `-- world: FILE` line, naming the cell it runs in.
 
     SourceError at the line when it names anything but a `.yaml`/`.yml` file.
     """
+    marker = "--" if Path(path).suffix in ONLINE_SUFFIXES else "#"
     for number, line in enumerate(text.splitlines(), start=1):
-        if not line.startswith("#"):
+        if not line.startswith(marker):
             break
-        match = _WORLD_LINE.match(line)
+        shift = len(marker) - 1  # `--` is one character longer than `#`
+        match = _WORLD_LINE.match("#" + line[len(marker):])
         if match:
             world = Path(path).parent / match.group(1)
             if world.suffix not in WORLD_SUFFIXES:  # never follow the line to a file that is not a world model
-                location = Location(str(path), number, match.start(1) + 1, number, match.end(1) + 1)
+                location = Location(str(path), number, match.start(1) + 1 + shift, number, match.end(1) + 1 + shift)
                 raise SourceError([Diagnostic(location, f"the world model '{match.group(1)}' must be a YAML file "
                                               f"({' or '.join(WORLD_SUFFIXES)})")], text)
             return world

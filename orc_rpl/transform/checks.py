@@ -7,7 +7,7 @@ from pathlib import Path
 from orc_rpl.errors import Diagnostic, Location, SourceError, UsageError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.transform.job import TransformError
-from orc_rpl.transform.loading import world_attributes
+from orc_rpl.transform.loading import moving_frames, world_attributes
 from orc_rpl.transform.pipeline import to_online
 from orc_rpl.transform.references import world_diagnostics
 from orc_rpl.world import World, load_world
@@ -36,4 +36,4 @@ def check_offline(program: n.Program, world: World, path: str, source: str, regi
         return error.diagnostics
     except TransformError as error:
         return [Diagnostic(Location(path, 1, 1), str(error))]
-    return check_program(online, path, registry, world_attributes(world))
+    return check_program(online, path, registry, world_attributes(world), moving_frames(world))

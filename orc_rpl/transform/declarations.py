@@ -11,7 +11,7 @@ from orc_rpl.world.values import format_pose
 from orc_rpl.transform.job import Job, TransformError
 from orc_rpl.transform.naming import FRAME, OBJECT, Names, name_world
 from orc_rpl.transform.treemap import declared_names, references
-from orc_rpl.transform.poses import frame_pose, literal_path, literal_pose, object_pose, path_poses, pose_literal, tool_pose
+from orc_rpl.transform.poses import rotary_axes, frame_pose, literal_path, literal_pose, object_pose, path_poses, pose_literal, tool_pose
 
 DECLARED_KINDS = ("FRAME", "TOOL", "POS", "PATH")
 
@@ -32,7 +32,7 @@ def declaration_for(world: World, names: Names, dotted: str) -> n.Declaration:
         return n.Declaration("FRAME" if obj.online_frame else "POS", name, pose_literal(pose), _in(frame, names))
     if kind == FRAME:
         pose, frame = frame_pose(world, dotted)
-        return n.Declaration("POS", name, pose_literal(pose), _in(frame, names))
+        return n.Declaration("POS", name, pose_literal(pose, rotary_axes(world) if pose.axes else frozenset()), _in(frame, names))
     poses, frame = path_poses(world, dotted)
     return n.Declaration("PATH", name, n.ListExpr(tuple(pose_literal(p) for p in poses)), _in(frame, names))
 

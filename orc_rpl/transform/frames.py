@@ -139,5 +139,5 @@ def strip(body: n.Body, frames: frozenset[str]) -> n.Body:
 
 def remove_frame_blocks(job: Job) -> Job:
     """The FRAME blocks of the world's on-line frames are removed: off-line, positions carry their frames."""
-    frames = frozenset(o.name for o in job.world.objects if o.online_frame)
+    frames = frozenset(o.name for o in job.world.objects if o.online_frame or o.axis is not None)
     return dataclasses.replace(job, program=dataclasses.replace(job.program, body=strip(job.program.body, frames)))

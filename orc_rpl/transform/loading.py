@@ -19,6 +19,12 @@ def world_attributes(world: World) -> WorldAttributes:
     return {obj.name: {**obj.spatial, **obj.soft} for obj in world.objects if obj.spatial or obj.soft}
 
 
+def moving_frames(world: World) -> dict[str, str]:
+    """The world's moving frames and how each moves (linear, rotary, conveyor): what programs may name as frames
+    and, but for conveyors, give values to with AXES(p, ...)."""
+    return {name: world.object(name).axis.joint for name in world.moving_frames()}  # type: ignore[union-attr]
+
+
 def load_program_and_attributes(path: str | Path, world: str | Path | None = None) -> tuple[str, n.Program, WorldAttributes]:
     """`load_program`, and the soft and spatial attributes of the program's world (on-line: of `world` when given)."""
     text, program = load_program(path, world)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from functools import lru_cache
 
 from orc_rpl.syntax import nodes as n
@@ -20,10 +21,20 @@ def _number(text: str) -> n.Expression:
     return n.Number(text)
 
 
-def pose_literal(pose: Pose) -> n.Call:
-    """`POSE(x, y, z, a, b, c)` in mm and deg, as world files write poses."""
+def pose_literal(pose: Pose, rotary: frozenset[str] | set[str] = frozenset()) -> n.Call:
+    """`POSE(x, y, z, a, b, c)` in mm and deg, as world files write poses; a position with external-axis values is
+    `AXES(POSE(...), track = 200mm, turn = 90deg)` (`rotary`: the axes whose values are angles)."""
     texts = [format_length(v) for v in (pose.x, pose.y, pose.z)] + [format_angle(v) for v in (pose.a, pose.b, pose.c)]
-    return n.Call(n.Name("POSE"), tuple(n.Argument(None, _number(t)) for t in texts))
+    literal = n.Call(n.Name("POSE"), tuple(n.Argument(None, _number(t)) for t in texts))
+    if not pose.axes:
+        return literal
+    values = tuple(n.Argument(n.Name(k), _number(format_angle(v) if k in rotary else format_length(v))) for k, v in pose.axes)
+    return n.Call(n.Name("AXES"), (n.Argument(None, literal),) + values)
+
+
+def rotary_axes(world: World) -> frozenset[str]:
+    """The world's rotary axes (their values are angles)."""
+    return frozenset(name for name in world.moving_frames() if world.object(name).axis.rotary)  # type: ignore[union-attr]
 
 
 def _value(expr: n.Expression) -> float | Quantity | None:
@@ -42,7 +53,16 @@ def _value(expr: n.Expression) -> float | Quantity | None:
 
 
 def literal_pose(expr: n.Expression, frame: str = WORLD) -> Pose | None:
-    """The Pose of a literal `POSE(...)` with six numbers (lengths then angles), or None for anything else."""
+    """The Pose of a literal `POSE(...)` with six numbers (lengths then angles), or of `AXES(POSE(...), name = value, ...)`
+    with literal values, or None for anything else."""
+    if (isinstance(expr, n.Call) and expr.function == n.Name("AXES") and expr.arguments and expr.arguments[0].name is None
+            and len(expr.arguments) > 1 and all(a.name is not None for a in expr.arguments[1:])):
+        inner = literal_pose(expr.arguments[0].value, frame)
+        values = [(a.name.id, _value(a.value)) for a in expr.arguments[1:]]  # type: ignore[union-attr]
+        if inner is None or inner.axes or any(v is None for _, v in values):
+            return None
+        axes = tuple((k, v.value if isinstance(v, Quantity) else float(v)) for k, v in values)  # type: ignore[union-attr,arg-type]
+        return dataclasses.replace(inner, axes=axes)
     if not (isinstance(expr, n.Call) and expr.function == n.Name("POSE") and len(expr.arguments) == 6):
         return None
     numbers = []
@@ -70,8 +90,8 @@ def literal_path(expr: n.Expression, frame: str = WORLD) -> tuple[Pose, ...] | N
 
 def _nearest_tagged(world: World, names: tuple[str, ...]) -> str:
     for name in names:
-        if name not in (WORLD, "robot", FLANGE) and world.object(name).online_frame:
-            return name
+        if name not in (WORLD, "robot", FLANGE) and (world.object(name).online_frame or world.object(name).axis is not None):
+            return name  # a moving frame is an on-line frame the cell gives
     return WORLD
 
 
@@ -91,7 +111,7 @@ def frame_pose(world: World, dotted: str) -> tuple[Pose, str]:
     frame = _nearest_tagged(world, (owner,) + world.ancestors(owner))
     if frame == owner:
         return stored.with_frame(frame), frame
-    return readable_angles(world.relative_pose(dotted, frame), stored), frame
+    return dataclasses.replace(readable_angles(world.relative_pose(dotted, frame), stored), axes=stored.axes), frame
 
 
 def path_poses(world: World, dotted: str) -> tuple[tuple[Pose, ...], str]:

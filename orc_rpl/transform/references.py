@@ -117,8 +117,8 @@ def online_frame(world: World, dotted: str) -> str:
     owner = dotted.split(".")[0]
     start = (owner,) if "." in dotted else ()
     for name in start + world.ancestors(owner):
-        if name not in (WORLD, "robot", "flange") and world.object(name).online_frame:
-            return name
+        if name not in (WORLD, "robot", "flange") and (world.object(name).online_frame or world.object(name).axis is not None):
+            return name  # a moving frame (a positioner's table) is an on-line frame the cell gives
     return WORLD
 
 
@@ -127,6 +127,8 @@ def chain_of(world: World, frame: str) -> tuple[str, ...]:
     chain: list[str] = []
     while frame != WORLD:
         chain.append(frame)
+        if world.object(frame).axis is not None:
+            break  # the cell knows where its moving frames are: their FRAME blocks need no outer ones
         frame = online_frame(world, frame)
     return tuple(reversed(chain))
 

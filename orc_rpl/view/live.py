@@ -10,10 +10,11 @@ import numpy as np
 
 from orc_rpl.executive.executive import Executive
 from orc_rpl.executive.report import MonitoredRobot
-from orc_rpl.plant.shapes import Poses, cell_poses, cell_shapes
+from orc_rpl.plant.shapes import Frames, Poses, cell_frames, cell_poses, cell_shapes
 from orc_rpl.view.framing import frame_work
 from orc_rpl.view.positions import declared_names, world_transforms
-from orc_rpl.view.scene import CellScene, wxyz_of
+from orc_rpl.view.process import TRACED, ProcessOverlay, ProcessState, error_colours, process_record
+from orc_rpl.view.scene import CellScene, wxyz_of, wxyz_of_many
 from orc_rpl.view.sender import Sender
 from orc_rpl.world.objects import FLANGE, PREDEFINED
 from orc_rpl.world.pose import shown_pose
@@ -33,11 +34,16 @@ def sim_cell(robot: Any) -> Any:
 def statement_caption(executive: Executive, time_s: float) -> str:
     """`t = 1.24 s · line 12: LMOVE gripper TO slot1`: where the program is (the statement it executes or waits at)."""
     pointer = executive.pointer
-    if pointer is None or executive.source is None:
+    lines = executive.source.splitlines() if executive.source is not None else []
+    return caption_text(time_s, pointer.line if pointer is not None and lines else None, lines)
+
+
+def caption_text(time_s: float, line: int | None, lines: list[str]) -> str:
+    """The caption from the simulated time and the line the program is at (None: no program line to show)."""
+    if line is None:
         return f"t = {time_s:.2f} s"
-    lines = executive.source.splitlines()
-    text = lines[pointer.line - 1].strip() if 0 < pointer.line <= len(lines) else ""
-    return f"t = {time_s:.2f} s · line {pointer.line}: {text}"
+    text = lines[line - 1].strip() if 0 < line <= len(lines) else ""
+    return f"t = {time_s:.2f} s · line {line}: {text}"
 
 
 class LiveView:
@@ -54,11 +60,14 @@ class LiveView:
         self._cell = sim_cell(robot)
         self._names: tuple[str, ...] = ()
         self._seen: dict[str, Any] = {}
+        self._labels: set[str] = set()            #: positions of the program on screen (the world's stay)
         self._next_wall_s = 0.0
         self._ticks = 0
         self._trace_new: list[np.ndarray] = []
         self._tool: tuple[Any, np.ndarray | None] = (None, None)
         self._flange_node: Any = None
+        self._lines: tuple[str | None, list[str]] = (None, [])   #: the program's source and its lines (the caption)
+        self.process = ProcessOverlay()
         self.sender = Sender()
 
     # -- setting up ---------------------------------------------------------------------------
@@ -97,6 +106,20 @@ class LiveView:
         """The motion layer's planned-path signal: drawn before the move starts."""
         self.sender.always(partial(self.scene.add_path, move_id, tcp_m))
 
+    def follow(self, executive: Executive, program: Any) -> None:
+        """Show another executive of the program from now on (the pendant rebuilds it after every edit): positions
+        taught, touched up, renamed or deleted are shown as they now are."""
+        self.executive = executive
+        executive.tracing = True
+        self._names = declared_names(program)
+        self._seen = {}
+        labels = {label for name in self._names
+                  for label, _ in world_transforms(name, executive.machine.globals.get(name), executive)}
+        gone, self._labels = self._labels - labels, self._labels & labels
+        if gone:
+            self.sender.always(partial(self.scene.remove_positions, sorted(gone)))
+        self.update()
+
     def monitor(self, robot: Any) -> Any:
         """The robot the executive should drive: the same robot, whose ticks also feed the view."""
         return MonitoredRobot(robot, 1, self.on_tick)
@@ -106,7 +129,9 @@ class LiveView:
     def on_tick(self) -> None:
         self._ticks += 1
         if self._ticks % TRACE_EVERY_TICKS == 0:
-            self._trace_new.append(self._tcp_m())
+            tcp = self._tcp_m()
+            self._trace_new.append(tcp)
+            self.process.sample(process_record(self.executive.machine.robot), tcp)
         if time.perf_counter() >= self._next_wall_s:
             self.update()
 
@@ -115,12 +140,20 @@ class LiveView:
         if tool is not self._tool[0]:
             self._tool = (tool, None if tool is None else tool.matrix())
         layer = self.robot.layer
-        return layer.fk(layer.current_q(), self._tool[1])[:3, 3].copy()
+        flange = layer.fk(layer.current_q())
+        if self._tool[1] is None:
+            return flange[:3, 3].copy()
+        # the tool's offset applied here: the motion layer's fk with a tool checks it each call (four times the cost)
+        return flange[:3, :3] @ self._tool[1][:3, 3] + flange[:3, 3]
 
     def update(self) -> None:
-        """Hand the robot's pose, the trace, new positions and the caption to the sending thread now."""
+        """Hand the robot's pose, the trace, new positions and the caption to the sending thread now.
+
+        Only copies are taken here, in the motion cycle; turning them into what the browser gets (quaternions, text)
+        is the sending thread's work.
+        """
         self._next_wall_s = time.perf_counter() + self.period_s
-        poses = cell_poses(self._cell) if self._cell is not None else None
+        frames = cell_frames(self._cell) if self._cell is not None else None
         flange = self.robot.layer.fk(self.robot.layer.current_q()) if self._flange_node is not None else None
         values = self.executive.machine.globals
         for name in self._names:
@@ -128,17 +161,37 @@ class LiveView:
             if value is not None and value is not self._seen.get(name):
                 self._seen[name] = value
                 for label, t in world_transforms(name, value, self.executive):
+                    self._labels.add(label)
                     self.sender.always(partial(self._show_position, label, t))
         if self._trace_new:
             self.sender.always(partial(self.scene.extend_trace, self._trace_new))
             self._trace_new = []
-        tcp = shown_pose(self.robot.tcp_pose(self.executive.machine.last_tool)).text()
-        caption = f"{statement_caption(self.executive, self.robot.time_s())}\n\nTCP {tcp}"
-        self.sender.latest(partial(self._show_state, poses, flange, caption))
+        executive = self.executive
+        record = process_record(executive.machine.robot)
+        process = self.process.state(record)
+        for name, points in self.process.take_points().items():
+            colours = error_colours(np.array([value for _, value in points]), TRACED[name])
+            self.sender.always(partial(self.scene.extend_process, name, [p for p, _ in points], colours))
+        tcp = self.robot.tcp_pose(executive.machine.last_tool)
+        if self._lines[0] is not executive.source:
+            self._lines = (executive.source, executive.source.splitlines() if executive.source is not None else [])
+        line = executive.pointer.line if executive.pointer is not None and self._lines[1] else None
+        if process is not None and process.welds:
+            self.sender.always(partial(self._show_welds, process))
+        self.sender.latest(partial(self._show_state, frames, flange, tcp, self.robot.time_s(), line, self._lines[1],
+                                   process.caption if process is not None else ""))
 
-    def _show_state(self, poses: Poses | None, flange: np.ndarray | None, caption: str) -> None:
-        if poses is not None:
-            self.scene.move_cell(poses)
+    def _show_welds(self, process: ProcessState) -> None:
+        for number, weld in enumerate(process.welds, start=process.first_weld):
+            self.scene.add_weld(number, weld.position_m, weld.good, weld.reason)
+
+    def _show_state(self, frames: Frames | None, flange: np.ndarray | None, tcp: Any, time_s: float,
+                    line: int | None, lines: list[str], process: str = "") -> None:
+        caption = f"{caption_text(time_s, line, lines)}\n\nTCP {shown_pose(tcp).text()}"
+        if process:
+            caption += f"\n\n{process}"
+        if frames is not None:
+            self.scene.move_cell(Poses(frames.time_s, frames.position_m, wxyz_of_many(frames.rotation)))
         if flange is not None:
             self._flange_node.position = flange[:3, 3]
             self._flange_node.wxyz = wxyz_of(flange[:3, :3])

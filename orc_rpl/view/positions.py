@@ -16,8 +16,21 @@ SHOWN_KINDS = ("POS", "PATH", "FRAME")
 
 
 def declared_names(program: n.Program) -> tuple[str, ...]:
-    """Names of the program's top-level POS, PATH and FRAME declarations, in source order."""
-    return tuple(s.name.id for s in program.body if isinstance(s, n.Declaration) and s.kind in SHOWN_KINDS)
+    """Names of the program's POS, PATH and FRAME declarations outside routines, in source order.
+
+    Declarations inside FRAME blocks count (the pendant teaches positions there, each `IN` its block's frame).
+    """
+
+    def visit(body: n.Body) -> list[str]:
+        names = []
+        for stmt in body:
+            if isinstance(stmt, n.Declaration) and stmt.kind in SHOWN_KINDS:
+                names.append(stmt.name.id)
+            elif isinstance(stmt, n.FrameBlock):
+                names += visit(stmt.body)
+        return names
+
+    return tuple(visit(program.body))
 
 
 def world_transforms(name: str, value: Any, executive: Executive) -> list[tuple[str, np.ndarray]]:
@@ -39,13 +52,14 @@ def world_transforms(name: str, value: Any, executive: Executive) -> list[tuple[
     return []
 
 
-def evaluate_declarations(program: n.Program, robot: Any, registry: Any, path: str = "<program>") -> Executive:
+def evaluate_declarations(program: n.Program, robot: Any, registry: Any, path: str = "<program>", options: Any = None) -> Executive:
     """Run only the program's top-level declarations (nothing moves): their values are then the executive's globals.
 
     ENUMs and routines come along (a declaration may use them). A declaration that fails leaves the executive
     failed with its error (status "failed", `report()`).
     """
     only = tuple(s for s in program.body if isinstance(s, n.Declaration | n.EnumDecl | n.Routine))
-    executive = Executive(dataclasses.replace(program, body=only), robot, registry, path=path, output=lambda line: None)
+    executive = Executive(dataclasses.replace(program, body=only), robot, registry, path=path, output=lambda line: None,
+                          options=options)
     executive.run()
     return executive

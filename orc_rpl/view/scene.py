@@ -23,11 +23,20 @@ PATHS_KEPT = 40
 #: What is selected (a position picked at the pendant, the motion at the program pointer) is drawn this much larger.
 HIGHLIGHT_SCALE = 2.5
 HIGHLIGHT_RGB = (30, 120, 255)
+#: Spot welds: a small ball where the gun closed, green when good and red when not.
+WELD_RADIUS_M = 0.008
+GOOD_RGB = (40, 170, 60)
+BAD_RGB = (220, 30, 30)
 
 
 def wxyz_of(rotation: np.ndarray) -> np.ndarray:
     """The unit quaternion (w, x, y, z) of a rotation matrix."""
     return tf.SO3.from_matrix(np.asarray(rotation, dtype=float)).wxyz
+
+
+def wxyz_of_many(rotations: np.ndarray) -> np.ndarray:
+    """The unit quaternions (n, 4) of rotation matrices (n, 3, 3), in one vectorised call."""
+    return tf.SO3.from_matrix(np.asarray(rotations, dtype=float)).wxyz
 
 
 def _rgb(rgba: tuple[float, ...]) -> tuple[int, int, int]:
@@ -47,6 +56,9 @@ class CellScene:
         self.paths: dict[int, Any] = {}           #: move id -> the planned path's line segments
         self.trace_m: list[np.ndarray] = []       #: TCP trace points so far, world, m
         self._trace_nodes: list[Any] = []
+        self.welds: dict[int, Any] = {}           #: weld number -> its spot
+        self.process: dict[str, tuple[list[np.ndarray], list[np.ndarray]]] = {}  #: process trace -> points, colours
+        self._process_nodes: dict[str, list[Any]] = {}
         self._caption: Any = None
         self.scene.set_up_direction("+z")
 
@@ -129,6 +141,13 @@ class CellScene:
         node.position = world_t[:3, 3]
         node.wxyz = wxyz_of(world_t[:3, :3])
 
+    def remove_positions(self, names: list[str]) -> None:
+        """Take positions off the screen (a position deleted or renamed in the pendant)."""
+        for name in names:
+            node = self.positions.pop(name, None)
+            if node is not None:
+                node.remove()
+
     def add_path(self, move_id: int, tcp_m: np.ndarray) -> None:
         """The TCP path a move is planned to take, drawn before it starts."""
         points = np.asarray(tcp_m, dtype=np.float32)
@@ -145,23 +164,50 @@ class CellScene:
         if not points_m:
             return
         self.trace_m.extend(points_m)
-        first = (len(self._trace_nodes) - 1) * TRACE_CHUNK if self._trace_nodes else 0
+        self._extend_line("/trace", self._trace_nodes, self.trace_m, None, TRACE_RGB, 2.0)
+
+    def extend_process(self, name: str, points_m: list[np.ndarray], colours: np.ndarray) -> None:
+        """Add points to a process trace (the tracked seam, the ground edge), each with its colour (RGB 0..255)."""
+        if not points_m:
+            return
+        trace = self.process.setdefault(name, ([], []))
+        trace[0].extend(points_m)
+        trace[1].extend(colours)
+        self._extend_line(f"/process/{name}", self._process_nodes.setdefault(name, []), trace[0], trace[1],
+                          PATH_RGB, 5.0)
+
+    def _extend_line(self, prefix: str, nodes: list[Any], points: list[np.ndarray], colours: list[np.ndarray] | None,
+                     rgb: tuple[int, int, int], thickness: float) -> None:
+        """Draw a growing polyline in chunks of TRACE_CHUNK points: only the newest chunk is sent again."""
+        first = (len(nodes) - 1) * TRACE_CHUNK if nodes else 0
         while True:
-            chunk = np.asarray(self.trace_m[first: first + TRACE_CHUNK + 1], dtype=np.float32)
+            chunk = np.asarray(points[first: first + TRACE_CHUNK + 1], dtype=np.float32)
             index = first // TRACE_CHUNK
             if len(chunk) >= 2:
                 segments = np.stack([chunk[:-1], chunk[1:]], axis=1)
-                if index < len(self._trace_nodes):
+                if colours is None:
+                    segment_colours = np.broadcast_to(np.array(rgb, dtype=np.uint8), segments.shape).copy()
+                else:  # a segment takes the colours of its two ends
+                    ends = np.asarray(colours[first: first + TRACE_CHUNK + 1], dtype=np.uint8)
+                    segment_colours = np.stack([ends[:-1], ends[1:]], axis=1)
+                if index < len(nodes):
                     with self.server.atomic():
-                        node = self._trace_nodes[index]
-                        node.points = segments
-                        node.colors = np.broadcast_to(np.array(TRACE_RGB, dtype=np.uint8), segments.shape).copy()
+                        nodes[index].points = segments
+                        nodes[index].colors = segment_colours
                 else:
-                    self._trace_nodes.append(self.scene.add_line_segments(
-                        f"/trace/{index}", segments, TRACE_RGB, thickness=2.0, thickness_units="screen"))
-            if first + TRACE_CHUNK + 1 >= len(self.trace_m):
+                    nodes.append(self.scene.add_line_segments(f"{prefix}/{index}", segments, segment_colours,
+                                                              thickness=thickness, thickness_units="screen"))
+            if first + TRACE_CHUNK + 1 >= len(points):
                 return
             first += TRACE_CHUNK
+
+    def add_weld(self, number: int, position_m: tuple[float, float, float], good: bool, reason: str) -> None:
+        """A spot weld where the gun closed: green when good, red with the reason when not."""
+        name = f"/process/welds/{number}"
+        self.welds[number] = self.scene.add_icosphere(name, WELD_RADIUS_M, GOOD_RGB if good else BAD_RGB,
+                                                      position=position_m)
+        text = f"weld {number}" if good else f"weld {number}: {reason}"
+        self.scene.add_label(f"{name}/name", text, font_screen_scale=0.7)
 
     def highlight(self, position: str | None = None, move_id: int | None = None) -> None:
         """Show one position larger (None: none) and one move's planned path in blue and thicker (None: none)."""

@@ -6,6 +6,7 @@ from typing import Any
 
 from orc_rpl.errors import OrcError
 from orc_rpl.executive.cell_robot import CellRobot
+from orc_rpl.executive.machine import Options
 from orc_rpl.syntax import nodes as n
 from orc_rpl.view.live import LiveView
 from orc_rpl.view.positions import evaluate_declarations
@@ -17,7 +18,11 @@ def show_still(server: Any, world: Any, program: n.Program | None, registry: Any
     """Draw the still view on `server`; an OrcError when a declaration of the program (at `path`) cannot be evaluated."""
     cell_robot = CellRobot.virtual(robot=robot)
     shown = program if program is not None else n.Program(body=())
-    executive = evaluate_declarations(shown, cell_robot, registry, path)
+    options = None
+    if world is not None and world.moving_frames():  # frames on a positioner: where its axes are at home
+        cell_robot.attach_world(world)
+        options = Options(cell_world=world)
+    executive = evaluate_declarations(shown, cell_robot, registry, path, options)
     if executive.status == "failed":
         raise OrcError(executive.report())
     view = LiveView(CellScene(server), executive, cell_robot, world)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from typing import TYPE_CHECKING
 
 from orc_rpl.world.editing import add_object, apply, set_attribute, set_entry
@@ -35,8 +36,9 @@ def with_frame(world: World, owner: str, name: str, pose: Pose) -> World:
     if any(p.name == name for p in world.object(owner).paths):
         raise WorldError(f"'{owner}.{name}' is a path, not a frame")
     old = world.object(owner).frame(name)
-    local = readable_angles(_relative_to(world, pose, owner), old.pose if old else None)
-    return world._reloaded(apply(world.dump(), [set_entry(world.parsed, owner, "frames", name, format_pose(local))]))
+    local = dataclasses.replace(readable_angles(_relative_to(world, pose, owner), old.pose if old else None), axes=pose.axes)
+    rotary = {n for n in world.moving_frames() if world.object(n).axis.rotary}  # type: ignore[union-attr]
+    return world._reloaded(apply(world.dump(), [set_entry(world.parsed, owner, "frames", name, format_pose(local, rotary))]))
 
 
 def with_pose(world: World, name: str, pose: Pose) -> World:

@@ -2,17 +2,20 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 from orc_rpl.errors import Diagnostic, SourceError
-from orc_rpl.world.objects import FLANGE, NAME_RE, PREDEFINED, ModelAttributes, PathAttribute, Position, RobotEntry, WorldObject
+from orc_rpl.world.axes import read_axis
+from orc_rpl.world.objects import FLANGE, NAME_RE, PREDEFINED, ROBOT as ROBOT_NAME, ModelAttributes, PathAttribute, Position, RobotEntry, WorldObject
 from orc_rpl.world.pose import WORLD, Pose
 from orc_rpl.world.source import MappingNode, Node, ScalarNode, SequenceNode, SourceText, did_you_mean
-from orc_rpl.world.values import BadValue, read_colour, read_lengths, read_pose, read_soft
+from orc_rpl.syntax.units import ANGLE, LENGTH, Quantity, magnitude
+from orc_rpl.world.values import BadValue, read_colour, read_lengths, read_number, read_pose, read_soft
 
 TOP_KEYS = ("robot", "world")
-ROBOT_KEYS = ("model", "pose")
-OBJECT_KEYS = ("parent", "pose", "online_frame", "tool", "work", "model", "model_key", "frames", "paths", "spatial", "soft")
+ROBOT_KEYS = ("model", "pose", "parent")
+OBJECT_KEYS = ("parent", "pose", "online_frame", "tool", "work", "model", "model_key", "frames", "paths", "spatial", "soft", "axis")
 MODEL_KEYS = ("geometry", "size", "colour", "mesh", "offset")
 #: Geometry kinds and how many sizes each takes (a mesh takes its size from the mesh file).
 GEOMETRIES = {"box": 3, "cylinder": 2, "sphere": 1, "mesh": 0}
@@ -41,6 +44,8 @@ class _Reader:
     def __init__(self, src: SourceText) -> None:
         self.src = src
         self.diags: list[Diagnostic] = []
+        self.robot_parent_node: Node | None = None
+        self.axis_refs: list[tuple[ScalarNode, Node, object]] = []   #: positions' axis values, checked at the end
 
     def bad(self, node: Node | None, message: str, hint: str = "") -> None:
         self.diags.append(self.src.diagnostic(node, message, hint))
@@ -80,6 +85,7 @@ class _Reader:
                         objects.append(obj)
                         nodes[obj.name] = (key, value)
         self.check_tree(objects, nodes)
+        self.check_moving_frames(robot, objects, nodes)
         if self.diags:
             self.diags.sort(key=lambda d: (d.location.line, d.location.column))
             raise SourceError(self.diags, self.src.text)
@@ -130,8 +136,12 @@ class _Reader:
         if "model" not in keys or not isinstance(keys["model"][1], ScalarNode):
             self.bad(node, "the robot needs 'model: <name>' (a robot model in worlds/, such as irb2400)")
             return None
-        pose = self.pose(keys["pose"][1], WORLD) if "pose" in keys else Pose(0, 0, 0)
-        return RobotEntry(keys["model"][1].value, pose or Pose(0, 0, 0), self.src.location(node))
+        parent = WORLD
+        if "parent" in keys and self.check_name(keys["parent"][1], "parent"):
+            parent = keys["parent"][1].value   # the base rides on a moving frame (a track)
+        pose = self.pose(keys["pose"][1], parent) if "pose" in keys else Pose(0, 0, 0, frame=parent)
+        self.robot_parent_node = keys.get("parent", (None, None))[1]
+        return RobotEntry(keys["model"][1].value, pose or Pose(0, 0, 0, frame=parent), self.src.location(node), parent)
 
     def pose(self, node: Node, frame: str) -> Pose | None:
         try:
@@ -172,8 +182,9 @@ class _Reader:
         paths = self.paths(name, attrs["paths"][1], frames) if "paths" in attrs else ()
         soft = self.soft(attrs["soft"][1], "soft") if "soft" in attrs else ()
         spatial = self.soft(attrs["spatial"][1], "spatial") if "spatial" in attrs else ()
+        axis = read_axis(attrs["axis"][1], self.bad) if "axis" in attrs else None
         return WorldObject(name, parent, pose or Pose(0, 0, 0, frame=parent), online, tool, model, model_key,
-                           frames, paths, soft, spatial, self.src.location(key), work=work)
+                           frames, paths, soft, spatial, self.src.location(key), work=work, axis=axis)
 
     def check_attribute_names(self, owner: str, attrs: dict[str, tuple[ScalarNode, Node]]) -> None:
         """`owner.name` must name one thing: a frame, a path, a spatial or a soft attribute."""
@@ -208,9 +219,30 @@ class _Reader:
     def frames(self, owner: str, node: Node) -> tuple[Position, ...]:
         out = []
         for key, value in self.entries(node, "frames"):
+            axes: tuple[tuple[str, float], ...] = ()
+            if isinstance(value, SequenceNode) and len(value.value) == 7 and isinstance(value.value[6], MappingNode):
+                # [x, y, z, a, b, c, {track: 200mm}]: a position carrying external-axis values
+                axes = self.axis_values(value.value[6])
+                value = type(value)(value.tag, value.value[:6], value.start_mark, value.end_mark, flow_style=value.flow_style)
             pose = self.pose(value, owner)
             if pose is not None:
-                out.append(Position(key.value, pose, self.src.location(key)))
+                out.append(Position(key.value, dataclasses.replace(pose, axes=axes), self.src.location(key)))
+        return tuple(out)
+
+    def axis_values(self, node: MappingNode) -> tuple[tuple[str, float], ...]:
+        """`{track: 200mm, turn: 90deg}`: the external-axis values of a position, in the order written (checked
+        against the moving frames once every object is read)."""
+        out = []
+        for key, value in node.value:
+            if not self.check_name(key, "axis"):
+                continue
+            try:
+                number = read_number(value, f"the value of axis '{key.value}'")
+            except BadValue as exc:
+                self.diags.append(exc.diagnostic(self.src))
+                continue
+            out.append((key.value, float(magnitude(number))))
+            self.axis_refs.append((key, value, number))
         return tuple(out)
 
     def paths(self, owner: str, node: Node, frames: tuple[Position, ...]) -> tuple[PathAttribute, ...]:
@@ -310,3 +342,39 @@ class _Reader:
             if name != FLANGE and name in PREDEFINED:
                 tool_key = next(k for k, _ in nodes[obj.name][1].value if getattr(k, "value", None) == "tool")
                 self.bad(tool_key, f"tool '{obj.name}' is not mounted on the flange", "give it (or its holder) 'parent: flange'")
+
+    def check_moving_frames(self, robot: RobotEntry | None, objects: list[WorldObject],
+                            nodes: dict[str, tuple[ScalarNode, MappingNode]]) -> None:
+        """The robot rides on an object of the world, not inside itself; no moving frame hangs below the flange."""
+        by_name = {o.name: o for o in objects}
+        if robot is not None and robot.parent != WORLD:
+            node = self.robot_parent_node
+            chain, name = [], robot.parent
+            while name in by_name and name not in chain:
+                chain.append(name)
+                name = by_name[name].parent
+            if robot.parent not in by_name:
+                self.bad(node, f"unknown parent '{robot.parent}' of the robot",
+                         did_you_mean(robot.parent, list(by_name)) or "the robot rides on an object of the world (a track)")
+            elif name in (ROBOT_NAME, FLANGE):
+                self.bad(node, f"the robot cannot ride on '{robot.parent}', which hangs on the robot itself")
+        axes = {o.name: o.axis for o in objects if o.axis is not None and o.axis.joint != "conveyor"}
+        for key, value, number in self.axis_refs:
+            axis = axes.get(key.value)
+            if axis is None:
+                self.bad(key, f"unknown external axis '{key.value}'",
+                         did_you_mean(key.value, list(axes)) or "an axis is an object with 'axis:' (not a conveyor)")
+            elif isinstance(number, Quantity) and number.dim != (ANGLE if axis.rotary else LENGTH):
+                self.bad(value, f"axis '{key.value}' is {'rotary' if axis.rotary else 'linear'}: its value is "
+                         f"{'an angle' if axis.rotary else 'a length'}, got '{value.value}'")
+        for obj in objects:
+            if obj.axis is None:
+                continue
+            chain, name = [], obj.parent
+            while name in by_name and name not in chain:
+                chain.append(name)
+                name = by_name[name].parent
+            if name in (ROBOT_NAME, FLANGE):
+                axis_key = next(k for k, _ in nodes[obj.name][1].value if getattr(k, "value", None) == "axis")
+                self.bad(axis_key, f"'{obj.name}' hangs on the robot: a moving frame of the cell stands in the cell",
+                         "external axes (tracks, positioners, conveyors) hang on 'world' or on other objects of the cell")

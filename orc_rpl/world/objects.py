@@ -8,6 +8,7 @@ from types import MappingProxyType
 from typing import Mapping
 
 from orc_rpl.errors import Location, OrcError
+from orc_rpl.world.axes import AxisSpec
 from orc_rpl.world.pose import WORLD, Pose
 from orc_rpl.world.values import SoftValue
 
@@ -75,6 +76,7 @@ class WorldObject:
     spatial_items: tuple[tuple[str, SoftValue], ...] = ()   #: named spatial numbers (a pallet's rows, a pitch)
     location: Location = field(default=NOWHERE, compare=False, repr=False)
     work: bool = False                               #: the robot's work (a casting to grind): contact is no collision
+    axis: AxisSpec | None = None                     #: a moving frame: an external axis or a conveyor moves it
 
     @property
     def soft(self) -> Mapping[str, SoftValue]:
@@ -100,8 +102,9 @@ class RobotEntry:
     """The robot of the cell: which model (`worlds/<model>.xml`) and where its base stands."""
 
     model: str
-    pose: Pose                                       #: base relative to world
+    pose: Pose                                       #: base relative to its parent
     location: Location = field(default=NOWHERE, compare=False, repr=False)
+    parent: str = WORLD                              #: `world`, or the moving frame the base rides on (a track)
 
 
 @dataclass(frozen=True, slots=True)

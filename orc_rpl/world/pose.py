@@ -59,6 +59,8 @@ class Pose:
     b: float = 0.0              #: rad, about y
     c: float = 0.0              #: rad, about x
     frame: str = WORLD          #: name of the on-line frame the numbers are relative to
+    #: external-axis values the position carries (`AXES(p, track = 200mm)`), by axis name, in m or rad
+    axes: tuple[tuple[str, float], ...] = ()
 
     @classmethod
     def from_matrix(cls, t: np.ndarray, frame: str = WORLD) -> Pose:
@@ -88,7 +90,7 @@ class Pose:
 
     def with_frame(self, frame: str) -> Pose:
         """The same numbers, relative to another frame."""
-        return Pose(self.x, self.y, self.z, self.a, self.b, self.c, frame)
+        return Pose(self.x, self.y, self.z, self.a, self.b, self.c, frame, self.axes)
 
 
 @dataclass(frozen=True, slots=True)

@@ -40,11 +40,11 @@ def too_deep(text: str) -> tuple[int, int] | None:
         indent = len(line) - len(line.lstrip(" -"))
         if indent > 2 * MAX_YAML_NESTING:
             return line_number, indent + 1
-    depth, line_number, column, quote = 0, 1, 0, ""
-    for char in text:
-        column += 1
+    depth, line_number, line_start, quote = 0, 1, 0, ""
+    for match in _STRUCTURE.finditer(text):  # only the characters that matter, found by the regex engine
+        char = match.group()
         if char == "\n":
-            line_number, column, quote = line_number + 1, 0, ""
+            line_number, line_start, quote = line_number + 1, match.end(), ""
         elif quote:
             quote = "" if char == quote else quote
         elif char in "'\"":
@@ -54,10 +54,14 @@ def too_deep(text: str) -> tuple[int, int] | None:
         elif char in "[{":
             depth += 1
             if depth > MAX_YAML_NESTING:
-                return line_number, column
-        elif char in "]}":
+                return line_number, match.end() - line_start
+        else:
             depth = max(0, depth - 1)
     return None
+
+
+#: The characters too_deep looks at.
+_STRUCTURE = re.compile(r"[\n'\"#\[\]{}]")
 
 
 __all__ = ["MAX_YAML_NESTING", "MappingNode", "too_deep", "Node", "ScalarNode", "SequenceNode", "SourceText", "did_you_mean", "find"]

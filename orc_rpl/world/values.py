@@ -64,6 +64,26 @@ def _signed_literal(text: str) -> Scalar:
 
 def read_pose(node: Node, frame: str) -> Pose:
     """`[x, y, z, a, b, c]` with units; plain numbers are m and rad. The pose is relative to `frame`."""
+    if type(node) in _SEQUENCES and len(node.value) == 6:
+        # the common case at the cost of a dictionary lookup: six plain scalars whose text was read before
+        texts = tuple(item.value if type(item) in _SCALARS and not item.style else None for item in node.value)
+        numbers = _POSES.get(texts)
+        if numbers is not None:
+            return Pose(*numbers, frame=frame)
+        pose = _read_pose(node, frame)
+        if None not in texts and len(_POSES) < 65536:
+            _POSES[texts] = (pose.x, pose.y, pose.z, pose.a, pose.b, pose.c)
+        return pose
+    return _read_pose(node, frame)
+
+
+#: Node classes of both YAML parsers, for the fast path of read_pose.
+_SEQUENCES, _SCALARS = SequenceNode.classes, ScalarNode.classes
+#: The six scalar texts of a pose -> its numbers (world files repeat the same poses; a few hundred distinct ones).
+_POSES: dict[tuple[str | None, ...], tuple[float, ...]] = {}
+
+
+def _read_pose(node: Node, frame: str) -> Pose:
     if not isinstance(node, SequenceNode):
         raise BadValue(node, "a pose is a list [x, y, z, a, b, c]", "for example [1200mm, 300mm, 750mm, 0, 0, 90deg]")
     if len(node.value) != 6:
@@ -151,9 +171,12 @@ def format_angle(value_rad: float) -> str:
     return "0" if text == "0" else f"{text}deg"
 
 
-def format_pose(pose: Pose) -> str:
-    """`[1200mm, 300mm, 750mm, 0, 0, 90deg]`: the flow list a world file writes for a pose."""
+def format_pose(pose: Pose, rotary: frozenset[str] | set[str] = frozenset()) -> str:
+    """`[1200mm, 300mm, 750mm, 0, 0, 90deg]`: the flow list a world file writes for a pose; a position with
+    external-axis values gets them last, `{track: 200mm, turn: 90deg}` (`rotary`: the axes that take angles)."""
     parts = [format_length(v) for v in (pose.x, pose.y, pose.z)] + [format_angle(v) for v in (pose.a, pose.b, pose.c)]
+    if pose.axes:
+        parts.append("{" + ", ".join(f"{k}: {format_angle(v) if k in rotary else format_length(v)}" for k, v in pose.axes) + "}")
     return "[" + ", ".join(parts) + "]"
 
 

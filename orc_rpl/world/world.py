@@ -36,6 +36,8 @@ class World:
 
     parsed: Parsed = field(repr=False)
     flange_pose: Pose | None = None        #: flange relative to the robot base; known only at run time
+    #: moving frames' axis values (m or rad) by object name, run-time state; an axis not named is at its home
+    axis_values: tuple[tuple[str, float], ...] = ()
 
     # -- the file ---------------------------------------------------------------------------------
     @property
@@ -51,11 +53,37 @@ class World:
         write_text_atomic(os.fspath(path if path is not None else self.path), self.dump())
 
     def _reloaded(self, text: str) -> World:
-        return World(parse_world(text, self.path), self.flange_pose)
+        return World(parse_world(text, self.path), self.flange_pose, self.axis_values)
 
     def with_flange(self, pose: Pose) -> World:
         """The same world with the flange at `pose` relative to the robot base (run-time state, never saved)."""
-        return World(self.parsed, pose)
+        return World(self.parsed, pose, self.axis_values)
+
+    # -- moving frames ------------------------------------------------------------------------------
+    def moving_frames(self) -> tuple[str, ...]:
+        """Objects an external axis or a conveyor moves, in file order."""
+        return tuple(o.name for o in self.objects if o.axis is not None)
+
+    def axis_value(self, name: str) -> float:
+        """Where a moving frame's axis is (m or rad): the value given to with_axes, else its home."""
+        axis = self.object(name).axis
+        if axis is None:
+            raise WorldError(f"'{name}' is not a moving frame (it has no 'axis:')")
+        return dict(self.axis_values).get(name, axis.home_si)
+
+    def with_axes(self, values: Mapping[str, float]) -> World:
+        """The same world with moving frames at the given axis values (run-time state, never saved)."""
+        current = dict(self.axis_values)
+        for name, value in values.items():
+            axis = self.object(name).axis
+            if axis is None:
+                hint = did_you_mean(name, list(self.moving_frames()))
+                raise WorldError(f"'{name}' is not a moving frame (it has no 'axis:')" + (f"; {hint}" if hint else ""))
+            why = axis.clamp_message(float(value))
+            if why is not None:
+                raise WorldError(f"axis '{name}': {why}")
+            current[name] = float(value)
+        return World(self.parsed, self.flange_pose, tuple(sorted(current.items())))
 
     # -- objects and names ------------------------------------------------------------------------
     @property
@@ -90,7 +118,7 @@ class World:
         if name == WORLD:
             return None
         if name == ROBOT:
-            return WORLD
+            return self.robot.parent if self.robot is not None else WORLD
         if name == FLANGE:
             return ROBOT
         return self.object(name).parent
@@ -105,7 +133,9 @@ class World:
 
     def children(self, name: str) -> tuple[str, ...]:
         """What hangs directly on `name`: objects in file order (and `robot` on world, `flange` on robot)."""
-        fixed = {WORLD: (ROBOT,), ROBOT: (FLANGE,)}.get(name, ())
+        fixed = {ROBOT: (FLANGE,)}.get(name, ())
+        if name == self.parent(ROBOT):
+            fixed = (ROBOT,)
         return fixed + tuple(o.name for o in self.objects if o.parent == name)
 
     def descendants(self, name: str) -> tuple[str, ...]:
@@ -149,7 +179,10 @@ class World:
             if self.flange_pose is None:
                 raise WorldError("the flange pose is known only at run time (World.with_flange)")
             return self.flange_pose.matrix()
-        return self.object(name).pose.matrix()
+        obj = self.object(name)
+        if obj.axis is None:
+            return obj.pose.matrix()
+        return obj.pose.matrix() @ obj.axis.matrix(self.axis_value(name))
 
     def _node_and_offset(self, dotted: str) -> tuple[str, np.ndarray]:
         """The tree node a name hangs on and its transform relative to that node."""

@@ -14,7 +14,7 @@ from tests.pendant.support import FRAME_PROGRAM, session_on
 @pytest.mark.parametrize("argv, message", [
     (["pendant", "cell.txt"], "'cell.txt': a program file must end in .rpl"),
     (["pendant", "--robot", "puma", "cell.rpl"], "--robot: unknown robot 'puma'"),
-    (["pendant", "--world", "nowhere", "cell.rpl"], "--world: 'nowhere' is not a directory"),
+    (["pendant", "--world", "nowhere", "cell.rpl"], "--world: 'nowhere' is neither a directory nor a world model file"),
     (["pendant", "bad.rpl"], "bad.rpl:1:12: unexpected end of line"),
 ], ids=["suffix", "robot", "world", "syntax"])
 def test_usage_errors_exit_2_with_a_message(tmp_path, monkeypatch, capsys, argv, message) -> None:

@@ -19,7 +19,21 @@ STANDARD_ATTRIBUTES: tuple[AttributeSpec, ...] = (
     AttributeSpec("TUNING", ("tuning",), None, "a servo tuning made by CALIBRATE"),
     AttributeSpec("PATHCONTROL", ("bool",), None, "path velocity control on (TRUE) or off (FALSE) for this motion; "
                   "default: ROBOT.PathControl", function_ok=False),
+    AttributeSpec("KNOWN", ("string",), "completely", "how well the program knows the motion before it starts: "
+                  "\"completely\", \"almost\" (sensors correct it a little), \"partly\" (a nominal path only) or "
+                  "\"not\" (sensors decide it)", function_ok=False, literal_check=lambda text: known_problem(text)),
 )
+
+#: The values of KNOWN (thesis 5.2, `enum mv_spec`): how much the motion depends on external sensors.
+KNOWN_VALUES = ("completely", "almost", "partly", "not")
+
+
+def known_problem(text: str) -> str | None:
+    """Why a KNOWN value is refused, or None."""
+    if text in KNOWN_VALUES:
+        return None
+    return "KNOWN must be " + ", ".join(f'"{v}"' for v in KNOWN_VALUES[:-1]) + f' or "{KNOWN_VALUES[-1]}", got "{text}"'
+
 
 _POSITION = ("position",)
 _NUMBER = (DIMENSIONLESS,)
@@ -46,6 +60,8 @@ def register(registry: Registry) -> None:
         FunctionSpec("POSE", "a pose: translation and rotation Rz(a)*Ry(b)*Rx(c)",
                      (_p("x", LENGTH), _p("y", LENGTH), _p("z", LENGTH), _p("a", ANGLE), _p("b", ANGLE), _p("c", ANGLE)),
                      returns="pose"),
+        FunctionSpec("AXES", "a position with external-axis values: AXES(p, track = 200mm, turn = 90deg)",
+                     (_p("p", "pose"),), returns="pose", variadic=True),
         FunctionSpec("JOINTS", "a joint-space position, one value per axis", (_p("q1", ANGLE, LENGTH),), returns="joints",
                      variadic=True),
         FunctionSpec("TRANSL", "a pure translation", (_p("x", LENGTH), _p("y", LENGTH), _p("z", LENGTH)), returns="pose"),

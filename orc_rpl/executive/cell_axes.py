@@ -1,0 +1,75 @@
+"""The executive's robot with external axes: targets in the program's world turned into the base frame the track carries,
+and motions that move the arm and the axes in one path coordinate."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.application.runtime import MotionRequest
+from orc_rpl.errors import PlanningError
+from orc_rpl.motion import CartesianMotion, MotionLayer, Params
+from orc_rpl.motion.external import coordinated_motion, external_axes_of
+from orc_rpl.world.pose import Pose
+
+
+class CellAxes:
+    """A cell's moving frames as the robot sees them: where they are, and where that puts the robot's base.
+
+    The program's world is the cell's world seen from the robot's base with every axis at its home (the scene's
+    origin); a track moves the base away from it, a positioner moves the frames on its table.
+    """
+
+    def __init__(self, world: Any, layer: MotionLayer) -> None:
+        self.world = world
+        self.layer = layer
+        self.external = external_axes_of(world)
+        layer.external = self.external
+        self._home_inv = np.linalg.inv(world.world_pose("robot").matrix())
+        self._conveyors = {n: world.object(n).axis for n in world.moving_frames() if world.object(n).axis.joint == "conveyor"}
+
+    def values(self) -> dict[str, float]:
+        """Every moving frame's value now: the axes measured, the conveyors at their speed times the time."""
+        measured = getattr(self.layer.backend, "axis_values", None)
+        values = dict(measured()) if measured is not None else dict(self.external.planned if self.external else {})
+        now = self.layer.now_s()
+        values.update({name: axis.speed_si * now for name, axis in self._conveyors.items()})
+        return values
+
+    def base(self, values: dict[str, float]) -> np.ndarray:
+        """The robot's base in the program's world when the axes are at `values` (4x4)."""
+        return self._home_inv @ self.world.with_axes(values).world_pose("robot").matrix()
+
+    def in_base(self, pose: Pose, values: dict[str, float]) -> Pose:
+        """A world pose in the base frame where the axes are at `values`."""
+        return Pose.from_matrix(np.linalg.inv(self.base(values)) @ pose.matrix())
+
+    def planned(self) -> dict[str, float]:
+        """Where the axes will be when every accepted move is done."""
+        return dict(self.external.planned) if self.external is not None else {}
+
+    def submit(self, request: MotionRequest, tool: np.ndarray | None, params: Params, actions: Any) -> Any:
+        """A MOVE or LMOVE that moves the arm and the external axes together (the axes linearly in its s)."""
+        external = self.external
+        if external is None:
+            raise PlanningError(f"{request.keyword}: the cell has no external axes to move")
+        if request.kind not in ("joint", "linear") or request.via:
+            raise PlanningError(f"{request.keyword}: only MOVE and LMOVE without VIA points move external axes")
+        start = self.planned()
+        targets = dict(request.axes)
+        end = {**start, **targets}
+        layer = self.layer
+        if request.frame_of is not None and request.target_in_frame is not None and request.kind == "linear":
+            frame_of = request.frame_of
+
+            def frame_in_base(values: dict[str, float]) -> np.ndarray:
+                return np.linalg.inv(self.base(values)) @ frame_of(values).matrix()
+
+            here = layer.fk(layer.planned_end_q(), tool)
+            start_rel = np.linalg.inv(frame_in_base(start)) @ here
+            motion: Any = coordinated_motion(frame_in_base, start_rel, request.target_in_frame.matrix(), start, end, tool)
+        else:
+            assert isinstance(request.target, Pose)
+            motion = CartesianMotion(self.in_base(request.target, end), kind=request.kind, tool=tool)
+        return external.request(layer, motion, params, targets, actions)
