@@ -29,6 +29,8 @@ defines it, measured on the TCP every motion cycle) minus REACTION, the largest;
 reduction of the thesis weld with Tracking's gain against TRACKMOVE's standard gain); and CALIBRATE's settling
 (12 kg the program did not declare, a 50 mm approach at 1.5 m/s) with the default gains, the fixed 1.5x boost
 alone and the identified tuning: calibrate_vs_boost_settle_pct is what the identification adds to the boost.
+deburr_servo_force_*: how well the arm's own motor torques tell the grinding force (no force flange), see
+servo_force_estimate.
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -294,6 +297,60 @@ def processes(plant: str) -> dict[str, float]:
     return figures
 
 
+def servo_force_estimate(plant: str) -> dict[str, float]:
+    """What GRINDMOVE would have without a force flange: the normal contact force estimated from the arm's own
+    motor torques (the controller's model: rigid body, declared payload, NOMINAL friction) every motion cycle of
+    thesis_2_1_grindmove.rpl (the flange variant grinds; the contact force acts on the arm), against the
+    casting's true contact force. In contact: the error's RMS and maximum after the best constant tare (its
+    median taken off). Without the casting (the same path, nothing touched): the estimate's peak-to-peak."""
+    figures = {}
+    for casting_on in (True, False):
+        rows = np.array(_torque_force_rows(plant, casting_on))
+        if casting_on:
+            contact = rows[rows[:, 0] > 0.0]
+            error = contact[:, 1] - contact[:, 0]
+            error -= np.median(error)
+            figures["deburr_servo_force_true_mean_n"] = round(float(contact[:, 0].mean()), 1)
+            figures["deburr_servo_force_error_rms_n"] = round(float(np.sqrt(np.mean(error ** 2))), 1)
+            figures["deburr_servo_force_error_max_n"] = round(float(np.abs(error).max()), 1)
+        else:
+            figures["deburr_servo_force_free_p2p_n"] = round(float(np.ptp(rows[:, 1])), 1)
+    return figures
+
+
+def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, float]]:
+    """(true contact force, torque estimate) every motion cycle of the grinding moves of thesis_2_1_grindmove."""
+    from orc_rpl.application.features import deburring_behaviour
+    from orc_rpl.application.standard_behaviour import runtime_registry
+    from orc_rpl.executive.executive import Executive
+    from orc_rpl.executive.sim_io import load_script
+    from orc_rpl.syntax.parser import parse
+
+    program = ROOT / "programs/online/thesis_2_1_grindmove.rpl"
+    source = program.read_text(encoding="utf-8")
+    robot = CellRobot.virtual(plant=plant)
+    executive = Executive(parse(source, str(program)), robot, runtime_registry(), path=str(program),
+                          source=source, output=lambda line: None)
+    machine = executive.machine
+    castings = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.tcp_pose(machine.last_tool),
+                           robot.set_plant_payload, robot.push_on_arm).castings if casting_on else []
+    rows: list[tuple[float, float]] = []
+    sample = deburring_behaviour.ForceLoop.step
+
+    def estimating_step(loop: Any, s: float) -> tuple[float, float]:  # once a grinding cycle
+        q, qd = robot.joints(), robot.joint_speeds()
+        external = np.array(robot.model_torques(q, qd)) - np.array(robot.torques())
+        force = np.linalg.lstsq(robot.jacobian_linear(machine.last_tool).T, external, rcond=None)[0]
+        rows.append((sum(c.force_n for c in castings), float(force[2])))  # the casting's normal is +z
+        return sample(loop, s)
+    deburring_behaviour.ForceLoop.step = estimating_step  # type: ignore[method-assign]
+    try:
+        executive.run()
+    finally:
+        deburring_behaviour.ForceLoop.step = sample  # type: ignore[method-assign]
+    return rows
+
+
 def settle_ms(variant: str, plant: str) -> float:
     """After CALIBRATE with 12 kg the program did not declare, the 50 mm approach at 1.5 m/s: ms from the end of
     the reference until the TCP stays within 0.05 mm, with the default gains, the fixed boost only, or the
@@ -344,7 +401,8 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args()
     for plant, prefix in (("realistic", ""), ("ideal", "ideal_")):
-        figures = {**identification(args.trials, args.seed, plant), **processes(plant), **tuning(plant)}
+        figures = {**identification(args.trials, args.seed, plant), **processes(plant), **servo_force_estimate(plant),
+                   **tuning(plant)}
         for key, value in figures.items():
             print(f"{prefix}{key}={value}", flush=True)
 

@@ -6,6 +6,7 @@ import dataclasses
 from typing import Any
 
 from orc_rpl.application.features.standard import known_problem
+from orc_rpl.application.process_log import process_log
 from orc_rpl.application.registry import Registry, default_registry
 from orc_rpl.application.runtime import (BehaviourError, Fine, FunctionParam, InstallContext, MotionCall, MotionRequest,
                                         attached)
@@ -190,12 +191,28 @@ class Grinder:
         self._channel = context.attributes.get("SPINDLE")
         if self._channel is None:
             raise BehaviourError(f"INSTALL {context.name} AS Grinder needs WITH SPINDLE = DigOut[n]")
+        force_in, stroke = context.attributes.get("FORCE_IN"), context.attributes.get("STROKE")
+        if (force_in is None) != (stroke is None):
+            raise BehaviourError(f"INSTALL {context.name} AS Grinder: a force flange needs both FORCE_IN = AnalogIn[n] "
+                                 "and STROKE = AnalogOut[n]")
+        for channel, bank in ((force_in, "AnalogIn"), (stroke, "AnalogOut")):
+            if channel is not None and getattr(getattr(channel, "bank", None), "name", None) != bank:
+                raise BehaviourError(f"INSTALL {context.name} AS Grinder: expected {bank}[n], got {channel}")
+        #: the force flange's (force input, stroke output) channel numbers, None without one (GRINDMOVE presses
+        #: with the arm itself then)
+        self.force_flange = None if force_in is None else (int(force_in.number), int(stroke.number))
 
     def On(self) -> None:  # noqa: N802
         self._context.write(self._channel, 1)
 
     def Off(self) -> None:  # noqa: N802
         self._context.write(self._channel, 0)
+
+    def Bulges(self) -> int:  # noqa: N802
+        return len(process_log(self._context.robot).bulges)
+
+    def Left(self) -> Quantity:  # noqa: N802
+        return Quantity(max((b.left_m for b in process_log(self._context.robot).bulges), default=0.0), LENGTH)
 
 
 class Switch:

@@ -265,7 +265,8 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     submit_process_signals(robot.layer.logger if record else None, robot, lambda: machine.last_tool)
     io_script = equipment_script(args, args.file, args.world)
     if io_script is not None:
-        load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload)
+        load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload,
+                    robot.push_on_arm)
     margins = MarginWatch(robot, machine) if args.margins else None
     with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress, _watched(args, executive, robot, program,
                                                                                        registry, watch_how) as watchers:

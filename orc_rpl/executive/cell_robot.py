@@ -150,6 +150,29 @@ class CellRobot:
         if cell is not None:
             cell.set_payload(mass_kg)
 
+    def push_on_arm(self, force_n: Any, point_m: Any) -> None:
+        """Simulation only: an external force (world, N) on the arm at a world point (a casting's contact)."""
+        cell = getattr(getattr(self.layer.backend, "loop", None), "cell", None)
+        if cell is not None:
+            cell.push(force_n, point_m)
+
+    def joint_speeds(self) -> tuple[float, ...]:
+        """Measured joint speeds (rad/s)."""
+        return tuple(float(v) for v in self.layer.backend.qd())
+
+    def model_torques(self, q: tuple[float, ...], qd: tuple[float, ...]) -> tuple[float, ...]:
+        """The controller's own model of the torques for a steady motion state (qdd = 0): rigid-body dynamics with
+        the declared payload plus the NOMINAL joint friction (not the plant's), what the servo feeds forward."""
+        servo = getattr(getattr(self.layer.backend, "loop", None), "servo", None)
+        q_a, qd_a = np.array(q, dtype=float), np.array(qd, dtype=float)
+        if servo is not None:
+            return tuple(float(t) for t in servo.model_torque(q_a, qd_a, np.zeros_like(q_a)))
+        return tuple(float(t) for t in self.layer.dynamics(q_a, qd_a, np.zeros_like(q_a), 0.0).torque_nm)
+
+    def jacobian_linear(self, tool: Pose | None) -> np.ndarray:
+        """d(TCP position)/dq (3 x n, world) at the measured joint angles."""
+        return np.asarray(self.layer.kin.arm.jacobian(self.layer.current_q(), _tool_matrix(tool)))[:3]
+
     def inverse_dynamics(self, q: tuple[float, ...], qd: tuple[float, ...], qdd: tuple[float, ...],
                          load_kg: float) -> tuple[float, ...]:
         return tuple(float(t) for t in self.layer.dynamics(np.array(q), np.array(qd), np.array(qdd), load_kg).torque_nm)

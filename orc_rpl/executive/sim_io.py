@@ -77,12 +77,13 @@ def script_path(program: str | Path, world_dir: str | Path | None = None) -> Pat
 
 
 def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
-                set_payload: Callable[[float], None] | None = None) -> IOScript:
+                set_payload: Callable[[float], None] | None = None,
+                push: Callable[[Any, Any], None] | None = None) -> IOScript:
     """Read a script and install it on the cell's IO; a mistake is a UsageError naming the file and the event.
 
     Besides `events:`, a script may list `weld_guns:` (`close`, `weld_ok`, `reaction`, `weld_time`, `fail`)
     and `parts:` (`close`: the gripper's output, `masses`: the part grasped at each closing, 0kg for none;
-    `set_payload` puts it on the plant's flange)."""
+    `set_payload` puts it on the plant's flange); `push(force, point)` makes a casting's contact force act on the arm."""
     from ruamel.yaml import YAML
     from ruamel.yaml.error import YAMLError
 
@@ -126,7 +127,7 @@ def load_script(path: str | Path, io: Any, tcp: Callable[[], Pose],
         where, section, index = "castings", "castings", 0
         for i, entry in enumerate(_entries(data, "castings"), 1):
             where, index = f"casting {i}", i
-            script.castings.append(_casting(entry, tcp))
+            script.castings.append(_casting(entry, tcp, push))
     except (UsageError, RunError, SourceError, ValueError, KeyError, TypeError, AttributeError, OverflowError) as error:
         raise UsageError(f"{place.of(section, index)}IO script {where}: {_reason(error)}") from None
     for process in (*script.weld_guns, *script.parts, *script.castings):
@@ -284,7 +285,7 @@ def _parts(entry: dict, io: Any, set_payload: Callable[[float], None] | None) ->
     return PartSupply(_channel(entry["close"], io, "DigOut"), masses, set_payload)
 
 
-def _casting(entry: dict, tcp: Callable[[], Pose]) -> Any:
+def _casting(entry: dict, tcp: Callable[[], Pose], push: Callable[[Any, Any], None] | None = None) -> Any:
     """A casting's edge with bulges (deburring): `edge` world points [x, y, z], `normal` (outward, default
     [0, 0, 1]), `bulges` [{from, to, height}] as lengths along the edge, `stiffness` (N/m), `removal` (m/N)."""
     from orc_rpl.plant.processes.casting import Bulge, CastingEdge
@@ -307,7 +308,7 @@ def _casting(entry: dict, tcp: Callable[[], Pose]) -> Any:
         raise UsageError(f"a casting's normal is [nx, ny, nz], got {normal!r}")
     extra = {name: float(entry[key]) for key, name in (("stiffness", "stiffness_n_m"), ("removal", "removal_m_n"))
              if key in entry}
-    return CastingEdge(edge, bulges, tuple(float(v) for v in normal), tcp=tcp, **extra)  # type: ignore[arg-type]
+    return CastingEdge(edge, bulges, tuple(float(v) for v in normal), tcp=tcp, push=push, **extra)  # type: ignore[arg-type]
 
 
 def _event(entry: Any, io: Any, tcp: Callable[[], Pose]) -> IOEvent:

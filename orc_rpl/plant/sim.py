@@ -211,6 +211,14 @@ class SimCell:
         holding = coulomb_nm + BRAKE_SHARE * self.tau_max if self.brakes_engaged else coulomb_nm
         self._model.dof_frictionloss[self._qvel] = holding
 
+    def push(self, force_n: Any, point_m: Any) -> None:
+        """An external force (world frame, N) on the flange's body at a world point (a tool's contact with the
+        work), from the next step on until pushed again (zero to release): the arm feels what it touches."""
+        body, data = self._payload_body, self._data
+        force = np.asarray(force_n, dtype=float)
+        data.xfrc_applied[body, :3] = force
+        data.xfrc_applied[body, 3:] = np.cross(np.asarray(point_m, dtype=float) - data.xipos[body], force)
+
     def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0)) -> None:
         """Put a point-like mass on the flange (com in the flange frame); the plant feels it from the next step."""
         com = np.asarray(com_m, dtype=float).reshape(-1)

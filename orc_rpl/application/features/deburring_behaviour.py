@@ -188,15 +188,21 @@ class PathGeometry:
 class ForceLoop:
     """The admittance law on the flange's stroke, one step a motion cycle."""
 
-    def __init__(self, robot: Any, force: Callable[[float], float]) -> None:
+    def __init__(self, robot: Any, force: Callable[[float], float], force_in: int = FORCE_IN,
+                 stroke_out: int = STROKE_OUT) -> None:
         self.robot, self.force = robot, force
+        self.force_in, self.stroke_out = force_in, stroke_out
         self.stroke_m = 0.0
         self._in, self._out = robot.io.bank("AnaIn"), robot.io.bank("AnaOut")
         self._errors: deque[float] = deque(maxlen=UNSTABLE_WINDOW)
         self._command = 0.0
 
     def measured_n(self) -> float:
-        return float(self._in[FORCE_IN])
+        return float(self._in[self.force_in])
+
+    def tip_offset_m(self) -> float:
+        """How far the grinding tip sits from the TCP along -n: the flange's stroke."""
+        return self.stroke_m
 
     def unstable(self) -> str | None:
         """Why the loop is oscillating (its error's RMS and sign changes over the window), or None."""
@@ -220,12 +226,12 @@ class ForceLoop:
         self._command = command
         self.stroke_m = min(STROKE_LIMIT_M, max(-STROKE_LIMIT_M, self.stroke_m + ADMITTANCE_M_PER_N_S * self.robot.dt_s
                                                 * (command - measured)))
-        self._out[STROKE_OUT] = self.stroke_m
+        self._out[self.stroke_out] = self.stroke_m
         return command, measured
 
     def retract(self) -> None:
         self.stroke_m = 0.0
-        self._out[STROKE_OUT] = 0.0
+        self._out[self.stroke_out] = 0.0
 
 
 class CatchBulge:
@@ -290,7 +296,8 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
     base = standard_motion(dataclasses.replace(call, keyword="LMOVE", target=poses[-1], path=None, via=(),
                                                attributes=attributes, until=None))
     base = dataclasses.replace(base, keyword=call.keyword, zone_m=0.0)
-    loop = ForceLoop(robot, force)
+    flange = getattr(call.equipment, "force_flange", None)  # a Grinder's own wiring, else AnalogIn/AnalogOut[8]
+    loop = ForceLoop(robot, force, *(flange or (FORCE_IN, STROKE_OUT)))
     length = geometry.length_m
     normal = geometry.normal
     record = process_log(robot)
@@ -300,7 +307,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         tcp = robot.tcp_pose(call.tool)
         x = np.array((tcp.x, tcp.y, tcp.z))
         arc, nominal = geometry.project(x)
-        e = float(np.dot(x - nominal, normal)) - loop.stroke_m
+        e = float(np.dot(x - nominal, normal)) - loop.tip_offset_m()
         command, measured = loop.step(arc / length)
         log.samples.append((robot.time_s(), arc / length, e, command, measured))
         record.signals.update(force_n=measured, force_cmd_n=command, stroke_m=loop.stroke_m, normal_error_m=e)
@@ -368,7 +375,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         raise record.fault(BurrLeft("; ".join(log.warnings) + "; more passes (max_passes) or a higher FORCE needed"),
                            robot.time_s())
     if not any(sample[4] > 0.0 for sample in log.samples):
-        message = (f"no contact force on AnalogIn[{FORCE_IN}] along the whole path: nothing was ground "
+        message = (f"no contact force on AnalogIn[{loop.force_in}] along the whole path: nothing was ground "
                    "(no casting in the cell, or the path is not on its edge)")
         log.warnings.append(message)
         call.warn(message)

@@ -32,8 +32,16 @@ def register(registry: Registry) -> None:
                          MethodSpec("Holding", "TRUE when the last Close of a servo gripper stopped on an object "
                                                "(squeezing it at GRIP_CURRENT)", returns="bool"))),
         InstallKindSpec("Grinder", "a grinding spindle driven by a digital output",
-                        (AttributeSpec("SPINDLE", IO_CHANNEL, None, "digital output that runs the spindle", function_ok=False),),
-                        (MethodSpec("On", "start the spindle"), MethodSpec("Off", "stop the spindle"))),
+                        (AttributeSpec("SPINDLE", IO_CHANNEL, None, "digital output that runs the spindle", function_ok=False),
+                         AttributeSpec("FORCE_IN", IO_CHANNEL, None, "analog input of a force flange's normal force (N); "
+                                       "with STROKE, GRINDMOVE presses through the flange", function_ok=False),
+                         AttributeSpec("STROKE", IO_CHANNEL, None, "analog output of a force flange's stroke (m, toward "
+                                       "the part)", function_ok=False)),
+                        (MethodSpec("On", "start the spindle"), MethodSpec("Off", "stop the spindle"),
+                         MethodSpec("Bulges", "number of bulges GRINDMOVE has caught on this robot so far",
+                                    returns=DIMENSIONLESS),
+                         MethodSpec("Left", "the highest burr GRINDMOVE's last pass measured on a caught bulge "
+                                    "(0 when none was caught)", returns=LENGTH))),
         InstallKindSpec("Switch", "a digital input read as a sensor",
                         (AttributeSpec("INPUT", IO_CHANNEL, None, "digital input of the switch", function_ok=False),),
                         (MethodSpec("State", "1 when the switch is closed", returns=DIMENSIONLESS),), is_sensor=True),

@@ -49,7 +49,8 @@ class CastingEdge:
 
     def __init__(self, edge: list[tuple[float, float, float]], bulges: list[Bulge], normal: tuple[float, float, float] = (0.0, 0.0, 1.0),
                  tcp: Callable[[], Any] | None = None, force_in: int = 8, stroke_out: int = 8,
-                 stiffness_n_m: float = 5e4, removal_m_n: float = 1e-5, wheel_width_m: float = 0.01) -> None:
+                 stiffness_n_m: float = 5e4, removal_m_n: float = 1e-5, wheel_width_m: float = 0.01,
+                 push: Callable[[np.ndarray, np.ndarray], None] | None = None) -> None:
         points = np.array(edge, dtype=float)
         if points.ndim != 2 or points.shape[1] != 3 or len(points) < 2:
             raise ValueError("an edge needs at least two points (x, y, z)")
@@ -82,6 +83,8 @@ class CastingEdge:
         self.force_n = 0.0
         self.contact_s_m: float | None = None
         self._last: tuple[float, np.ndarray] | None = None
+        self.push = push
+        self._pushing = False
 
     # -- geometry --------------------------------------------------------------------------
 
@@ -137,4 +140,7 @@ class CastingEdge:
             self.profile[near] = np.maximum(0.0, self.profile[near] - removal)
         self._last = (time_s, tip)
         self.force_n = force
+        if self.push is not None and (force > 0.0 or self._pushing):
+            self.push(force * self.normal, tip)
+            self._pushing = force > 0.0
         io.bank("AnaIn")[self.force_in] = force
