@@ -158,3 +158,23 @@ def test_a_sweep_needs_something_to_sweep(tmp_path: Path) -> None:
     program.write_text(PROGRAM, encoding="utf-8")
     result = orc("sweep", str(program), cwd=tmp_path)
     assert result.returncode == 2 and "give at least one --set NAME=V1,V2,..., --seeds N or --plant-variation FILE" in result.stderr
+
+
+@pytest.mark.sim
+def test_a_sweep_compares_tracking_gains_by_hand_with_the_tuned_one(tmp_path: Path) -> None:
+    root = Path(__file__).resolve().parents[2]
+    result = orc("sweep", str(root / "benchmarks/sweeps/seam_gain.rpl"), "--set", "gain=0.02,0.4", "--workers", "2",
+                 "--out", str(tmp_path / "seam"), "--outcome", "process.seams.0.rms_m", cwd=root)
+    assert result.returncode == 0, result.stderr
+    rows = [json.loads(line) for line in (tmp_path / "seam.jsonl").read_text().splitlines()]
+    assert [row["process.seams.0.gain"] for row in rows] == [0.02, 0.4]  # the gain by hand is the one tracked with
+    low, high = (row["process.seams.0.rms_m"] for row in rows)
+    assert high < 0.5 * low  # this seam wants a fast correction: what Tracking() tunes (about 0.41)
+
+
+def test_a_tracking_gain_by_hand_outside_0_1_is_an_error_at_the_motion(tmp_path: Path) -> None:
+    root = Path(__file__).resolve().parents[2]
+    summary = tmp_path / "s.json"
+    code = main(["run", str(root / "benchmarks/sweeps/seam_gain.rpl"), "--set", "gain=1.5", "--summary-json", str(summary)])
+    error = json.loads(summary.read_text())["error"]
+    assert code == 1 and "a gain by hand lies in (0, 1]" in error["message"] and error["line"] == 21

@@ -21,7 +21,7 @@ def register(registry: Registry) -> None:
         motion("TRACKMOVE", "seam tracking with a laser sensor; raises SeamLost when the seam is lost",
                AttributeSpec("SENSOR", ("installed:LaserDistance", "any"), None, "the installed LaserDistance sensor",
                              function_ok=False),
-               AttributeSpec("TRACKING", ("any",), None, "tracking parameters made by Tracking", function_ok=False),
+               AttributeSpec("TRACKING", ("any",), None, "tracking parameters made by Tracking, or a gain in (0, 1] by hand", function_ok=False),
                targets=("TO", "ALONG"), origin=ORIGIN)
     )
     functions = [

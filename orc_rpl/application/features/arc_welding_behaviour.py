@@ -268,10 +268,16 @@ def trackmove(call: MotionCall) -> Iterator[Any]:
     if laser is None or not hasattr(laser, "pair"):
         raise BehaviourError("WITH SENSOR = needs an installed LaserDistance")
     params = call.attributes.get("TRACKING")
-    try:
-        gain = float(params.get("Gain")) if params is not None else STANDARD_GAIN
-    except (AttributeError, KeyError, TypeError, ValueError):
-        raise BehaviourError("WITH TRACKING = needs the parameters made by Tracking(seam, speed)") from None
+    if type(params) in (int, float):  # a gain set by hand (a sweep comparing gains with the tuned one)
+        gain = float(params)
+        if not 0.0 < gain <= 1.0:
+            raise BehaviourError(f"WITH TRACKING = {params}: a gain by hand lies in (0, 1] (the correction's share per cycle)")
+    else:
+        try:
+            gain = float(params.get("Gain")) if params is not None else STANDARD_GAIN
+        except (AttributeError, KeyError, TypeError, ValueError):
+            raise BehaviourError("WITH TRACKING = needs the parameters made by Tracking(seam, speed), or a gain "
+                                 "in (0, 1]") from None
     if call.target is None or type(call.target) is Joints or call.path is not None:
         raise BehaviourError("needs a TO position (a straight line along the seam)")
     attributes = {k: v for k, v in call.attributes.items() if k not in ("SENSOR", "TRACKING")}
