@@ -88,6 +88,11 @@ class RealisticCell(PidDrives, SimCell):
             q = q + self._data.qpos[self._qpos + 1]
         return q
 
+    @property
+    def motor_inertia_kg_m2(self) -> np.ndarray:
+        """Each motor joint's rotor inertia at the joint (the MJCF's armature): the motor side of an elastic gear."""
+        return self._model.dof_armature[self._qvel].copy()
+
     # -- set-up ------------------------------------------------------------------------
 
     def _setup(self) -> None:
