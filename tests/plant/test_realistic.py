@@ -114,3 +114,19 @@ def test_elastic_gears_twist_under_load_and_the_servo_stays_stable() -> None:
     assert np.max(np.abs(loop.servo.position_error)) < 1e-4, "the motor side is held"
     with pytest.raises(UsageError, match="no gear stiffness"):
         RealisticCell("ur5e", elastic=True)
+
+
+def test_elastic_gears_start_wound_up_under_the_links_weight() -> None:
+    from orc_rpl.servo.loop import ServoLoop
+
+    spec = plant_spec("irb2400")
+    cell = RealisticCell("irb2400", elastic=True)
+    loop = ServoLoop(load_robot("irb2400"), cell)
+    loop.servo.set_friction(spec.coulomb_nm, spec.viscous_nm_s)
+    arm = load_robot("irb2400")
+    loop.reset(arm.home_q)
+    wound = cell.link_q - cell.true_q
+    assert abs(wound[1]) > 1e-4, "j2's gear carries the arm from the start"
+    loop.hold(arm.home_q, 300)
+    # held, the links stay where the wound gears put them: no drop, no ringing
+    assert np.max(np.abs(cell.link_q - cell.true_q - wound)) < 0.05 * abs(wound[1])
