@@ -6,7 +6,8 @@ bus_cycle_ms (median of one SYNC WRITE of 6 goal positions and one SYNC READ of 
 bus_wire_ms (the time the same bytes take on a 1 Mbaud wire with the return delays configured: 0),
 bus_cycle_vs_wire_ratio (target <= 1.3), the motion period the backend chose, and the largest
 distance of the measured TCP from the line of a 200 mm LMOVE on the emulated arm, with the same
-LMOVE on the simulated SO-101 cell as the baseline of the same run.
+LMOVE on the simulated SO-101 (its realistic plant, which the emulator answers from, and the ideal
+plant, the controller's own model) as the baselines of the same run.
 """
 
 from __future__ import annotations
@@ -92,8 +93,10 @@ def main() -> None:
         layer = MotionLayer(Kinematics(ArmModel(spec), solve_ik), backend, backend.servo_period_s)
         on_bus = lmove_error_mm(layer, backend.q)
         backend.hold()
-        sim = make_virtual_motion_layer("so101", motion_period_s=backend.servo_period_s)
+        sim = make_virtual_motion_layer("so101", motion_period_s=backend.servo_period_s)  # the realistic plant
         on_sim = lmove_error_mm(sim, sim.backend.q)
+        ideal = make_virtual_motion_layer("so101", motion_period_s=backend.servo_period_s, plant="ideal")
+        on_ideal = lmove_error_mm(ideal, ideal.backend.q)
     finally:
         emulator.terminate()
         emulator.wait()
@@ -104,6 +107,7 @@ def main() -> None:
     print(f"motion_period_ms={1000 * backend.servo_period_s:.0f}")
     print(f"motion_rate_hz={1.0 / backend.servo_period_s:.0f}")
     print(f"lmove_200mm_speed_mm_s={1000 * SPEED_M_S:.0f}")
+    print(f"lmove_200mm_path_error_ideal_mm={on_ideal:.3f}")
     print(f"lmove_200mm_path_error_sim_mm={on_sim:.3f}")
     print(f"lmove_200mm_path_error_mm={on_bus:.3f}")
     print(f"bus_wire_ms={wire:.3f}")

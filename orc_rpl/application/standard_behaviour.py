@@ -153,10 +153,12 @@ class Gripper:
         self._closed = False
         self._state = attached(context.robot, "grippers_closed", dict) if context.robot is not None else {}
         self._state[context.name] = False  # what IDENTMOVE asks: is anything held?
+        self._holding = False
 
     def _servo_to(self, closed: bool) -> None:
-        self._context.robot.drive_gripper(int(self._servo), self._angles_rad[closed], self._current_a)
+        holding = self._context.robot.drive_gripper(int(self._servo), self._angles_rad[closed], self._current_a)
         self._closed = closed
+        self._holding = bool(holding) and closed
 
     def Open(self) -> None:  # noqa: N802 - the language's method names
         self._state[self._context.name] = False
@@ -174,6 +176,10 @@ class Gripper:
         if self._servo is not None:
             return self._closed
         return bool(self._context.read(self._channel))
+
+    def Holding(self) -> bool:  # noqa: N802
+        """TRUE when the last Close of a servo gripper stopped on an object, squeezing it at GRIP_CURRENT."""
+        return self._holding
 
 
 class Grinder:

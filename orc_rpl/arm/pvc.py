@@ -56,6 +56,7 @@ class PathVelocityController:
         self._sdd_f = np.append(np.diff(sd_f) / servo_period_s, 0.0)   #: nominal s'' over row i -> i+1
         self.dynamics = dynamics
         self.limit = np.asarray(tau_max, dtype=float) * settings.torque_share
+        self._minus_limit = -self.limit
         self.settings = settings
         w = settings.catch_up_rad_s
         self._kp, self._kv = w * w, 2.0 * w
@@ -92,12 +93,17 @@ class PathVelocityController:
         else:
             q, d1, d2 = self._q_rows[cycle], self._d1_rows[cycle], self._d2_rows[cycle]
         b1, b2 = self.dynamics(q, d1, d2, sd)
-        lo, hi = -math.inf, math.inf
-        for a, b, lim in zip(b1.tolist(), b2.tolist(), self.limit.tolist()):
-            if abs(a) < 1e-9:
-                continue
-            r1, r2 = (-lim - b) / a, (lim - b) / a
-            lo, hi = max(lo, min(r1, r2)), min(hi, max(r1, r2))
+        limit, minus_limit = self.limit, self._minus_limit
+        acting = np.abs(b1) >= 1e-9  # a joint the path acceleration does not move sets no bound
+        if False in acting.tolist():
+            b1, b2, limit, minus_limit = b1[acting], b2[acting], limit[acting], minus_limit[acting]
+        # per joint, the s'' that reach -limit and +limit; the range is their intersection (one ufunc
+        # each for all joints: this runs every motion cycle; fmin/fmax, as min/max, exact)
+        r1, r2 = np.subtract(minus_limit, b2), np.subtract(limit, b2)
+        np.divide(r1, b1, r1)
+        np.divide(r2, b1, r2)
+        lo = float(np.fmax.reduce(np.fmin(r1, r2), initial=-math.inf))
+        hi = float(np.fmin.reduce(np.fmax(r1, r2), initial=math.inf))
         return lo, hi
 
     # -- the motion cycle ---------------------------------------------------------------

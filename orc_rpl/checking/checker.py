@@ -476,27 +476,33 @@ def check_program(program: n.Program, path: str = "<input>", registry: Registry 
     registry = registry or default_registry()
     checker = Checker(path, registry)
     checker.types.world_attributes = world_attributes or {}
-    builtins = builtin_scope(list(registry.functions))
-    if moving_frames is not None:
-        checker.types.external_axes = {k: v for k, v in moving_frames.items() if v != "conveyor"}
-        for name in moving_frames:
-            builtins.symbols[name] = Symbol(name, "frame", StaticType("frame", frame=WORLD))
-    scope = Scope(parent=builtins)
+    scope = Scope(parent=_cell_scope(checker, registry, moving_frames))
     checker.collect(program.body, scope, top_level=True)
     checker.check_body(program.body, scope, WORLD)
     checker.finish(scope)
     return sorted(checker.diagnostics, key=lambda d: (d.location.line, d.location.column))
 
 
+def _cell_scope(checker: Checker, registry: Registry, moving_frames: Mapping[str, str] | None) -> Scope:
+    """The built-in names, and the cell's moving frames as frames (their axes the ones AXES may move)."""
+    builtins = builtin_scope(list(registry.functions))
+    if moving_frames is not None:
+        checker.types.external_axes = {k: v for k, v in moving_frames.items() if v != "conveyor"}
+        for name in moving_frames:
+            builtins.symbols[name] = Symbol(name, "frame", StaticType("frame", frame=WORLD))
+    return builtins
+
+
 def check_in_context(program: n.Program, statement: n.Statement, routine: str | None = None, frame: str = WORLD,
                      path: str = "<typed>", registry: Registry | None = None,
-                     live_names: Iterable[str] = ()) -> list[Diagnostic]:
+                     live_names: Iterable[str] = (), moving_frames: Mapping[str, str] | None = None) -> list[Diagnostic]:
     """The static errors of one statement as if it stood in `program`: inside routine `routine` (None: the main
-    program) and FRAME block `frame`; `live_names` are globals that exist already (earlier typed assignments).
-    The program's own errors are not reported (the pendant's typed statements)."""
+    program) and FRAME block `frame`; `live_names` are globals that exist already (earlier typed assignments),
+    `moving_frames` the cell's (see check_program). The program's own errors are not reported (the pendant's
+    typed statements)."""
     registry = registry or default_registry()
     checker = Checker(path, registry)
-    scope = Scope(parent=builtin_scope(list(registry.functions)))
+    scope = Scope(parent=_cell_scope(checker, registry, moving_frames))
     checker.collect(program.body, scope, top_level=True)
     for name in live_names:
         if scope.lookup(name) is None:

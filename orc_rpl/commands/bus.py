@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 
 from orc_rpl.errors import OrcError, UsageError
@@ -33,6 +34,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
                               "corrupt:ID, overload:ID, overheat:ID (repeatable)")
     emulate.add_argument("--hand", action="store_true",
                          help="an emulated person moves the arm while its torque is off (for orc bus calibrate)")
+    emulate.add_argument("--object-at", metavar="DEG", type=float, default=None,
+                         help="an object between the gripper's jaws: the closing jaw meets it at this gripper angle "
+                              "and squeezes it with the grip current (default: nothing to grip)")
     emulate.add_argument("--duration-s", type=float, default=None, help="stop after this many seconds")
     return parser
 
@@ -78,7 +82,10 @@ def _emulate(args: argparse.Namespace) -> int:
 
     ROBOTS.get(args.robot)
     faults = tuple(FaultPlan.parse(text) for text in args.fault)
-    serve(args.robot, args.bus, args.baud, faults, hand=args.hand, duration_s=args.duration_s)
+    if args.object_at is not None and not -10.0 <= args.object_at <= 100.0:
+        raise UsageError(f"--object-at: the jaw travels from -10 to 100 deg, got {args.object_at:g}")
+    object_rad = None if args.object_at is None else math.radians(args.object_at)
+    serve(args.robot, args.bus, args.baud, faults, hand=args.hand, duration_s=args.duration_s, object_rad=object_rad)
     return 0
 
 
@@ -116,7 +123,6 @@ def _scan(args: argparse.Namespace) -> int:
 
 
 def _calibrate(args: argparse.Namespace) -> int:
-    import math
     from pathlib import Path
 
     from orc_rpl.hardware.calibrate import calibrate

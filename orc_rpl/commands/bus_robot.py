@@ -29,6 +29,11 @@ def add_options(parser: argparse.ArgumentParser) -> None:
 
 def check_options(args: argparse.Namespace) -> None:
     """Usage errors before anything moves."""
+    sim = getattr(args, "sim", None)
+    if sim is not None and args.port is not None:
+        raise UsageError("--sim: a real arm (--port) has its own equipment; --sim describes the simulated cell's")
+    if sim is not None and not os.path.isfile(sim):
+        raise UsageError(f"--sim: {sim!r} is not a regular file" if os.path.exists(sim) else f"--sim: no such file {sim!r}")
     if args.port is None:
         for option in ("calibration", "bus"):
             if getattr(args, option) is not None:
@@ -45,8 +50,10 @@ def check_options(args: argparse.Namespace) -> None:
         raise UsageError(f"--calibration: no such file {args.calibration!r}")
 
 
-def torque_diagnostics(program: Any, path: str, robot: str) -> list[Diagnostic]:
-    """Check-time refusals on a real arm: features that need joint torques its bus servos cannot measure."""
+def torque_diagnostics(program: Any, path: str, robot: str,
+                       hint: str = "run it on the simulated cell (without --port)") -> list[Diagnostic]:
+    """Check-time refusals on an arm on bus servos (real, or its realistic plant): features that need joint
+    torques its servos cannot measure."""
     from orc_rpl.syntax import nodes
 
     found: list[Diagnostic] = []
@@ -55,7 +62,7 @@ def torque_diagnostics(program: Any, path: str, robot: str) -> list[Diagnostic]:
         span = node.span
         found.append(Diagnostic(Location(path, span.line or 1, span.column or 1, span.end_line, span.end_column),
                                 f"{what} {why}; {robot}'s bus servos report load and current, not joint torque",
-                                hint="run it on the simulated cell (without --port)"))
+                                hint=hint))
 
     for node in program.walk():
         if isinstance(node, nodes.Motion) and node.keyword.upper() in TORQUE_MOTIONS:

@@ -9,7 +9,7 @@ from contextlib import ExitStack
 from pathlib import Path
 
 from orc_rpl.commands import bus_robot
-from orc_rpl.commands.run import add_cell_options
+from orc_rpl.commands.run import add_cell_options, equipment_script
 from orc_rpl.errors import OrcError, UsageError
 from orc_rpl.syntax.files import interrupted_mark
 
@@ -117,7 +117,7 @@ def run(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace) -> int:
     from orc_rpl.commands.run import _moving_world, _world_cell, simulated_plant
     from orc_rpl.executive.cell_robot import CellRobot
-    from orc_rpl.executive.sim_io import load_script, script_path
+    from orc_rpl.executive.sim_io import load_script
     from orc_rpl.motion.sensors import SensorManager
     from orc_rpl.pendant.app import PendantApp
     from orc_rpl.pendant.robot import PendantRobot
@@ -144,10 +144,9 @@ def _run(args: argparse.Namespace) -> int:
             return _fail(f"{session.editor.path} has {session.editor.pending_recovery()} in its journal; "
                          "start with --recover or --discard")
         message = _ask_recovery(session, args)
-        if args.file is not None:
-            io_script = script_path(args.file, args.world if args.world is None or Path(args.world).is_dir() else None)
-            if io_script is not None:
-                load_script(io_script, robot.io, lambda: robot.tcp_pose(session.execution.tool_pose()))
+        io_script = equipment_script(args, args.file, args.world if args.world is None or Path(args.world).is_dir() else None)
+        if io_script is not None:
+            load_script(io_script, robot.io, lambda: robot.tcp_pose(session.execution.tool_pose()))
         with ExitStack() as stack:
             if args.view:
                 from orc_rpl.view.watch import watch

@@ -118,6 +118,7 @@ def _fail_usage(message: str) -> int:
 def run(args: argparse.Namespace) -> int:
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.robot.robots import ROBOTS
+    from orc_rpl.robot.servo_plants import servo_plant_spec
     from orc_rpl.syntax.files import declared_world, is_offline
     from orc_rpl.transform.loading import load_program_and_attributes
     from orc_rpl.transform.overrides import override_constants
@@ -160,6 +161,10 @@ def run(args: argparse.Namespace) -> int:
     diagnostics = check(program, args.file, registry, attributes, cell_world)
     if args.port is not None:
         diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot)
+    elif cell is None and servo_plant_spec(args.robot) is not None and args.plant != "ideal":
+        # the realistic plant of an arm on bus servos measures what the real one does: no joint torque
+        diagnostics += bus_robot.torque_diagnostics(program, args.file, args.robot,
+                                                    hint="--plant ideal runs it on the controller's own model")
     if diagnostics:
         for diagnostic in capped(diagnostics):
             sys.stderr.write(diagnostic.format(source) + "\n")
@@ -230,7 +235,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     from orc_rpl.executive.executive import Executive
     from orc_rpl.executive.margins import MarginWatch, margin_lines
     from orc_rpl.executive.machine import Options
-    from orc_rpl.executive.sim_io import load_script, script_path
+    from orc_rpl.executive.sim_io import load_script
 
     record = bool(args.log or args.plot)
     paced = args.realtime or (args.view and not args.fast)
@@ -258,7 +263,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     machine.on_warning = lambda span, message: sys.stderr.write(f"{args.file}:{span.line}:{span.column}: warning: {message}\n")
     # the run's process record; with --log/--plot, the tool's TCP and the process signals beside the flange
     submit_process_signals(robot.layer.logger if record else None, robot, lambda: machine.last_tool)
-    io_script = script_path(args.file, args.world)
+    io_script = equipment_script(args, args.file, args.world)
     if io_script is not None:
         load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload)
     margins = MarginWatch(robot, machine) if args.margins else None
@@ -267,7 +272,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         watched = progress.monitor(margins or robot)
         machine.robot = watchers.monitor(watched) if watchers is not None else watched
         wall_start = time.perf_counter()  # after the view's page connected
-        interrupted = _run_until_done(executive, args.timeout)
+        interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
     machine.robot = robot
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
@@ -279,10 +284,11 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         sys.stderr.write(executive.report() + "\n")
     if interrupted:
         result["status"], result["interrupted_by"] = "interrupted", interrupted
-        sys.stderr.write(f"orc run: interrupted by {interrupted}; the robot stopped on its path\n")
+        where = "the arm holds its position" if args.port is not None else "the robot stopped on its path"
+        sys.stderr.write(f"orc run: interrupted by {interrupted}; {where}\n")
     if margins is not None:
         result["margins"] = margins.section(args.file)
-    write_summary_text(result, wall_s, sys.stderr)
+    write_summary_text(result, wall_s, sys.stderr, real_arm=args.port is not None)
     for line in margin_lines(result.get("margins")):
         sys.stderr.write(f"margins: {line}\n")
     try:
@@ -305,7 +311,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     return 1 if executive.status == "failed" or interrupted else 0
 
 
-def _run_until_done(executive: Any, timeout_s: float | None) -> str:
+def _run_until_done(executive: Any, timeout_s: float | None, simulated: bool = True) -> str:
     """Run the program; what interrupted it ("Ctrl-C", the timeout) or "" when it ended by itself."""
     limit = TimeLimit(executive.machine.robot, timeout_s, executive) if timeout_s is not None else None
     if limit is not None:
@@ -315,28 +321,41 @@ def _run_until_done(executive: Any, timeout_s: float | None) -> str:
     except KeyboardInterrupt:
         return "Ctrl-C"
     if limit is not None and limit.reached and executive.status == "paused":
-        return f"--timeout {timeout_s:g} s (simulated)"
+        return f"--timeout {timeout_s:g} s" + (" (simulated)" if simulated else "")
     return ""
 
 
 def add_cell_options(parser: argparse.ArgumentParser) -> None:
-    """--allow-devices, --plant and --seed: what the simulated cell is made of (orc run and orc pendant)."""
+    """--allow-devices, --plant, --seed and --sim: what the simulated cell is made of (orc run and orc pendant)."""
     parser.add_argument("--allow-devices", action="store_true",
                         help="let the program open the serial devices its PORT attributes name (default: none is opened)")
     parser.add_argument("--plant", choices=("realistic", "ideal"), default=None,
                         help="realistic: friction, motor heat, encoders, masses off the model (default); "
                              "ideal: the controller's own model, exactly (simulation only: not with --port)")
     parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
+    parser.add_argument("--sim", metavar="FILE.sim.yaml",
+                        help="the simulated equipment (IO events, weld guns, parts, castings, seam) instead of the "
+                             "program's own <name>.sim.yaml: a variation of the cell (simulation only)")
+
+
+def equipment_script(args: argparse.Namespace, program: str | None, world_dir: str | None) -> Path | None:
+    """The simulated equipment of a run: --sim FILE, else the program's <name>.sim.yaml (in world_dir or beside it)."""
+    from orc_rpl.executive.sim_io import script_path
+
+    if args.sim is not None:
+        return Path(args.sim)
+    return None if program is None else script_path(program, world_dir)
 
 
 def simulated_plant(args: argparse.Namespace, robot: str) -> str:
     """--plant, or the robot's default: realistic where it has a plant description (said when it has none)."""
     from orc_rpl.robot.plants import PLANTS, default_plant
+    from orc_rpl.robot.servo_plants import SERVO_PLANTS
 
     if args.plant is not None:
         return str(args.plant)
     plant = default_plant(robot)
     if plant != "realistic":
         sys.stderr.write(f"orc: robot {robot!r} has no realistic plant description yet "
-                         f"(robots with one: {', '.join(sorted(PLANTS))}): running on the ideal plant\n")
+                         f"(robots with one: {', '.join(sorted([*PLANTS, *SERVO_PLANTS]))}): running on the ideal plant\n")
     return plant

@@ -35,7 +35,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     parser.add_argument("--outcome", metavar="FIELD[,FIELD...]", default="cycle_time_s",
                         help="the columns to plot, a panel each (default cycle_time_s; e.g. motions, clearance_mm, "
                              "joint_margin_deg, figure.*, process.*)")
-    parser.add_argument("--x", metavar="NAME", help="the parameter on the plot's x axis (default: the first --set)")
+    parser.add_argument("--x", metavar="NAME", help="the parameter on the plot's x axis: a --set NAME, variation or seed (default: the first --set, else variation, else seed)")
     parser.add_argument("--overwrite", action="store_true", help="replace output files that already exist")
     add_cluster_options(parser)
     return parser
@@ -73,8 +73,8 @@ def run(args: argparse.Namespace) -> int:
         program = Path(args.program)
         if not program.is_file() or program.suffix not in (".rpl", ".orl"):
             raise UsageError(f"'{args.program}' is not a program file (.rpl or .orl)")
-        if not args.sets:
-            raise UsageError("give at least one --set NAME=V1,V2,...")
+        if not (args.sets or args.seeds is not None or args.plant_variation):
+            raise UsageError("give at least one --set NAME=V1,V2,..., --seeds N or --plant-variation FILE")
         if args.robot not in ROBOTS:
             raise UsageError(f"--robot: unknown robot {args.robot!r}; known robots: {', '.join(ROBOTS.names())}")
         if args.seeds is not None:
@@ -85,9 +85,11 @@ def run(args: argparse.Namespace) -> int:
         variations = read_variations(args.plant_variation) if args.plant_variation else []
         points = grid(args.sets, args.seeds, variations)
         names = [split_values(text)[0] for text in args.sets]
-        x = args.x or names[0]
-        if x not in names:
-            raise UsageError(f"--x: {x!r} is not one of the --set parameters ({', '.join(names)})")
+        # the plot's x axis: a --set parameter, else the variations, else the seeds
+        axes = names + (["variation"] if variations else []) + (["seed"] if args.seeds is not None else [])
+        x = args.x or axes[0]
+        if x not in axes:
+            raise UsageError(f"--x: {x!r} is not one of the swept parameters ({', '.join(axes)})")
         prefix = Path(args.out) if args.out else Path(f"sweep-{program.stem}")
         outputs = [prefix.with_name(prefix.name + suffix) for suffix in (".csv", ".jsonl", ".png")]
         if not prefix.resolve().parent.is_dir():
@@ -159,7 +161,7 @@ def _sweep(args: argparse.Namespace, engine: Any, points: list[Any], options: tu
     ordered = [records[i] for i in sorted(records)]
     csv_path, jsonl_path, png_path = outputs
     write_table(ordered, csv_path, jsonl_path)
-    others = [n for n in names if n != x] + [k for k in ("variation",) if any(k in r for r in ordered)]
+    others = [n for n in names if n != x] + [k for k in ("variation",) if k != x and any(k in r for r in ordered)]
     plotted = plot_outcomes(ordered, x, outcomes, others, png_path, f"{Path(args.program).name}: {', '.join(outcomes)}")
     lost = sum(1 for r in ordered if r["status"] == "lost")
     status.print(f"{len(ordered)} of {len(specs)} runs ({time.perf_counter() - start:.1f} s wall); wrote {csv_path}, "

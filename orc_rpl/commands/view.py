@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
         return _fail(str(error))
     registry = runtime_registry()
     if program is not None:
-        diagnostics = check(program, args.program, registry)
+        diagnostics = check(program, args.program, registry, cell_world=world)  # its moving frames may be named
         if diagnostics:
             for diagnostic in diagnostics:
                 sys.stderr.write(diagnostic.format(source) + "\n")

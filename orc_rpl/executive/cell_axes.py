@@ -14,6 +14,11 @@ from orc_rpl.motion.external import coordinated_motion, external_axes_of
 from orc_rpl.world.pose import Pose
 
 
+#: At most this many predictions of a motion's duration for a target on a belt, and how close the target must stay.
+BELT_ITERATIONS = 4
+BELT_TOLERANCE_M = 1e-5
+
+
 class CellAxes:
     """A cell's moving frames as the robot sees them: where they are, and where that puts the robot's base.
 
@@ -34,7 +39,8 @@ class CellAxes:
         measured = getattr(self.layer.backend, "axis_values", None)
         values = dict(measured()) if measured is not None else dict(self.external.planned if self.external else {})
         now = self.layer.now_s()
-        values.update({name: axis.speed_si * now for name, axis in self._conveyors.items()})
+        # a simulated cell measures its belts; elsewhere a conveyor is where its speed has taken it
+        values.update({name: axis.speed_si * now for name, axis in self._conveyors.items() if name not in values})
         return values
 
     def base(self, values: dict[str, float]) -> np.ndarray:
@@ -51,6 +57,8 @@ class CellAxes:
 
     def submit(self, request: MotionRequest, tool: np.ndarray | None, params: Params, actions: Any) -> Any:
         """A MOVE or LMOVE that moves the arm and the external axes together (the axes linearly in its s)."""
+        if not request.axes and self._on_belt(request):
+            return self._to_belt(request, tool, params, actions)
         external = self.external
         if external is None:
             raise PlanningError(f"{request.keyword}: the cell has no external axes to move")
@@ -73,3 +81,41 @@ class CellAxes:
             assert isinstance(request.target, Pose)
             motion = CartesianMotion(self.in_base(request.target, end), kind=request.kind, tool=tool)
         return external.request(layer, motion, params, targets, actions)
+
+    # -- conveyors --------------------------------------------------------------------
+
+    def _on_belt(self, request: MotionRequest) -> bool:
+        """The request's target is on a frame a conveyor carries: moving the belts moves it."""
+        frame_of, local = request.frame_of, request.target_in_frame
+        if frame_of is None or local is None or not self._conveyors or request.kind not in ("joint", "linear") or request.via:
+            return False
+        values = self.values()
+        moved = {**values, **{name: values.get(name, 0.0) + 1.0 for name in self._conveyors}}
+        return not np.allclose(frame_of(values).matrix(), frame_of(moved).matrix(), atol=1e-9)
+
+    def _to_belt(self, request: MotionRequest, tool: np.ndarray | None, params: Params, actions: Any) -> Any:
+        """A MOVE or LMOVE to a target a belt carries: it goes where the target will be when the motion ends.
+
+        The motion's duration is predicted (the motion layer's simulation from where the robot will be), the
+        target taken where the belts have carried it by then, and that repeated until the duration holds still
+        (a few hundredths of a millimetre at a belt's speed); timed from now, which is when a motion after a
+        FINE one starts.
+        """
+        layer = self.layer
+        frame_of, local = request.frame_of, request.target_in_frame
+        assert frame_of is not None and local is not None
+        now = self.values()
+        start_q = layer.planned_end_q()
+        axes_end = self.planned()
+        duration_s, motion = 0.0, None
+        for _ in range(BELT_ITERATIONS):
+            ahead = {**now, **{name: now.get(name, 0.0) + axis.speed_si * duration_s for name, axis in self._conveyors.items()}}
+            goal = Pose.from_matrix(frame_of(ahead).matrix() @ local.matrix(), "world")
+            motion = CartesianMotion(self.in_base(goal, axes_end), kind=request.kind, tool=tool)
+            predicted = layer.simulate([(motion, params)], start_q).move_times_s[0]
+            if abs(predicted - duration_s) * max(abs(a.speed_si) for a in self._conveyors.values()) < BELT_TOLERANCE_M:
+                break
+            duration_s = predicted
+        if self.external is not None:
+            return self.external.request(layer, motion, params, {}, actions)
+        return layer.move(motion, params, actions)

@@ -127,19 +127,21 @@ class CellRobot:
     def thermal_loads(self) -> tuple[float, ...]:
         return tuple(float(x) for x in self.layer.thermal_load())
 
-    def drive_gripper(self, servo_id: int, angle_rad: float, current_limit_a: float) -> None:
+    def drive_gripper(self, servo_id: int, angle_rad: float, current_limit_a: float) -> bool:
         """A gripper on a servo of the arm's bus: move it and wait until it is there (or squeezes at its current limit).
 
-        On the simulated cell the gripper is ideal: it is where it was sent at once."""
+        True when it stopped on an object, squeezing it (a grip). A backend without gripper servos (the
+        ideal plant) has an ideal gripper: it is where it was sent at once, and holds nothing."""
         backend = self.layer.backend
         drive = getattr(backend, "drive_servo", None)
         if drive is None:
             self.gripper_angles_rad[servo_id] = angle_rad
-            return
+            return False
         drive(servo_id, angle_rad, current_limit_a)
         deadline = self.layer.now_s() + GRIPPER_TIMEOUT_S
         while not backend.servo_arrived(servo_id) and self.layer.now_s() < deadline:
             self.tick()
+        return bool(backend.servo_holding(servo_id))
 
     def set_plant_payload(self, mass_kg: float) -> None:
         """Simulation only: a part of `mass_kg` in the gripper, felt by the plant (not told to the controller)."""

@@ -219,10 +219,15 @@ class MotionCompiler:
             raise RunError(f"a position given as a routine must be a FUNC of one parameter (s, 0..1), not {routine.kind} {routine.name}")
 
         of_time = routine.params[0] == TIME_PARAMETER  # FUNC f(t): t is the time since the motion started, in s
+        riding = belts_ahead(m) if of_time else None
 
         def world_pose(u: float) -> Pose:
             argument = Quantity(float(u), TIME) if of_time else float(u)
-            value = position(m.call_now(m.routines[routine.name], [argument], span), f"value of {routine.name}")
+            raw = m.call_now(m.routines[routine.name], [argument], span)
+            if riding is not None and type(raw) is Pose and not raw.axes and m.moving_frame_of(raw.frame) in riding[1]:
+                position(raw, "target")  # the frame rule
+                return riding[0](raw, float(u))
+            value = position(raw, f"value of {routine.name}")
             if type(value) is not Pose:
                 raise RunError(f"FUNC {routine.name} must give poses, got {type_name(value)}")
             return value
@@ -282,6 +287,25 @@ def resolve_tool(value: Any) -> Pose:
             raise RunError(f"{value.name} is installed but not mounted as a TOOL; declare TOOL {value.name} = POSE(...) first")
         return value.tool
     raise RunError(f"the tool must be a TOOL, ARM or installed equipment, got {type_name(value)}")
+
+
+def belts_ahead(m: Machine) -> tuple[Callable[[Pose, float], Pose], frozenset[str]] | None:
+    """For a FUNC of t: a pose relative to a frame a conveyor carries, in the world `u` seconds after now (the belts
+    run on at their speeds, the other moving frames stay where they are), and the conveyors' names; None when the
+    cell has no conveyor."""
+    world = m.options.cell_world
+    if world is None:
+        return None
+    speeds = {name: world.object(name).axis.speed_si for name in world.moving_frames()
+              if world.object(name).axis.joint == "conveyor"}
+    if not speeds:
+        return None
+    now = m.axis_values()
+
+    def ahead(pose: Pose, u: float) -> Pose:
+        values = {**now, **{name: now.get(name, 0.0) + speed * u for name, speed in speeds.items()}}
+        return Pose.from_matrix(m.frame_matrix(pose.frame, values) @ pose.matrix(), "world")
+    return ahead, frozenset(speeds)
 
 
 def axes_target(m: Machine, value: Any, keyword: str) -> tuple[Pose, dict[str, Any]] | None:

@@ -44,14 +44,15 @@ def summary(executive: Executive, robot: Any) -> dict[str, Any]:
     return result
 
 
-def write_summary_text(result: dict[str, Any], wall_s: float, stream: TextIO) -> None:
-    """The human summary on standard error."""
+def write_summary_text(result: dict[str, Any], wall_s: float, stream: TextIO, real_arm: bool = False) -> None:
+    """The human summary on standard error (`real_arm`: the run moved a real arm, its times are the arm's)."""
     tcp = result["final_tcp"]
     cycle = result["cycle_time_s"]
     ratio = f", {cycle / wall_s:.0f}x real time" if wall_s > 0 and cycle > 0 else ""
     pose = shown_pose(Pose(tcp["x_m"], tcp["y_m"], tcp["z_m"], tcp["a_rad"], tcp["b_rad"], tcp["c_rad"])).text()
+    timing = f"on the arm; {wall_s:.2f} s wall" if real_arm else f"simulated; {wall_s:.2f} s wall{ratio}"
     stream.write(f"status: {result['status']}\n"
-                 f"cycle time: {cycle:.3f} s (simulated; {wall_s:.2f} s wall{ratio})\n"
+                 f"cycle time: {cycle:.3f} s ({timing})\n"
                  f"motions: {result['motions']}\n"
                  f"final TCP: {pose}\n")
     planning = result.get("planning")

@@ -202,7 +202,7 @@ class StatementCompiler(ControlFlow):
                     if timeout is not None:
                         raise RunError(f"Timeout: the condition did not become true within {format_value(timeout(L))}",
                                        name="Timeout")
-                    raise RunError(f"WAIT UNTIL waited {limit:g} s of simulated time and the condition never became true")
+                    raise RunError(f"WAIT UNTIL waited {limit:g} s of robot time and the condition never became true")
                 robot.tick()
                 yield TICK
         return None, wait_until

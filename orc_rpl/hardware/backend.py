@@ -16,9 +16,11 @@ import numpy as np
 
 from orc_rpl.errors import DriveFault, UsageError
 from orc_rpl.hardware.bus import ServoBus
+from orc_rpl.hardware.droop import SETTLED_COUNTS, DroopCorrection
+from orc_rpl.hardware.grip import GripWatch
 from orc_rpl.hardware.calibration import Calibration
 from orc_rpl.hardware.packets import BusError, Status
-from orc_rpl.hardware.registers import alarm_text
+from orc_rpl.hardware.registers import CURRENT_BASED_POSITION_MODE, alarm_text
 
 #: The motion period is the 90th percentile of measured bus cycles times this margin, in whole ms
 #: (a slower cycle now and then is absorbed: the pacing never rushes to catch up).
@@ -28,20 +30,22 @@ MEASURED_CYCLES = 40
 #: Dynamixel bus watchdog: the servos stop by themselves when the host is silent this long (20 ms units).
 WATCHDOG_UNITS = 5
 READ_ATTEMPTS = 3  #: sync reads of one cycle before a servo that does not answer is a DriveFault
-ENCODER_COUNTS_SETTLED = 4  #: a FINE move has arrived within this many encoder counts (droop plus a count)
+RANGE_SLACK_COUNTS = 4  #: slack of the calibrated range check (the gear play and a count)
 
 
 class BusBackend:
     """The joints of one robot on one bus; q, qd and the load come from the last sync read."""
 
     measures_torque = False  #: the servos report load (PWM duty) and current, not joint torque
+    real_arm = True          #: what the user sees says so: no "simulated" times, cells or channels
 
     def __init__(self, bus: ServoBus, calibration: Calibration, motion_period_s: float | None = None) -> None:
         self.bus, self.cal, self.model = bus, calibration, calibration.model
         self.ids = [j.servo_id for j in calibration.joints]
         self._goal = self.model.reg("goal_position")
         self._block = self.model.state_block
-        self.settle_rad = ENCODER_COUNTS_SETTLED * self.model.rad_per_count()
+        self.settle_rad = SETTLED_COUNTS * self.model.rad_per_count()
+        self._droop = DroopCorrection(len(self.ids), self.model.rad_per_count())
         self.settle_rad_s = 0.05
         self.voltage_v = np.zeros(len(self.ids))
         self.temperature_c = np.zeros(len(self.ids))
@@ -51,8 +55,7 @@ class BusBackend:
         self._load = np.zeros(len(self.ids))
         self._counts: dict[int, int] = {}
         self._last_cycle_s = -1e9  #: when the last cycle talked to the bus (the Dynamixel watchdog)
-        self._servo_goals: dict[int, int] = {}
-        self._servo_seen_moving: dict[int, bool] = {}
+        self._grips: dict[int, GripWatch] = {}  #: the last move of each gripper servo
         self._connect()
         self.cycle_times_s: list[float] = []
         self.servo_period_s = motion_period_s if motion_period_s is not None else self._choose_period()
@@ -65,7 +68,7 @@ class BusBackend:
     def advance(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
         q = q_ref[-1]
         self._check_range(q)
-        self._cycle(self.cal.to_counts(q))
+        self._cycle(self.cal.to_counts(self._droop.goal(q, self._q, self._qd)))
         self._cycles += 1
         self._pace()
 
@@ -104,13 +107,20 @@ class BusBackend:
     # -- cycles -----------------------------------------------------------------------------------
 
     def _cycle(self, counts: list[int]) -> None:
+        try:
+            self._keep_watchdog()
+            self.bus.sync_write(self._goal.address, self._goal.size,
+                                {i: self._goal.encode(c) for i, c in zip(self.ids, counts)})
+        except BusError as error:  # the port itself failed
+            self._lost(error)
+        self._read_state()
+
+    def _keep_watchdog(self) -> None:
+        """Before goals are sent: a Dynamixel watchdog that may have fired since the host last talked is set again."""
         now = time.perf_counter()
         if self.model.family == "dynamixel" and now - self._last_cycle_s > 0.5 * WATCHDOG_UNITS * 0.020:
             self._rearm_watchdog()
         self._last_cycle_s = now
-        self.bus.sync_write(self._goal.address, self._goal.size,
-                            {i: self._goal.encode(c) for i, c in zip(self.ids, counts)})
-        self._read_state()
 
     def _rearm_watchdog(self) -> None:
         """After a pause of the host (planning, a WAIT on input), the watchdog may have fired: clear and set it again.
@@ -160,6 +170,8 @@ class BusBackend:
             self.hold(others)
         except BusError:
             pass
+        if error.servo_id is None:
+            raise DriveFault(f"the servo bus: {error.reason}") from None
         raise DriveFault(f"{self._name(error.servo_id)}: {error.reason}; the other joints hold their positions") from None
 
     def _alarm(self, servo_id: int, status: Status) -> None:
@@ -177,8 +189,12 @@ class BusBackend:
         return "the servo bus" if servo_id is None else f"servo {servo_id}"
 
     def _check_range(self, q: np.ndarray) -> None:
+        # An arm left limp beyond its recorded range (moved there by hand after calibrating) may come back:
+        # a reference between where the joint is and its range is allowed, one further out never. A few
+        # counts of slack: the gear play and the encoder's count.
+        slack = RANGE_SLACK_COUNTS * self.model.rad_per_count()
         for k, joint in enumerate(self.cal.joints):
-            if not joint.min_rad - 1e-9 <= q[k] <= joint.max_rad + 1e-9:
+            if not min(joint.min_rad, self._q[k]) - slack <= q[k] <= max(joint.max_rad, self._q[k]) + slack:
                 self.hold()
                 raise DriveFault(f"joint {k + 1} reference {math.degrees(q[k]):.2f} deg is outside its calibrated range "
                                  f"{math.degrees(joint.min_rad):.1f}..{math.degrees(joint.max_rad):.1f} deg; holding")
@@ -226,6 +242,9 @@ class BusBackend:
         self.hold()
         gripper = self.cal.gripper
         if gripper is not None:
+            if model.family == "dynamixel":
+                # current-based position control: the gripper squeezes with its goal current, no harder
+                bus.write(gripper.servo_id, reg("operating_mode").address, bytes((CURRENT_BASED_POSITION_MODE,)))
             present = model.value("present_position", bus.read(gripper.servo_id, *self._block))
             bus.write(gripper.servo_id, self._goal.address, self._goal.encode(present))
         bus.sync_write(reg("torque_enable").address, 1, {i: b"\x01" for i in self._all_ids()})
@@ -250,27 +269,44 @@ class BusBackend:
             else (self.model.center_count, 1)
         count = zero + direction * int(round(angle_rad / self.model.rad_per_count()))
         try:
-            if "torque_limit" in self.model.registers:
+            self._keep_watchdog()  # a fired watchdog refuses goals
+            model = self.model
+            if "torque_limit" in model.registers:
                 # the STS limits torque (0.1 % units of its stall torque): the current limit as a share of stall
-                share = max(0, min(1000, int(round(1000.0 * current_limit_a / self.model.stall_current_a))))
-                self.bus.write(servo_id, self.model.reg("torque_limit").address, self.model.reg("torque_limit").encode(share))
+                share = max(0, min(1000, int(round(1000.0 * current_limit_a / model.stall_current_a))))
+                self.bus.write(servo_id, model.reg("torque_limit").address, model.reg("torque_limit").encode(share))
+            else:
+                # Dynamixel in current-based position mode: the goal current caps the squeeze
+                units = max(1, int(round(current_limit_a / model.current_a_per_unit)))
+                self.bus.write(servo_id, model.reg("goal_current").address, model.reg("goal_current").encode(units))
             self.bus.write(servo_id, self._goal.address, self._goal.encode(count))
             self.bus.write(servo_id, self.model.reg("torque_enable").address, b"\x01")
         except BusError as error:
             raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
-        self._servo_goals[servo_id] = count
-        self._servo_seen_moving[servo_id] = False
+        self._grips[servo_id] = GripWatch(count, current_limit_a)
 
     def servo_arrived(self, servo_id: int) -> bool:
         """True when the servo is within a few counts of its goal, or has stopped (a gripper squeezing a part)."""
-        try:
-            block = self.bus.read(servo_id, *self._block)
-        except BusError as error:
-            raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
-        count, speed = self.model.value("present_position", block), self.model.value("present_speed", block)
-        close = abs(count - self._servo_goals.get(servo_id, count)) <= 2 * ENCODER_COUNTS_SETTLED
-        self._servo_seen_moving[servo_id] = self._servo_seen_moving.get(servo_id, False) or speed != 0
-        return close or (self._servo_seen_moving[servo_id] and speed == 0)
+        for attempt in range(READ_ATTEMPTS):  # a lost reply now and then is noise, as in the motion cycle
+            try:
+                block = self.bus.read(servo_id, *self._block)
+                break
+            except BusError as error:
+                if attempt == READ_ATTEMPTS - 1:
+                    raise DriveFault(f"gripper servo {servo_id}: {error.reason}") from None
+        model = self.model
+        count, speed = model.value("present_position", block), model.value("present_speed", block)
+        if model.family == "feetech":
+            current_a = abs(model.value("present_load", block)) / 1000.0 * model.stall_current_a
+        else:
+            current_a = abs(model.value("present_current", block)) * model.current_a_per_unit
+        grip = self._grips.get(servo_id)
+        return True if grip is None else grip.arrived(count, speed, current_a)
+
+    def servo_holding(self, servo_id: int) -> bool:
+        """True when the servo's last move stopped on an object, squeezing it at its current cap (a grip)."""
+        grip = self._grips.get(servo_id)
+        return grip is not None and grip.holding
 
     def describe(self) -> dict[str, Any]:
         """Figures for the run's summary: the bus, the period chosen and what the cycles measured."""

@@ -14,6 +14,13 @@ from orc_rpl.hardware.packets import (PING, READ, SYNC_READ, SYNC_WRITE, WRITE, 
 #: and a busy host may not look at the port for a few tens of milliseconds.
 REPLY_MARGIN_S = 0.050
 
+try:  # a port that went away fails in pyserial's termios calls (POSIX) as well as in reads and writes
+    import termios
+
+    PORT_ERRORS: tuple[type[BaseException], ...] = (OSError, termios.error)
+except ImportError:  # pragma: no cover - Windows
+    PORT_ERRORS = (OSError,)
+
 
 class ServoBus:
     """One half-duplex bus of one protocol; every call waits for (or gives up on) its replies."""
@@ -95,7 +102,20 @@ class ServoBus:
             self._serial.read(self._serial.in_waiting or 1)
         self._dirty = False
 
+    def _port_lost(self, exc: Exception) -> None:
+        """The adapter itself failed (unplugged USB, a closed pseudo-terminal): a BusError for the bus as a whole."""
+        self._dirty = True
+        detail = getattr(exc, "strerror", None) or (exc.args[-1] if exc.args else exc)
+        reason = f"the port {self.port} failed ({detail}): is the adapter unplugged?"
+        raise BusError(reason, None, reason) from None
+
     def _send(self, packet: bytes) -> None:
+        try:
+            self._send_bytes(packet)
+        except PORT_ERRORS as exc:  # pyserial's SerialException is an OSError too
+            self._port_lost(exc)
+
+    def _send_bytes(self, packet: bytes) -> None:
         if self._dirty:
             self._drain()
         self._buffer.clear()
@@ -106,6 +126,13 @@ class ServoBus:
         self._sent_wire_s = self.wire_s(len(packet))
 
     def _receive(self, servo_id: int, n_params: int) -> Status:
+        try:
+            return self._receive_bytes(servo_id, n_params)
+        except PORT_ERRORS as exc:
+            self._port_lost(exc)
+            raise  # not reached: _port_lost raises
+
+    def _receive_bytes(self, servo_id: int, n_params: int) -> Status:
         expected = (6 if self.codec.name == "feetech" else 11) + n_params
         deadline = time.perf_counter() + self._sent_wire_s + self.wire_s(expected) + self.reply_margin_s
         codec, buffer, link = self.codec, self._buffer, self._serial

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from orc_rpl.hardware.registers import ServoModel
+from orc_rpl.hardware.registers import POSITION_MODE, ServoModel
 
 
 @dataclass(slots=True)
@@ -36,9 +36,12 @@ class EmulatedServo:
             self.put("torque_limit", 1000)
         if "current_limit" in model.registers:
             self.put("current_limit", 1193)
+            self.put("goal_current", 1193)
+            self.put("operating_mode", POSITION_MODE)
         self.put("present_voltage", 120)
         self.put("present_temperature", 32)
         self.put("max_temperature", 70)
+        self.changed = True  #: the host wrote (or the servo changed) a register since the arm last read them
 
     # -- registers as values --------------------------------------------------------------
 
@@ -66,6 +69,7 @@ class EmulatedServo:
         self.memory[address:address + len(data)] = data
         if self.faults.alarm_bits and self.get("torque_enable"):
             self.put("torque_enable", 0)
+        self.changed = True
 
     @property
     def torque_on(self) -> bool:
@@ -86,5 +90,6 @@ class EmulatedServo:
         self.faults.alarm_bits |= bits
         self.put("status" if self.model.family == "feetech" else "hardware_error", self.faults.alarm_bits)
         self.put("torque_enable", 0)
+        self.changed = True
         if bits & 4:
             self.put("present_temperature", 75)

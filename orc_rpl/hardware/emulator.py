@@ -103,6 +103,7 @@ class EmulatedBus:
             if 0 < units < 255 and now_s - self.last_packet_s > 0.020 * units:
                 servo.put("bus_watchdog", 255)
                 servo.put("goal_position", servo.get("present_position"))
+                servo.changed = True
 
     def handle(self, packet: Instruction, n_bytes: int, now_s: float) -> list[tuple[float, bytes]]:
         """The replies to one host packet as (time the last byte is on the wire, bytes)."""

@@ -102,8 +102,8 @@ STS3215 = ServoModel(
     default_return_delay_units=250,
 )
 
-XL430 = ServoModel(
-    family="dynamixel", name="XL430-W250", model_number=1060,
+XM430 = ServoModel(
+    family="dynamixel", name="XM430-W350", model_number=1020,
     registers={
         "model_number": Register(0, 2),
         "id": Register(7, 1),
@@ -118,6 +118,7 @@ XL430 = ServoModel(
         "torque_enable": Register(64, 1),
         "hardware_error": Register(70, 1),
         "bus_watchdog": Register(98, 1),
+        "goal_current": Register(102, 2, twos_complement=True),
         "profile_acceleration": Register(108, 4),
         "profile_velocity": Register(112, 4),
         "goal_position": Register(116, 4, twos_complement=True),
@@ -132,13 +133,18 @@ XL430 = ServoModel(
     speed_rad_s_per_unit=0.229 * 2.0 * math.pi / 60.0,   # 0.229 rpm
     current_a_per_unit=0.00269,
     voltage_v_per_unit=0.1,
-    stall_torque_nm=1.5,
-    stall_current_a=1.4,
+    stall_torque_nm=4.1,                         # at 12 V (data sheet)
+    stall_current_a=2.3,
     state_block=(126, 21),                       # current, speed, position, trajectories, voltage, temperature
     default_return_delay_units=250,
 )
 
-MODELS: dict[str, ServoModel] = {"feetech": STS3215, "dynamixel": XL430}
+MODELS: dict[str, ServoModel] = {"feetech": STS3215, "dynamixel": XM430}
+
+#: Dynamixel operating modes (register 11): position control, and current-based position control
+#: (a position loop whose current is capped by goal_current: a gripper that squeezes with a set force).
+POSITION_MODE = 3
+CURRENT_BASED_POSITION_MODE = 5
 
 #: Alarm bits of STS "status" (65) and of Dynamixel "hardware_error" (70): the two tables agree on these
 ALARM_BITS: dict[int, str] = {1: "input voltage", 4: "overheating", 32: "overload"}

@@ -15,8 +15,11 @@ from orc_rpl.hardware.emulator import EmulatedBus, FaultPlan, hand_pose
 from orc_rpl.hardware.packets import Instruction
 from orc_rpl.robot.robots import ROBOTS
 
-#: The physics may fall this far behind the wall clock before it skips ahead (a busy machine).
+#: Physics steps between two looks at the wire, at most (the wire comes first).
 MAX_CATCH_UP_STEPS = 20
+#: The physics catches up with the wall clock from at most this far behind; beyond it (a starved process on a
+#: busy machine) it stays behind, running slower than real time, rather than spend its time catching up.
+MAX_LAG_S = 0.050
 
 
 def open_pty() -> tuple[int, int, str]:
@@ -27,12 +30,12 @@ def open_pty() -> tuple[int, int, str]:
 
 
 def serve(robot: str, bus: str, baud: int = 1_000_000, faults: tuple[FaultPlan, ...] = (), hand: bool = False,
-          out: TextIO = sys.stdout, duration_s: float | None = None) -> None:
+          out: TextIO = sys.stdout, duration_s: float | None = None, object_rad: float | None = None) -> None:
     """Run the emulated arm until killed (or for duration_s); prints the port path first."""
     spec = ROBOTS.get(robot)
     n = len(spec.q_min_rad)
     emulated = EmulatedBus(bus, list(range(1, n + 2)), baud, faults)  # the arm's joints and the gripper
-    arm = EmulatedArm(robot, emulated.servos)
+    arm = EmulatedArm(robot, emulated.servos, object_rad)
     master, slave, path = open_pty()
     out.write(f"{path}\n")
     out.write(f"emulating {robot} on a {bus} bus at {baud} baud: servo ids 1..{n} (joints), {n + 1} (gripper)\n")
@@ -43,14 +46,19 @@ def serve(robot: str, bus: str, baud: int = 1_000_000, faults: tuple[FaultPlan, 
     start = time.perf_counter()
     limp_since: float | None = None
     step_s = arm.cell.timestep_s
+    lag_s = 0.0  #: how far the physics has fallen behind the wall clock on a busy machine, for good
     try:
         while duration_s is None or time.perf_counter() - start < duration_s:
             now = time.perf_counter() - start
             while outgoing and outgoing[0][0] <= now:
                 os.write(master, outgoing.popleft()[1])
-            emulated.watchdog(now)
+            if not select.select([master], [], [], 0)[0]:
+                # only when every byte the host sent has been read: a stalled emulator must not take the host for silent
+                emulated.watchdog(now)
+            if now - lag_s - arm.time_s > MAX_LAG_S:
+                lag_s = now - arm.time_s - MAX_LAG_S  # a starved emulator falls behind the wall clock, never races it
             steps = 0
-            while arm.time_s + step_s <= now and steps < MAX_CATCH_UP_STEPS:
+            while arm.time_s + step_s <= now - lag_s and steps < MAX_CATCH_UP_STEPS:
                 if hand:
                     # the hand takes the arm when the host switches the torque off (not while nobody has talked)
                     if emulated.torque_written:
@@ -61,7 +69,7 @@ def serve(robot: str, bus: str, baud: int = 1_000_000, faults: tuple[FaultPlan, 
                 steps += 1
                 if outgoing and outgoing[0][0] <= time.perf_counter() - start:
                     break  # a reply is due: the wire comes first
-            due = [arm.time_s + step_s]
+            due = [arm.time_s + step_s + lag_s]
             if outgoing:
                 due.append(outgoing[0][0])
             wait = max(0.0, min(due) - (time.perf_counter() - start))
@@ -80,6 +88,7 @@ def serve(robot: str, bus: str, baud: int = 1_000_000, faults: tuple[FaultPlan, 
                 if complaint is not None:
                     emulated.bad_packets += 1
                 if isinstance(packet, Instruction):
+                    arm.publish()  # the registers as the servos measure now
                     outgoing.extend(emulated.handle(packet, used, received))
                 elif not used:
                     break

@@ -9,8 +9,9 @@ from orc_rpl.application.registry import Registry
 from orc_rpl.checking.checker import check_program
 from orc_rpl.errors import Diagnostic, Location, OrcError, SourceError
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.files import declared_world, is_offline, parse_text
+from orc_rpl.syntax.files import ONLINE_SUFFIXES, declared_world, is_offline, parse_text
 from orc_rpl.transform.checks import check_offline, load_world_file
+from orc_rpl.transform.loading import moving_frames
 from orc_rpl.world import World
 
 
@@ -31,12 +32,14 @@ class Analysis:
         return is_offline(self.path)
 
 
-def world_line(text: str) -> int:
-    """The 1-based line of the `# world: FILE` comment among the leading comments, 0 when there is none."""
+def world_line(text: str, path: str = "") -> int:
+    """The 1-based line of the `# world: FILE` comment among the leading comments (an on-line program's
+    `-- world: FILE`, naming its cell), 0 when there is none."""
+    marker = "--" if Path(path).suffix in ONLINE_SUFFIXES else "#"
     for number, line in enumerate(text.splitlines(), start=1):
-        if not line.startswith("#"):
+        if not line.startswith(marker):
             break
-        if declared_world("", line) is not None:  # the regular expression of the one `# world:` reader
+        if declared_world(path, line) is not None:  # the regular expression of the one `# world:` reader
             return number
     return 0
 
@@ -73,7 +76,7 @@ def salvage(text: str, path: str, diagnostics: list[Diagnostic]) -> n.Program | 
 
 def _world(text: str, path: str) -> tuple[World | None, list[Diagnostic], int]:
     """The world named by an off-line program's `# world:` line, the errors loading it, and that line."""
-    line = world_line(text)
+    line = world_line(text, path)
     world_path = declared_world(path, text)
     if world_path is None:
         return None, [], 0
@@ -85,15 +88,16 @@ def _world(text: str, path: str) -> tuple[World | None, list[Diagnostic], int]:
 
 def analyse(text: str, path: str, registry: Registry) -> Analysis:
     """Parse and check one document's text; every error becomes a diagnostic, never an exception."""
-    world, world_errors, line = _world(text, path) if is_offline(path) else (None, [], 0)
+    world, world_errors, line = _world(text, path)
     try:
         program = parse_text(text, path)
     except SourceError as error:
         return Analysis(path, text, None, list(error.diagnostics), world, line, salvage(text, path, error.diagnostics))
     except OrcError as error:  # an unknown suffix: say so at the top of the file
         return Analysis(path, text, None, [Diagnostic(Location(path, 1, 1), str(error))])
-    if not is_offline(path):
-        return Analysis(path, text, program, check_program(program, path, registry))
+    if not is_offline(path):  # its `-- world:` cell: the moving frames it may name
+        frames = None if world is None else moving_frames(world)
+        return Analysis(path, text, program, world_errors + check_program(program, path, registry, None, frames))
     if world is None:  # without a world model only the syntax can be checked
         return Analysis(path, text, program, world_errors, None, line)
     diagnostics = check_offline(program, world, path, text, registry)

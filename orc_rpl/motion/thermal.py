@@ -161,7 +161,7 @@ class WindingTemperature:
         warm = ~cold & ~self._calibrated & ~self._uncalibrated
         self._calibrated |= warm & (self._cal_den >= CALIBRATION_MIN_A2)
         self._uncalibrated |= warm & (self._cal_den < CALIBRATION_MIN_A2)  # too little current: the model alone
-        self._calibrating = not bool(np.all(self._calibrated | self._uncalibrated))
+        self._calibrating = False in (self._calibrated | self._uncalibrated).tolist()  # np.all, cheaper
 
     @property
     def r20_ohm(self) -> np.ndarray:

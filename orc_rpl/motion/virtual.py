@@ -14,6 +14,7 @@ from orc_rpl.motion.layer import MotionLayer
 from orc_rpl.motion.planner import Planner
 from orc_rpl.motion.thermal import WindingTemperature
 from orc_rpl.motion.timing import preload as preload_planning
+from orc_rpl.robot.servo_plants import servo_plant_spec
 
 
 class ServoBackend:
@@ -150,7 +151,17 @@ def make_virtual_motion_layer(
     kin = Kinematics(arm, solve_ik)
     start = np.array(arm.home_q if q0 is None else q0, dtype=float)
     kin.check_limits(start, "start position")
-    if backend == "servo":
+    servo_arm = backend == "servo" and plant == "realistic" and servo_plant_spec(robot) is not None
+    if elastic and servo_arm:
+        raise UsageError(f"robot {robot!r} runs on bus servos: its plant has no elastic gears")
+    if servo_arm:
+        # an arm on bus servos: its position loops are the servos' own; goals are streamed to them
+        from orc_rpl.motion.servo_arm import ServoArmBackend
+        from orc_rpl.plant.servo_arm import ServoArmCell
+
+        be: Any = ServoArmBackend(ServoArmCell(None if cell is not None else robot, cell), motion_period_s)
+        be.reset(start)
+    elif backend == "servo":
         from orc_rpl.servo.control import ServoGains
         from orc_rpl.servo.loop import ServoLoop
 
@@ -178,14 +189,14 @@ def make_virtual_motion_layer(
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
     # the next move is planned on a worker thread, over an arm model of its own (made when first needed)
     layer.ahead = PlanAhead(lambda: Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub), paced=realtime)
-    if backend == "servo" and plant == "realistic":
+    if backend == "servo" and plant == "realistic" and not servo_arm:
         layer.planner.friction_reserve_nm = reserve_nm
         layer.winding = WindingTemperature(nominal.torque_per_amp_nm_a, nominal.winding_resistance_ohm,
                                            nominal.winding_rth_k_w, nominal.winding_time_constant_s, nominal.ambient_c,
                                            motion_period_s, COPPER_TEMPCO_1_K)
         layer.winding.measurement = be.loop.cell.winding_measurement  # corrected from the drives' V and i
     # thesis 5.3: torque-limited path following is on where torques can run short of the plan
-    layer.path_velocity_control = backend == "servo" and plant == "realistic"
+    layer.path_velocity_control = backend == "servo" and plant == "realistic" and not servo_arm
     # A robot that is set up should move at once: a paced run would start 0.4 s late otherwise.
     preload_planning()
     if record and logger is None:

@@ -97,6 +97,7 @@ class Editor:
         self.originals: dict[str, str] = {}     #: position name -> its declaration before the first :modpos
         self._undo: list[str] = []
         self.on_change: list[Callable[[], None]] = []  #: called after every edit (the executive recompiles)
+        self.moving_frames: dict[str, str] | None = None  #: the cell's moving frames the program may name (None: none)
 
     # -- the program and the cursor ----------------------------------------------------
 
@@ -366,7 +367,7 @@ class Editor:
 
     def check_diagnostics(self) -> list[Diagnostic]:
         """The checker's findings on the program as it is now."""
-        return check_program(self.program, str(self.path), self.registry)
+        return check_program(self.program, str(self.path), self.registry, None, self.moving_frames)
 
     # -- saving and recovery --------------------------------------------------------------
 

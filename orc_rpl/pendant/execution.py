@@ -21,6 +21,7 @@ from orc_rpl.pendant.robot import PendantRobot
 from orc_rpl.pendant.tree import EditError
 from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.parser import parse_statement
+from orc_rpl.transform.loading import moving_frames
 from orc_rpl.world.pose import Pose
 
 #: A synchronous session lets a job run this many motion cycles at most (an hour at 4 ms).
@@ -55,6 +56,9 @@ class Execution:
         self._sliced = False
         robot.set_mode(mode)
         editor.on_change.append(self._program_changed)
+        cell_world = _cell_world(robot)
+        if cell_world is not None:  # the checks know the cell's moving frames, as orc check --world does
+            editor.moving_frames = moving_frames(cell_world)
 
     def _program_changed(self) -> None:
         self._ex_dirty = True
@@ -274,7 +278,7 @@ class Execution:
         routine, frame = self.editor.context()
         # checked where it will run, so an error points at the offending word before anything moves
         problems = check_in_context(self.editor.program, stmt, routine, frame, "<typed>", self.registry,
-                                    self.executive().machine.globals)
+                                    self.executive().machine.globals, self.editor.moving_frames)
         if problems:
             raise EditError("\n".join(problem.format(text) for problem in problems))
         return self.statement_job("typed", stmt, routine, frame, 0, text)

@@ -91,6 +91,8 @@ class Panels:
             values = list(bank)
             shown = " ".join(f"{i + 1}:{int(v) if isinstance(v, bool) else f'{v:g}'}" for i, v in enumerate(values))
             lines.append(f"{language:<10} {shown}")
+        if getattr(self.robot.layer.backend, "real_arm", False):
+            return "\n".join(lines) + "\n(:io DigIn[3] 1 sets a channel: the program's own, this arm has no IO hardware)"
         return "\n".join(lines) + "\n(:io DigIn[3] 1 sets a channel of the simulated cell)"
 
     def set_io(self, channel: str, value: str) -> str:

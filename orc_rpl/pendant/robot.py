@@ -148,6 +148,8 @@ class PendantRobot:
         from orc_rpl.errors import UsageError
 
         loop = getattr(self.layer.backend, "loop", None)
+        if getattr(self.layer.backend, "real_arm", False):
+            raise UsageError("a real arm has no simulated cell to render: take a photograph")
         if loop is None:
             raise UsageError("this robot has no simulated cell to render (kinematic backend)")
         return str(loop.cell.render_png(path, width, height))

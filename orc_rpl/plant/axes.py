@@ -1,4 +1,4 @@
-"""The plant room's external axes: a track's carriage, a positioner's tilt and turn, as MuJoCo joints with their own drives.
+"""The plant room's external axes: a track's carriage, a positioner's tilt and turn, a conveyor's belt, as MuJoCo joints with their own drives.
 
 Each axis is a body on a slide or hinge joint, driven by a position servo computed inside MuJoCo (a
 `general` actuator: its reference is an integrator state the drive ramps each motion cycle, its law
@@ -31,6 +31,11 @@ class AxisDrive:
     range_si: tuple[float, float]
     home_si: float
     mass_si: float                                  #: moving mass (kg) or inertia about the axis (kg m2) the drive is tuned for
+    conveyor_speed_si: float = 0.0                  #: a conveyor's belt speed (m/s): it runs from the start, nothing commands it
+
+    @property
+    def conveyor(self) -> bool:
+        return self.conveyor_speed_si != 0.0
 
     @property
     def kp(self) -> float:
@@ -106,6 +111,13 @@ class AxisDrives:
             self._data.act[self._act[name]] = axis.home_si
             self._data.ctrl[self._ctrl[name]] = 0.0
             self.references[name] = axis.home_si
+            if axis.conveyor:
+                # a running belt: the drive's reference ramps at the belt speed for ever (its integrator's input), led
+                # by the drive's lag so that the belt is at speed * t from the first step (kp (r - q) = kv q')
+                v = axis.conveyor_speed_si
+                self._data.qvel[self._qvel[name]] = v
+                self._data.act[self._act[name]] = axis.home_si + axis.lag_s * v
+                self._data.ctrl[self._ctrl[name]] = v
 
     def command(self, ends: dict[str, float], period_s: float) -> None:
         """Ramp each named axis' drive reference from where it is to `ends[name]` over the next period_s."""
@@ -118,7 +130,9 @@ class AxisDrives:
 
     def hold(self) -> None:
         """Stop every ramp: the drives hold their last reference."""
-        for name in self.axes:
+        for name, axis in self.axes.items():
+            if axis.conveyor:
+                continue  # a belt runs on
             self._data.act[self._act[name]] = self.references[name]
             self._data.ctrl[self._ctrl[name]] = 0.0
 

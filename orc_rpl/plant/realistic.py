@@ -24,13 +24,15 @@ VOLTAGE_NOISE_V, CURRENT_NOISE_A = 0.05, 0.02
 multiply, add, rint = np.multiply, np.add, np.rint
 
 
-class RealisticCell(PidDrives, SimCell):
+class RealisticCell(SimCell):
     """A SimCell whose robot is not the controller's model (see `PlantSpec` and docs/robots.md).
 
     `q`, `qd` and `live_state()` are what the servo measures (quantised angles, noisy speeds);
     `true_q` and `true_qd` are the plant's own. Starts cold; `warm_up()` puts it at its warm state.
-    Deterministic for a seed.
+    Deterministic for a seed. Its motors are `drives` (plant.drives.PidDrives), made when the model is.
     """
+
+    drives: PidDrives
 
     def __init__(self, robot: str | None = None, cell: CellDescription | None = None, realtime: bool = False,
                  seed: int = 0, spec: PlantSpec | None = None, elastic: bool = False) -> None:
@@ -48,7 +50,7 @@ class RealisticCell(PidDrives, SimCell):
         """The drives as MuJoCo PID actuators, and elastic gears when asked for.
 
         Drives: each motor is a `pid` actuator with position, velocity and feed-forward inputs, so the
-        servo's loops can run in C inside mj_step (`set_drive_gains`, `drive`); with its gains at zero
+        servo's loops can run in C inside mj_step (`PidDrives.set_drive_gains`, `drive`); with its gains at zero
         (`torque_mode`, the state after reset) it is a plain torque motor: the force is the feed-forward
         input, saturated at the motor's limit. The integrator is MuJoCo's Euler (joint damping still
         implicit): the drive's torque is then computed from the state at the start of each step and held
@@ -126,8 +128,8 @@ class RealisticCell(PidDrives, SimCell):
         self._qd_meas_view = self._qd_meas.view()
         for view in (self._q_meas_view, self._qd_meas_view):
             view.flags.writeable = False
-        self._setup_drives()
-        self.torque_mode()
+        self.drives = PidDrives(self)
+        self.drives.torque_mode()
         self.set_payload(0.0)
 
     # -- state -------------------------------------------------------------------------
@@ -156,6 +158,20 @@ class RealisticCell(PidDrives, SimCell):
         """Read-only views of the measured (q, qd), updated step by step."""
         return self._q_meas_view, self._qd_meas_view
 
+    def true_live_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """The plant's own (q, qd) as read-only views that follow it step by step (copies if its joints are not contiguous)."""
+        if self._q_live is not None:
+            return self._q_live, self._qd_live
+        return self.true_q, self.true_qd
+
+    def noise_rows(self, n_steps: int) -> np.ndarray:
+        """The speed noise the servo reads during the next n_steps steps (one row a step, the current first)."""
+        end = self._noise_row + n_steps
+        if end >= len(self._noise):
+            self._noise = np.concatenate([self._noise[self._noise_row:], self._new_noise()])
+            self._noise_row, end = 0, n_steps
+        return self._noise[self._noise_row:end]
+
     @property
     def winding_temperature_c(self) -> np.ndarray:
         """Each motor's winding temperature (C)."""
@@ -169,7 +185,7 @@ class RealisticCell(PidDrives, SimCell):
         electrical time constant). Voltage and current carry seeded noise (VOLTAGE_NOISE_V,
         CURRENT_NOISE_A, 1 sigma); the speed is the one the servo reads.
         """
-        current = self._force / self._k_amp
+        current = self.drives.force / self._k_amp
         resistance = self._r_ohm * (1.0 + COPPER_TEMPCO_1_K * (self.plant.ambient_c + self.winding_rise_k - 20.0))
         speed = self._qd_meas.copy()
         voltage = resistance * current + self._k_amp * self.true_qd
@@ -230,11 +246,11 @@ class RealisticCell(PidDrives, SimCell):
     def step(self, tau_nm: np.ndarray) -> None:
         """Apply motor torques for one timestep, advance the cell, update what the servo measures.
 
-        The drives must be in torque mode (`torque_mode`, their state after a reset): the torque is
-        their feed-forward input.
+        The drives must be in torque mode (`PidDrives.torque_mode`, their state after a reset): the
+        torque is their feed-forward input.
         """
         data = self._data
-        self._ff_in[:] = tau_nm
+        self.drives.ff_in[:] = tau_nm
         mj_step(self._model, data)
         self._copper()
         self._next_noise_row()
@@ -243,7 +259,7 @@ class RealisticCell(PidDrives, SimCell):
 
     def _copper(self) -> None:
         """The copper losses of the last step for the thermal model; the slow states every THERMAL_EVERY_STEPS."""
-        work, tau = self._work, self._force
+        work, tau = self._work, self.drives.force
         multiply(tau, tau, work)
         add(self._tau_sq_sum, work, self._tau_sq_sum)
         self._steps += 1
@@ -254,7 +270,7 @@ class RealisticCell(PidDrives, SimCell):
         """The copper losses of a drive call's steps (their forces, overwritten); the slow states once
         THERMAL_EVERY_STEPS have passed (at the call's end: whole motion cycles)."""
         multiply(forces, forces, forces)
-        add(self._tau_sq_sum, forces.sum(axis=0), self._tau_sq_sum)
+        add(self._tau_sq_sum, add.reduce(forces, 0), self._tau_sq_sum)  # = forces.sum(axis=0), one C call
         self._steps += len(forces)
         if self._steps - self._heated_at >= THERMAL_EVERY_STEPS:
             self._heat(self._steps - self._heated_at)

@@ -15,6 +15,8 @@ from orc_rpl.world.world import World
 #: positioner's table with its workpiece (kg m2 about the axis).
 TRACK_MASS_KG = 600.0
 POSITIONER_INERTIA_KG_M2 = 5.0
+#: The moving mass of a conveyor's belt with its parts (kg), what its drive is tuned for.
+BELT_MASS_KG = 50.0
 
 #: Colour names a world model may use, as RGBA.
 COLOURS: dict[str, tuple[float, float, float, float]] = {
@@ -89,19 +91,19 @@ def moving_ancestor(world: World, name: str) -> str:
 
 
 def scene_axes(world: World, base: np.ndarray) -> tuple[AxisDrive, ...]:
-    """The world's external axes (tracks, positioners) as drives of the cell, parents first; conveyors are left out."""
+    """The world's moving frames as drives of the cell, parents first: tracks and positioners, and conveyors (a belt
+    whose drive runs at the belt's speed from the start; the parts on it are solids that ride on it)."""
     out = []
     moving = [n for n in world.descendants("world") if n in world.moving_frames()]
     for name in moving:
         axis = world.object(name).axis
         assert axis is not None
-        if axis.joint == "conveyor":
-            continue
         parent = moving_ancestor(world, name)
         at_value = world.relative_pose(name, parent).matrix() if parent else np.linalg.inv(base) @ world.world_pose(name).matrix()
         at_zero = at_value @ np.linalg.inv(axis.matrix(world.axis_value(name)))
-        mass = POSITIONER_INERTIA_KG_M2 if axis.rotary else TRACK_MASS_KG
+        conveyor = axis.joint == "conveyor"
+        mass = BELT_MASS_KG if conveyor else POSITIONER_INERTIA_KG_M2 if axis.rotary else TRACK_MASS_KG
         out.append(AxisDrive(name, axis.rotary, DIRECTIONS[axis.direction], parent,
                              tuple(float(v) for v in at_zero[:3, 3]), tuple(float(v) for v in at_zero[:3, :3].reshape(-1)),
-                             axis.range_si, axis.home_si, mass))
+                             axis.range_si, axis.home_si, mass, axis.speed_si if conveyor else 0.0))
     return tuple(out)

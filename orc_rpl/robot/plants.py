@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 
 from orc_rpl.errors import UsageError
+from orc_rpl.robot.servo_plants import SERVO_PLANTS
 
 #: Temperature coefficient of copper's resistance: +0.393 % per kelvin.
 COPPER_TEMPCO_1_K = 0.00393
@@ -118,4 +119,4 @@ def plant_spec(robot: str) -> PlantSpec:
 
 def default_plant(robot: str) -> str:
     """The plant a simulated run gets when none is asked for: realistic where the robot has a description."""
-    return "realistic" if robot in PLANTS else "ideal"
+    return "realistic" if robot in PLANTS or robot in SERVO_PLANTS else "ideal"

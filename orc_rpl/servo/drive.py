@@ -34,7 +34,8 @@ class CompiledDrives:
         n = servo.arm.n_joints
         self._ff, self._rows = np.zeros((0, n)), np.zeros((0, n))
         self._work, self._integral = np.zeros(n), np.zeros(n)
-        self._gain_p, self._gain_i, self._kv_ibw = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._gains = np.zeros((3, n))
+        self._gain_p, self._gain_i, self._kv_ibw = self._gains   # views of its rows
         self._kp, self._kv, self._ibw = np.zeros(n), np.zeros(n), np.zeros(n)
         self._pid_p, self._pid_i = np.zeros(n), np.zeros(n)   #: kp + ki and ki * kp of the law, per kv
         self._integral_start = np.zeros(n)
@@ -50,8 +51,8 @@ class CompiledDrives:
     def release(self) -> None:
         """Hand back to the Python law: the servo's integral from the drives', the drives as torque motors."""
         if self.engaged:
-            self.servo.integral = self.cell.integral_nm() + self._kv * self._ibw * self.servo.position_error
-            self.cell.torque_mode()
+            self.servo.integral = self.cell.drives.integral_nm() + self._kv * self._ibw * self.servo.position_error
+            self.cell.drives.torque_mode()
             self.servo._steps = 0  # its gains are scheduled again at the next step
             self.engaged = False
 
@@ -61,19 +62,18 @@ class CompiledDrives:
         if servo._kp is not self._kp:  # another tuning (or the first call): the law's constants
             self._kp, self._ibw = servo._kp, servo._integral_bw_dt / servo.period_s
             self._pid_p, self._pid_i = self._kp + self._ibw, self._ibw * self._kp
+            self._per_kv = np.stack([self._pid_p, self._pid_i, self._ibw])   #: one ufunc gives the three gains
             self._friction_p = self._kp * (1.0 / FRICTION_SMOOTH_RAD_S)
             self._integral_max = servo._integral_max
         kv, pid_p, pid_i = self._kv, self._gain_p, self._gain_i
         multiply(servo.arm.mass_matrix_diagonal_unchecked(q), servo._velocity_bw, kv)
-        multiply(kv, self._pid_p, pid_p)
-        multiply(kv, self._pid_i, pid_i)
-        multiply(kv, self._ibw, self._kv_ibw)
+        multiply(kv, self._per_kv, self._gains)  # rows: kv (kp + ki), kv ki kp, kv ki
         # The integral torque of the Python law is kept across the new kv, not the PID's ki * int(e):
         # its kv ki e part changes with kv (unchecked, it drifts by about 10 N m over a fast move)
         work = self._work
         multiply(self._kv_ibw, servo.position_error, work)
         subtract(servo.integral, work, work)
-        self.cell.set_drive_gains(pid_p, kv, pid_i, self._integral_max, work)
+        self.cell.drives.set_drive_gains(pid_p, kv, pid_i, self._integral_max, work)
 
     def run(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, each_step: Any = None) -> None:
         """One call of the servo loop: len(q_ref) steps of per-step references (rows), the drives in C."""
@@ -108,12 +108,12 @@ class CompiledDrives:
         noise = cell.noise_rows(n_steps)
         multiply(noise, self._kv, work)
         subtract(ff, work, ff)   # the velocity loop reads the noisy speed
-        state = cell._integral_state
+        state = cell.drives.integral_state
         self._integral_start[:] = state
         true_q, true_qd = cell.true_live_state()
         integral_before, q_before, qd_before = servo.integral.copy(), true_q.copy(), true_qd.copy()
         if each_step is None:
-            cell.drive(q_ref, qd_ref, ff)
+            cell.drives.drive(q_ref, qd_ref, ff)
             self._signals(q_ref[-1], qd_ref[-1], False)
         else:
             row = [0]
@@ -123,7 +123,7 @@ class CompiledDrives:
                 row[0] += 1
                 each_step()
 
-            cell.drive(q_ref, qd_ref, ff, step)
+            cell.drives.drive(q_ref, qd_ref, ff, step)
         servo._steps += n_steps
         # The Python law's integral over the call, from the drives' states: it sums h (qd_ref - qd + kp e)
         # step by step, and with MuJoCo's semi-implicit Euler sum(h qd_k) = q_n - q_0 - h (qd_n - qd_0)
@@ -154,7 +154,7 @@ class CompiledDrives:
         """servo.integral: the Python law's integral torque I = kv ki e + ki_pid * integral(e)."""
         servo, work, integral = self.servo, self._work, self._integral
         multiply(self._kv_ibw, servo.position_error, work)
-        multiply(self.cell._integral_state, self.cell._ki, integral)
+        multiply(self.cell.drives.integral_state, self.cell.drives.ki, integral)
         add(integral, work, integral)
         servo.integral = integral
 
@@ -174,6 +174,6 @@ class CompiledDrives:
         if integral:
             self._integral_now()
         tau = servo.torque
-        tau[:] = cell._force
+        tau[:] = cell.drives.force
         np.abs(tau, self._tau_abs)
         np.greater_equal(self._tau_abs, servo._tau_max, servo.saturated)

@@ -50,7 +50,7 @@ class ServoLoop:
         self.on_step: list[Callable[[], None]] = []  #: called after every servo step (loggers, sensors)
         # The servo law runs in C inside the drives where the cell has them (the realistic plant);
         # the Python law (`JointServo.update`) is the reference and drives every other cell.
-        self.drives = CompiledDrives(self.servo, self.cell) if hasattr(self.cell, "drive") else None
+        self.drives = CompiledDrives(self.servo, self.cell) if getattr(self.cell, "drives", None) is not None else None
         self.compiled_law = self.drives is not None  #: False: the Python law, step by step
         self.drives_on = True  #: False: no torque, the brakes hold the joints (set_drives)
 

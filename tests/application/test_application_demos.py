@@ -54,7 +54,8 @@ def test_identification_demos_never_give_a_wrong_part_on_the_realistic_plant(cap
     assert lines[3] == f"heavy parts: {int(lines[1] == right[1])}"
     code = main(["run", str(ROOT / "programs/online/thesis_2_5_identmove.rpl")])
     out, err = capsys.readouterr()
-    assert (code, out) == (0, "identified: Nut\n") or (code == 1 and "IdentUncertain" in err), err
+    # never a wrong part: the nut, or (too near a class limit on the cold arm) the part held for a person to decide
+    assert (code, out) in ((0, "identified: Nut\n"), (0, "part uncertain: held at the via point\n")), err
 
 
 def test_script_installs_weld_guns_and_parts(tmp_path: Path) -> None:

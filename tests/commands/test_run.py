@@ -82,6 +82,8 @@ def test_check_errors_exit_2_and_nothing_runs(capsys: pytest.CaptureFixture[str]
     (["run", "{demo}", "--robot", "r2d2"], "--robot: unknown robot 'r2d2'"),
     (["run", "{demo}", "--world", "no/such/dir"], "--world"),
     (["run", "{demo}", "--log", "no/such/dir/out.npz"], "--log"),
+    (["run", "{demo}", "--sim", "no/such.sim.yaml"], "--sim: no such file 'no/such.sim.yaml'"),
+    (["run", "{demo}", "--sim", "/dev/null"], "--sim: '/dev/null' is not a regular file"),
 ])
 def test_usage_errors_are_one_line_and_exit_2(argv: list[str], message: str, capsys: pytest.CaptureFixture[str]) -> None:
     demo = str(ROOT / "programs/online/demo_recover.rpl")
@@ -109,3 +111,22 @@ def test_a_plant_that_does_not_exist_is_a_usage_error(capsys: pytest.CaptureFixt
     with pytest.raises(SystemExit) as stopped:
         main(["run", str(ROOT / "programs/online/demo_pallet.rpl"), "--plant", "perfect"])
     assert stopped.value.code == 2 and "--plant" in capsys.readouterr().err
+
+
+@pytest.mark.sim
+def test_sim_replaces_the_programs_own_equipment(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    # the same deburring program on a casting with a smaller bulge: a variation of the cell, not of the program
+    program = ROOT / "programs/online/thesis_2_1_grindmove.rpl"
+    own = program.with_suffix(".sim.yaml").read_text(encoding="utf-8")
+    assert "height: 1.4mm" in own
+    smaller = tmp_path / "smaller.sim.yaml"
+    smaller.write_text(own.replace("height: 1.4mm", "height: 0.8mm"), encoding="utf-8")
+    heights = []
+    for extra in ((), ("--sim", str(smaller))):
+        summary = tmp_path / f"summary{len(heights)}.json"
+        code, out, err = orc(capsys, "run", str(program), *extra, "--summary-json", str(summary))
+        assert code == 0, err
+        (bulge,) = json.loads(summary.read_text())["process"]["bulges"]
+        assert bulge["within_tolerance"]
+        heights.append(bulge["caught_height_m"])
+    assert heights[1] < heights[0] - 0.4e-3  # the smaller casting's bulge was the one caught and ground

@@ -11,7 +11,7 @@ from orc_rpl.hardware.calibration import load, nominal
 from orc_rpl.hardware.dynamixel import DynamixelCodec, crc16
 from orc_rpl.hardware.feetech import FeetechCodec
 from orc_rpl.hardware.packets import PING, READ, Instruction, Status
-from orc_rpl.hardware.registers import STS3215, XL430
+from orc_rpl.hardware.registers import STS3215, XM430
 from orc_rpl.robot.robots import ROBOTS
 
 
@@ -48,7 +48,7 @@ def test_signed_registers_use_each_familys_encoding() -> None:
     assert speed.encode(-5) == bytes((5, 0x80)) and speed.decode(bytes((5, 0x80))) == -5
     load = STS3215.reg("present_load")  # sign bit 10
     assert load.decode((1024 + 300).to_bytes(2, "little")) == -300
-    position = XL430.reg("present_position")  # two's complement
+    position = XM430.reg("present_position")  # two's complement
     assert position.encode(-2) == bytes((0xFE, 0xFF, 0xFF, 0xFF)) and position.decode(bytes((0xFE, 0xFF, 0xFF, 0xFF))) == -2
 
 

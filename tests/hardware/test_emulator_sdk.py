@@ -17,7 +17,7 @@ scservo_sdk.port_handler.LATENCY_TIMER = 100
 dynamixel_sdk.port_handler.LATENCY_TIMER = 100
 
 STS3215_MODEL = 777
-XL430_MODEL = 1060
+XM430_MODEL = 1020
 
 
 def _settle(read, goals: dict[int, int], tolerance: int = 3) -> dict[int, int]:
@@ -73,7 +73,7 @@ def test_dynamixel_sdk_pings_reads_and_sync_writes_the_emulated_so101() -> None:
         port = dynamixel_sdk.PortHandler(path)
         assert port.openPort() and port.setBaudRate(1_000_000)
         packets = dynamixel_sdk.PacketHandler(2.0)
-        assert packets.ping(port, 3) == (XL430_MODEL, dynamixel_sdk.COMM_SUCCESS, 0)
+        assert packets.ping(port, 3) == (XM430_MODEL, dynamixel_sdk.COMM_SUCCESS, 0)
         assert packets.ping(port, 12)[1] == dynamixel_sdk.COMM_RX_TIMEOUT
         position, result, _ = packets.read4ByteTxRx(port, 4, 132)
         assert result == dynamixel_sdk.COMM_SUCCESS and position == 2048 + 1024

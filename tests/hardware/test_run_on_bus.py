@@ -87,7 +87,8 @@ def test_the_desk_arm_demo_runs_unchanged_on_the_simulated_cell_and_on_the_emula
     text = (Path(__file__).parents[2] / "programs" / "online" / "demo_desk_arm.rpl").read_text(encoding="utf-8")
     code, simulated, err, sim = orc_run(tmp_path, text)
     assert code == 0, err
-    assert simulated.splitlines() == ["picked at 20 -60 10", "placed at 20 60 10", "gripper closed: FALSE"]
+    assert simulated.splitlines() == ["picked within 1.5 mm: TRUE", "holding a part: FALSE", "placed within 1.5 mm: TRUE",
+                                      "gripper closed: FALSE"]
     with emulated_bus("--robot", "so101") as port:
         code, on_bus, err, bus = orc_run(tmp_path, text, "--port", port)
     assert code == 0, err

@@ -32,3 +32,12 @@ def test_names_declared_elsewhere_stay_known_while_a_line_does_not_parse(tmp_pat
     assert analysis.program is None and [d.location.line for d in analysis.diagnostics] == [2]
     assert analysis.salvaged is not None
     assert {"p1", "Go"} <= set(ProgramIndex(analysis.salvaged).globals)
+
+
+def test_an_online_program_may_name_the_moving_frames_of_the_cell_its_world_line_names() -> None:
+    path = Path(__file__).resolve().parents[2] / "programs" / "online" / "demo_positioner.rpl"
+    text = path.read_text(encoding="utf-8")
+    assert analyse(text, str(path), REGISTRY).diagnostics == []
+    # without its `-- world:` line the same program names a frame nobody declared
+    (diagnostic,) = analyse(text.split("\n", 1)[1], str(path), REGISTRY).diagnostics
+    assert "unknown frame 'turn'" in diagnostic.message and diagnostic.location.line == 11

@@ -13,6 +13,7 @@ from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.pendant.jog import JogError
 from orc_rpl.pendant.robot import PendantRobot
 from orc_rpl.pendant.session import PendantSession
+from orc_rpl.pendant.tree import EditError
 from orc_rpl.plant.world_scene import cell_from_world
 from orc_rpl.world import load_world
 from tests.conftest import ROOT
@@ -65,3 +66,11 @@ def test_a_taught_position_with_axis_values_is_reached_again(tmp_path: Path) -> 
     assert robot.axes.values()["track"] == pytest.approx(0.0, abs=1e-4)
     session.execution.execute_text("MOVE torch TO p1")
     assert robot.axes.values()["track"] == pytest.approx(0.15, abs=1e-4)
+
+
+def test_the_pendant_checks_know_the_cells_moving_frames(tmp_path: Path) -> None:
+    session = _session(tmp_path)
+    assert session.editor.check_diagnostics() == []  # `IN turn` names the positioner's table
+    session.execution.execute_text("FRAME q = POSE(0, 0, 0, 0, 0, 0) IN turn")  # checked before it runs
+    with pytest.raises(EditError, match="unknown frame 'belt'"):
+        session.execution.execute_text("FRAME r = POSE(0, 0, 0, 0, 0, 0) IN belt")

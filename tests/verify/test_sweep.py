@@ -133,3 +133,28 @@ def test_the_margins_become_columns_with_the_line_of_their_motion() -> None:
     record = record_of(0, grid(["m=1"], None, [])[0], RunOutcome(0, summary, "", ""), 1, None)
     assert (record["clearance_mm"], record["clearance_line"], record["clearance_bodies"]) == (31.5, 7, "link6/fence")
     assert (record["joint_margin_deg"], record["joint_margin_line"]) == (9.5, 4)
+
+
+@pytest.mark.sim
+def test_a_sweep_over_cell_variations_alone_tells_every_part_or_holds_it(tmp_path: Path) -> None:
+    # IDENTMOVE's robustness as docs/verify.md shows it: the part under the gripper varied through --sim files,
+    # no --set; the plot's x axis is the variation
+    root = Path(__file__).resolve().parents[2]
+    result = orc("sweep", str(root / "programs/online/thesis_2_5_identmove.rpl"), "--plant-variation",
+                 str(root / "benchmarks/sweeps/ident_parts.yaml"), "--workers", "2", "--out", str(tmp_path / "ident"),
+                 "--outcome", "process.identifications.1.payload_kg", cwd=root)
+    assert result.returncode == 0, result.stderr
+    rows = {row["variation"]: row for row in map(json.loads, (tmp_path / "ident.jsonl").read_text().splitlines())}
+    right = {"nothing": "NoObject", "nut-0.3kg": "Nut", "heavy-nut-0.45kg": "Nut", "bolt-0.9kg": "Bolt"}
+    assert set(rows) == set(right)
+    for name, part in right.items():
+        told = rows[name]["process.identifications.1.part"]
+        assert rows[name]["status"] == "finished" and told in (part, ""), (name, told)  # "": uncertain, held
+    assert (tmp_path / "ident.png").stat().st_size > 0
+
+
+def test_a_sweep_needs_something_to_sweep(tmp_path: Path) -> None:
+    program = tmp_path / "speed.rpl"
+    program.write_text(PROGRAM, encoding="utf-8")
+    result = orc("sweep", str(program), cwd=tmp_path)
+    assert result.returncode == 2 and "give at least one --set NAME=V1,V2,..., --seeds N or --plant-variation FILE" in result.stderr

@@ -31,10 +31,13 @@ def test_view_options_that_make_no_sense_exit_2(args: list[str], message: str) -
 
 
 @pytest.mark.sim
-def test_orc_view_serves_a_world_until_interrupted() -> None:
+@pytest.mark.parametrize(("world", "program"), [
+    ("cell_thesis.yaml", "offline/thesis_7_3.orl"),
+    ("positioner_cell.yaml", "online/demo_positioner.rpl"),  # a program naming the cell's moving frames
+], ids=["offline", "moving-frames"])
+def test_orc_view_serves_a_world_until_interrupted(world: str, program: str) -> None:
     pytest.importorskip("viser", reason="the 3D view is the [view] extra")
-    proc = orc("view", str(ROOT / "worlds" / "cell_thesis.yaml"), str(ROOT / "programs" / "offline" / "thesis_7_3.orl"),
-               "--view-port", "0")
+    proc = orc("view", str(ROOT / "worlds" / world), str(ROOT / "programs" / program), "--view-port", "0")
     try:
         url = read_url(proc.stderr)
         assert url.startswith("http://127.0.0.1:")

@@ -28,7 +28,9 @@ def register(registry: Registry) -> None:
                          AttributeSpec("GRIP_CURRENT", (DIMENSIONLESS,), 0.5,
                                        "current (A) at which the servo stops squeezing (with SERVO)", function_ok=False)),
                         (MethodSpec("Open", "open the gripper"), MethodSpec("Close", "close the gripper"),
-                         MethodSpec("Closed", "TRUE while the gripper is closed", returns="bool"))),
+                         MethodSpec("Closed", "TRUE while the gripper is closed", returns="bool"),
+                         MethodSpec("Holding", "TRUE when the last Close of a servo gripper stopped on an object "
+                                               "(squeezing it at GRIP_CURRENT)", returns="bool"))),
         InstallKindSpec("Grinder", "a grinding spindle driven by a digital output",
                         (AttributeSpec("SPINDLE", IO_CHANNEL, None, "digital output that runs the spindle", function_ok=False),),
                         (MethodSpec("On", "start the spindle"), MethodSpec("Off", "stop the spindle"))),
