@@ -1,6 +1,6 @@
 """Arm-control benchmark: the path velocity controller on the realistic plant, and the winding-temperature estimate.
 
-Run: python benchmarks/bench_arm_control.py [--robot irb2400] [--seed 0]
+Run: python benchmarks/bench_arm_control.py [--robot irb2400] [--seed 0] [--elastic]
 Fast joint motions at full speed, declared LOAD = 10 kg while the plant carries 15 kg,
 from a cold start (twice the warm friction). The last lines are `key=value` figures (targets:
 pvc_path_error_mm <= 0.5, saturated_cycle_fraction <= 0.01, nominal_equals_actual_when_feasible=True,
@@ -8,6 +8,7 @@ thermal_estimate_error_pct <= 5); no_pvc_path_error_mm is the same motions witho
 thermal_estimate_error_pct_model_only the thermal model without the correction from the drives' voltage and current.
 Path errors count every servo step from the start of a move to the end of its FINE settling;
 pvc_path_error_while_moving_mm only the steps while the reference moves.
+--elastic: the same on the plant with elastic gears and the servo tuned for them (servo/two_mass.py).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import numpy as np
 from orc_rpl.motion import JointMotion, MotionLayer, Params, make_virtual_motion_layer
 
 DECLARED_KG, CARRIED_KG = 10.0, 15.0
+ELASTIC = [False]   #: the plant's elastic gears (--elastic)
 
 #: The fast motions: joint moves (MOVE) at full speed, FINE, between these configurations (deg),
 #: the first from home; the arm swings stretched out, where gravity and inertia use most of the torque.
@@ -43,7 +45,7 @@ def _distance(p: np.ndarray, starts: np.ndarray, directions: np.ndarray) -> floa
 
 def run_moves(robot: str, seed: int, pvc: bool, cold: bool, carried_kg: float) -> dict[str, float]:
     """The fast moves; the worst distance of the TCP (from the measured angles through the model) from the programmed path."""
-    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed)
+    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0])
     loop = layer.backend.loop
     if not cold:
         loop.cell.warm_up()
@@ -84,7 +86,7 @@ def run_moves(robot: str, seed: int, pvc: bool, cold: bool, carried_kg: float) -
 
 def nominal_equals_actual(robot: str, seed: int) -> bool:
     """On a warm plant with the payload declared right, the reference is the nominal trajectory, sample for sample."""
-    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed)
+    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0])
     loop = layer.backend.loop
     loop.cell.warm_up()
     loop.set_payload(DECLARED_KG, known=False)
@@ -112,7 +114,7 @@ def thermal_estimate(robot: str, seed: int, corrected: bool = True) -> tuple[flo
     `corrected`: the estimate corrected from the drives' voltage and current (the default); False: the
     thermal model alone.
     """
-    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed)
+    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0])
     if not corrected:
         layer.winding.measurement = None
     loop = layer.backend.loop
@@ -130,13 +132,20 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--robot", default="irb2400")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--elastic", action="store_true", help="elastic gears in the plant, the servo tuned for them")
     args = ap.parse_args()
+    ELASTIC[0] = args.elastic
     with_pvc = run_moves(args.robot, args.seed, True, True, CARRIED_KG)
     without = run_moves(args.robot, args.seed, False, True, CARRIED_KG)
     same = nominal_equals_actual(args.robot, args.seed)
     thermal_pct, plant_rise, estimated_rise = thermal_estimate(args.robot, args.seed)
     model_only_pct, _, model_only_rise = thermal_estimate(args.robot, args.seed, corrected=False)
     print(f"robot={args.robot}")
+    print(f"elastic={args.elastic}")
+    if args.elastic:
+        gains = make_virtual_motion_layer(args.robot, backend="servo", elastic=True).backend.loop.servo.gains
+        print(f"servo_velocity_bw_rad_s={' '.join(f'{v:.1f}' for v in gains.per_joint(len(gains.joint_velocity_bw_rad_s))[1])}")
+        print(f"servo_position_gain_1_s={' '.join(f'{v:.1f}' for v in gains.per_joint(len(gains.joint_velocity_bw_rad_s))[0])}")
     print(f"declared_load_kg={DECLARED_KG:g}")
     print(f"carried_load_kg={CARRIED_KG:g}")
     print(f"pvc_scaled_cycles={with_pvc['scaled_cycles']:.0f}")

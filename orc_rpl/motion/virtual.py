@@ -106,15 +106,15 @@ class ServoBackend:
 PLANTS = ("realistic", "ideal")
 
 
-def _make_cell(robot: str, plant: str, seed: int, cell: Any = None) -> Any:
-    """The MuJoCo cell of a virtual robot (the default cell, or the description `cell`)."""
+def _make_cell(robot: str, plant: str, seed: int, cell: Any = None, elastic: bool = False) -> Any:
+    """The MuJoCo cell of a virtual robot (the default cell, or the description `cell`); `elastic`: elastic gears."""
     if plant == "ideal":
         from orc_rpl.plant.sim import SimCell
 
         return SimCell(None if cell is not None else robot, cell)
     from orc_rpl.plant.realistic import RealisticCell
 
-    return RealisticCell(None if cell is not None else robot, cell, seed=seed)
+    return RealisticCell(None if cell is not None else robot, cell, seed=seed, elastic=elastic)
 
 
 def make_virtual_motion_layer(
@@ -128,6 +128,7 @@ def make_virtual_motion_layer(
     plant: str = "realistic",
     seed: int = 0,
     cell: Any = None,
+    elastic: bool = False,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
@@ -136,10 +137,14 @@ def make_virtual_motion_layer(
     model's; deterministic for `seed`) or "ideal" (the controller's own model, exactly). `record=True`
     makes a signals Logger with q_ref, q, qd_ref, tau, tcp and s (available as `layer.logger`); pass
     your own `logger` to choose the signals yourself. `cell` (a `plant.CellDescription`, e.g. made from
-    a world model by `plant.world_scene.cell_from_world`) replaces the default cell.
+    a world model by `plant.world_scene.cell_from_world`) replaces the default cell. `elastic`: the
+    realistic plant's elastic gears (robots with a gear stiffness), the servo tuned for them
+    (servo/two_mass.py).
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
+    if elastic and plant != "realistic":
+        raise UsageError(f"elastic gears are part of the realistic plant, not of the {plant} one")
     from orc_rpl.robot import load_robot, solve_ik
 
     arm = load_robot(robot)
@@ -147,6 +152,8 @@ def make_virtual_motion_layer(
     start = np.array(arm.home_q if q0 is None else q0, dtype=float)
     kin.check_limits(start, "start position")
     servo_arm = backend == "servo" and plant == "realistic" and servo_plant_spec(robot) is not None
+    if elastic and servo_arm:
+        raise UsageError(f"robot {robot!r} runs on bus servos: its plant has no elastic gears")
     if servo_arm:
         # an arm on bus servos: its position loops are the servos' own; goals are streamed to them
         from orc_rpl.motion.servo_arm import ServoArmBackend
@@ -155,11 +162,18 @@ def make_virtual_motion_layer(
         be: Any = ServoArmBackend(ServoArmCell(None if cell is not None else robot, cell), motion_period_s)
         be.reset(start)
     elif backend == "servo":
+        from orc_rpl.servo.control import ServoGains
         from orc_rpl.servo.loop import ServoLoop
 
         # The servo gets its own model: a payload is state of an ArmModel, and the planner's
         # what-if torque computations must not change the servo's feed-forward.
-        loop = ServoLoop(load_robot(robot), _make_cell(robot, plant, seed, cell))
+        sim = _make_cell(robot, plant, seed, cell, elastic)
+        gains = ServoGains()
+        if getattr(sim, "elastic", False):
+            from orc_rpl.servo.two_mass import two_mass_gains
+
+            gains = two_mass_gains(arm, sim.motor_inertia_kg_m2, sim.plant.gear_stiffness_nm_rad)
+        loop = ServoLoop(load_robot(robot), sim, gains)
         if plant == "realistic":
             from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, plant_spec
 

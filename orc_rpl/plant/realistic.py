@@ -90,6 +90,11 @@ class RealisticCell(SimCell):
             q = q + self._data.qpos[self._qpos + 1]
         return q
 
+    @property
+    def motor_inertia_kg_m2(self) -> np.ndarray:
+        """Each motor joint's rotor inertia at the joint (the MJCF's armature): the motor side of an elastic gear."""
+        return self._model.dof_armature[self._qvel].copy()
+
     # -- set-up ------------------------------------------------------------------------
 
     def _setup(self) -> None:
@@ -206,6 +211,8 @@ class RealisticCell(SimCell):
             self._setup()
             self.cool_down()
         super().reset(q, qd)
+        if self.elastic:
+            self._wind_gears()
         self._rng = np.random.default_rng(self.seed)
         self._drive_rng = np.random.default_rng([self.seed, 1])  # its own stream: the speed noise is unchanged
         self._noise = self._new_noise()
@@ -213,6 +220,17 @@ class RealisticCell(SimCell):
         self._steps = self._heated_at = 0
         self._tau_sq_sum[:] = 0.0
         self._measure()
+
+    def _wind_gears(self) -> None:
+        """Each gear twisted as it is at rest under the links' weight (a robot at rest is not one whose
+        links were just let go: k * twist = -gravity torque, found in a few fixed-point passes)."""
+        import mujoco
+
+        data, gear_q, gear_v = self._data, self._qpos + 1, self._qvel + 1
+        stiffness = np.array(self.plant.gear_stiffness_nm_rad)
+        for _ in range(4):
+            data.qpos[gear_q] = -data.qfrc_bias[gear_v] / stiffness
+            mujoco.mj_forward(self._model, data)
 
     def cool_down(self) -> None:
         """A cold start: windings and gearboxes at ambient, friction at its cold value."""

@@ -33,6 +33,19 @@ class ServoGains:
     integral_bw_rad_s: float = 15.0        #: PI zero of the velocity loop (removes steady errors)
     integral_limit: float = 0.25           #: integral torque limited to this share of tau_max (anti-windup)
     inertia_every_steps: int = 4           #: recompute M_ii(q) every so many steps (a motion cycle)
+    #: per-joint caps on the two bandwidths above (elastic gears: servo/two_mass.py), () for none
+    joint_velocity_bw_rad_s: tuple[float, ...] = ()
+    joint_position_gain_1_s: tuple[float, ...] = ()
+
+    def per_joint(self, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """(position gain, velocity bandwidth) of each of n joints: the scalars, capped by the per-joint values."""
+        kp, bw = np.full(n, self.position_gain_1_s), np.full(n, self.velocity_bw_rad_s)
+        for values, caps in ((kp, self.joint_position_gain_1_s), (bw, self.joint_velocity_bw_rad_s)):
+            if caps:
+                if len(caps) != n:
+                    raise UsageError(f"per-joint servo gains are for {len(caps)} joints, the arm has {n}")
+                np.minimum(values, np.array(caps, dtype=float), out=values)
+        return kp, bw
 
     def __post_init__(self) -> None:
         for name in ("position_gain_1_s", "velocity_bw_rad_s", "integral_bw_rad_s", "integral_limit"):
@@ -94,15 +107,16 @@ class JointServo:
         self._integral_max = gains.integral_limit * self._tau_max
         self._integral_min = -self._integral_max
         # gains at home until the first update schedules them at the measured pose
-        self._kv = np.diag(arm.mass_matrix(arm.home_q)) * gains.velocity_bw_rad_s
+        kp, velocity_bw = gains.per_joint(n)
+        self._kv = np.diag(arm.mass_matrix(arm.home_q)) * velocity_bw
         self._ki_dt = self._kv * (gains.integral_bw_rad_s * period_s)
         self._inverse_dynamics = arm.inverse_dynamics_function()
         self._steps = 0
         self._inertia_every = gains.inertia_every_steps
         # Scalar gains as arrays: numpy multiplies two arrays faster than an array and a Python float,
         # and the products are the same numbers.
-        self._kp = np.full(n, gains.position_gain_1_s)
-        self._velocity_bw = np.full(n, gains.velocity_bw_rad_s)
+        self._kp = kp
+        self._velocity_bw = velocity_bw
         self._integral_bw_dt = np.full(n, gains.integral_bw_rad_s * period_s)
         # Work arrays of update(); the integral alternates between two buffers (the anti-windup
         # needs last cycle's value while the new one is formed).
@@ -146,7 +160,7 @@ class JointServo:
         """
         n, g = self.arm.n_joints, self.gains
         if tuning is None:
-            kp, bw, ibw = np.full(n, g.position_gain_1_s), np.full(n, g.velocity_bw_rad_s), np.full(n, g.integral_bw_rad_s)
+            (kp, bw), ibw = g.per_joint(n), np.full(n, g.integral_bw_rad_s)
             d_inertia, d_viscous, d_offset = np.zeros(n), np.zeros(n), np.zeros(n)
         else:
             if len(tuning.position_gain_1_s) != n:

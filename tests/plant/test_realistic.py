@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -98,7 +100,8 @@ def test_every_robot_with_a_plant_builds_and_an_unknown_one_is_a_clear_error() -
         plant_spec("puma")
 
 
-def test_elastic_gears_twist_under_load_and_the_servo_stays_stable() -> None:
+def _elastic_irb2400_at_home() -> tuple[Any, RealisticCell, Any, Any]:
+    """The IRB 2400 on elastic gears under the servo (rigid gains, nominal friction), reset at home."""
     from orc_rpl.servo.loop import ServoLoop
 
     spec = plant_spec("irb2400")
@@ -107,6 +110,11 @@ def test_elastic_gears_twist_under_load_and_the_servo_stays_stable() -> None:
     loop.servo.set_friction(spec.coulomb_nm, spec.viscous_nm_s)
     arm = load_robot("irb2400")
     loop.reset(arm.home_q)
+    return spec, cell, loop, arm
+
+
+def test_elastic_gears_twist_under_load_and_the_servo_stays_stable() -> None:
+    spec, cell, loop, arm = _elastic_irb2400_at_home()
     loop.hold(arm.home_q, 1500)
     twist = cell.link_q - cell.true_q
     # at rest the gear carries the motor's torque against the arm's weight: k * twist = -tau (j2 carries the arm)
@@ -114,3 +122,12 @@ def test_elastic_gears_twist_under_load_and_the_servo_stays_stable() -> None:
     assert np.max(np.abs(loop.servo.position_error)) < 1e-4, "the motor side is held"
     with pytest.raises(UsageError, match="no gear stiffness"):
         RealisticCell("ur5e", elastic=True)
+
+
+def test_elastic_gears_start_wound_up_under_the_links_weight() -> None:
+    spec, cell, loop, arm = _elastic_irb2400_at_home()
+    wound = cell.link_q - cell.true_q
+    assert abs(wound[1]) > 1e-4, "j2's gear carries the arm from the start"
+    loop.hold(arm.home_q, 300)
+    # held, the links stay where the wound gears put them: no drop, no ringing
+    assert np.max(np.abs(cell.link_q - cell.true_q - wound)) < 0.05 * abs(wound[1])
