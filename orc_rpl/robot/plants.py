@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from orc_rpl.errors import UsageError
 from orc_rpl.robot.servo_plants import SERVO_PLANTS
+from orc_rpl.robot.tables import check_per_joint
 
 #: Temperature coefficient of copper's resistance: +0.393 % per kelvin.
 COPPER_TEMPCO_1_K = 0.00393
@@ -57,12 +57,8 @@ class PlantSpec:
     gear_damping_nm_s: tuple[float, ...] = ()              #: the gears' own damping, with the stiffness
 
     def __post_init__(self) -> None:
-        n = len(self.coulomb_nm)
-        for name in ("viscous_nm_s", "torque_per_amp_nm_a", "winding_resistance_ohm", "winding_rth_k_w",
-                     "winding_time_constant_s", "gear_rth_k_w", "link_mass_factors"):
-            values = getattr(self, name)
-            if len(values) != n or not all(math.isfinite(v) and v >= 0 for v in values):
-                raise UsageError(f"plant of {self.robot!r}: {name} must be {n} finite numbers >= 0, got {values!r}")
+        check_per_joint(self, ("viscous_nm_s", "torque_per_amp_nm_a", "winding_resistance_ohm", "winding_rth_k_w",
+                               "winding_time_constant_s", "gear_rth_k_w", "link_mass_factors"))
 
     @property
     def n_joints(self) -> int:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from orc_rpl.errors import UsageError
+from orc_rpl.robot.tables import check_per_joint
 
 
 @dataclass(frozen=True, slots=True)
@@ -51,11 +51,7 @@ class ServoPlantSpec:
     max_temperature_c: float = 70.0             #: the servo's factory temperature limit
 
     def __post_init__(self) -> None:
-        n = len(self.coulomb_nm)
-        for name in ("viscous_nm_s", "link_mass_factors"):
-            values = getattr(self, name)
-            if len(values) != n or not all(math.isfinite(v) and v >= 0 for v in values):
-                raise UsageError(f"plant of {self.robot!r}: {name} must be {n} finite numbers >= 0, got {values!r}")
+        check_per_joint(self, ("viscous_nm_s", "link_mass_factors"))
 
     @property
     def n_joints(self) -> int:
