@@ -169,4 +169,6 @@ def test_ctrl_c_stops_the_motion_and_the_arm_holds_with_its_torque_on(tmp_path: 
     assert run.returncode == 130, err
     assert "stopped by Ctrl-C; the arm holds its position (torque stays on)" in err
     assert torque == [1, 1, 1, 1, 1]
-    assert max(abs(a - b) for a, b in zip(first, later)) <= 2, (first, later)  # at rest, held
+    # at rest, held with torque on (a falling arm moves hundreds of counts): each servo's own loop may still hunt
+    # within its gear play, 0.3 deg = 3.4 counts of the 12-bit output encoder (the realistic plant's, as on the arm)
+    assert max(abs(a - b) for a, b in zip(first, later)) <= 4, (first, later)
