@@ -99,15 +99,8 @@ class RealisticCell(SimCell):
 
     def _setup(self) -> None:
         """Arrays of the realistic plant, made once the model is compiled (called from reset the first time)."""
-        p, m, n = self.plant, self._model, self.n_joints
-        if p.n_joints != n:
-            from orc_rpl.errors import UsageError
-
-            raise UsageError(f"the plant description of {self.robot!r} has {p.n_joints} joints, the robot {n}")
-        bodies = [int(m.jnt_bodyid[m.dof_jntid[d]]) for d in self._qvel]
-        for body, factor in zip(bodies, p.link_mass_factors):
-            m.body_mass[body] *= factor
-            m.body_inertia[body] *= factor
+        p, n = self.plant, self.n_joints
+        self._scale_links(p, "plant description")
         self._hidden_flange_kg = p.unmodelled_flange_mass_kg
         self._coulomb = np.array(p.coulomb_nm) * p.plant_coulomb_factor
         self._viscous = np.array(p.viscous_nm_s) * p.plant_viscous_factor

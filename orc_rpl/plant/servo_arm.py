@@ -57,12 +57,7 @@ class ServoArmCell(SimCell):
     def _setup(self) -> None:
         """Arrays of the servos, made once the model is compiled (called from reset the first time)."""
         p, m, n = self.plant, self._model, self.n_joints
-        if p.n_joints != n:
-            raise UsageError(f"the servo plant description of {self.robot!r} has {p.n_joints} joints, the robot {n}")
-        bodies = [int(m.jnt_bodyid[m.dof_jntid[d]]) for d in self._qvel]
-        for body, factor in zip(bodies, p.link_mass_factors):
-            m.body_mass[body] *= factor
-            m.body_inertia[body] *= factor
+        self._scale_links(p, "servo plant description")
         self._play = self._qpos + 1
         self._play_v = self._qvel + 1
         m.dof_frictionloss[self._qvel] = np.array(p.coulomb_nm)

@@ -88,6 +88,17 @@ class SimCell:
         """The scene before it is compiled; a plant that adds to it (elastic gears) overrides this."""
         return spec
 
+    def _scale_links(self, plant: Any, described: str) -> None:
+        """A plant description's links on the compiled model: as many joints as the robot, each moving link's mass
+        and inertia times its factor (`plant.link_mass_factors`); `described` names the description in the error."""
+        m = self._model
+        if plant.n_joints != self.n_joints:
+            raise UsageError(f"the {described} of {self.robot!r} has {plant.n_joints} joints, the robot {self.n_joints}")
+        for dof, factor in zip(self._qvel, plant.link_mass_factors):
+            body = int(m.jnt_bodyid[m.dof_jntid[dof]])
+            m.body_mass[body] *= factor
+            m.body_inertia[body] *= factor
+
     # -- state ----------------------------------------------------------------
 
     @property
