@@ -115,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from orc_rpl.commands.run import _moving_world, _world_cell, simulated_plant
+    from orc_rpl.commands.run import simulated_plant, world_cell
     from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.sim_io import load_script
     from orc_rpl.motion.sensors import SensorManager
@@ -128,10 +128,9 @@ def _run(args: argparse.Namespace) -> int:
         robot = PendantRobot(bus_robot.connect(args, record=False))  # a real (or emulated) arm on a servo bus
     else:
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
-        cell = _world_cell(world_file, args.robot)
+        cell, cell_world = world_cell(world_file, args.robot)
         name = cell.robot if cell is not None else args.robot
         cell_robot = CellRobot.virtual(name, backend=args.backend, plant=simulated_plant(args, name), seed=args.seed, cell=cell)
-        cell_world = _moving_world(world_file)
         if cell_world is not None:
             cell_robot.attach_world(cell_world)  # its tracks and positioners: jogged, taught, moved with the arm
         robot = PendantRobot(cell_robot)

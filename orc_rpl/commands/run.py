@@ -143,13 +143,13 @@ def run(args: argparse.Namespace) -> int:
             world_file = _declared_cell(args.file)  # an on-line program's `-- world: FILE` line names its cell
         source, program, attributes = load_program_and_attributes(args.file, world_file)
         program = override_constants(program, args.set)
-        cell = None if is_offline(args.file) or args.port is not None else _world_cell(world_file, args.robot)
-        cell_world = _moving_world(world_file) if cell is not None else None
-        if is_offline(args.file) and args.port is None:
-            # an off-line program whose world has a track or a positioner runs in that world's cell
+        cell = cell_world = None
+        if args.port is None and not is_offline(args.file):
+            cell, cell_world = world_cell(world_file, args.robot)
+        elif args.port is None:  # an off-line program whose world has a track or a positioner runs in that world's cell
             offline_world = world_file or declared_world(args.file, source)
-            cell_world = _moving_world(str(offline_world) if offline_world is not None else None)
-            cell = _world_cell(str(offline_world), args.robot) if cell_world is not None else None
+            cell, cell_world = world_cell(None if offline_world is None else str(offline_world), args.robot,
+                                          only_moving=True)
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
@@ -182,20 +182,24 @@ def run(args: argparse.Namespace) -> int:
         return 1
 
 
-def _world_cell(world_file: str | None, robot: str) -> Any:
-    """The simulated cell made from the world model `--world FILE` of an on-line program (contacts on), or None
-    for the default cell. An off-line program runs in the default cell: the tools its worlds hang on the flange
+def world_cell(world_file: str | None, robot: str, only_moving: bool = False) -> tuple[Any, Any]:
+    """The simulated cell made from the world model `world_file` (contacts on) and that world when it has moving frames
+    (a track, a positioner, a conveyor), read once; (None, None) without a world, and with `only_moving` when it has
+    none. An off-line program runs in the default cell unless its world moves: the tools its worlds hang on the flange
     would meet the fixtures its bare-flange positions lead to (see docs/robots.md)."""
     if world_file is None:
-        return None
+        return None, None
     from orc_rpl.plant.world_scene import cell_from_world
     from orc_rpl.world import load_world
 
     world = load_world(world_file)
+    moving = world if world.moving_frames() else None
+    if only_moving and moving is None:
+        return None, None
     model = world.robot.model if world.robot is not None else robot
     if robot not in ("irb2400", model):  # --robot's default gives way to the world's robot
         raise UsageError(f"--robot {robot} differs from the robot of the world model '{world_file}' ({model})")
-    return cell_from_world(world, model)
+    return cell_from_world(world, model), moving
 
 
 def _declared_cell(path: str) -> str | None:
@@ -208,14 +212,6 @@ def _declared_cell(path: str) -> str | None:
         return None  # reading the program reports it
     cell = declared_world(path, text)
     return None if cell is None else str(cell)
-
-
-def _moving_world(world_file: str | None) -> Any:
-    """The world model of the cell when it has moving frames (a track, a positioner, a conveyor), else None."""
-    from orc_rpl.world import load_world
-
-    world = load_world(world_file) if world_file is not None else None
-    return world if world is not None and world.moving_frames() else None
 
 
 def _watched(args: argparse.Namespace, executive: Any, robot: Any, program: Any, registry: Any, how: Any) -> Any:
