@@ -26,12 +26,15 @@ def moving_frames(world: World) -> dict[str, str]:
 
 
 def load_program_and_attributes(path: str | Path, world: str | Path | None = None) -> tuple[str, n.Program, WorldAttributes]:
-    """`load_program`, and the soft and spatial attributes of the program's world (on-line: of `world` when given)."""
-    text, program = load_program(path, world)
-    world_path = Path(world) if world is not None else (declared_world(path, text) if is_offline(path) else None)
-    if world_path is None or not world_path.is_file():
+    """`load_program`, and the soft and spatial attributes of the program's world (on-line: of `world` when given);
+    an off-line program's world is read once for both."""
+    text, program = parse_file(path)
+    if is_offline(path):
+        loaded = _offline_world(path, text, world)
+        return text, to_online(program, loaded, str(path), text).program, world_attributes(loaded)
+    if world is None or not Path(world).is_file():
         return text, program, {}
-    return text, program, world_attributes(load_world(world_path))
+    return text, program, world_attributes(load_world(Path(world)))
 
 
 def load_program(path: str | Path, world: str | Path | None = None) -> tuple[str, n.Program]:
@@ -42,9 +45,14 @@ def load_program(path: str | Path, world: str | Path | None = None) -> tuple[str
     text, program = parse_file(path)
     if not is_offline(path):
         return text, program
+    return text, to_online(program, _offline_world(path, text, world), str(path), text).program
+
+
+def _offline_world(path: str | Path, text: str, world: str | Path | None) -> World:
+    """The world model of an off-line program: `world`, else its `# world: FILE` line (UsageError without one)."""
     world_path = Path(world) if world is not None else declared_world(path, text)
     if world_path is None:
         raise UsageError(f"'{path}' is an off-line program: give its world model (--world FILE or a '# world: FILE' line)")
     if not world_path.is_file():
         raise UsageError(f"world model '{world_path}' of '{path}' does not exist")
-    return text, to_online(program, load_world(world_path), str(path), text).program
+    return load_world(world_path)
