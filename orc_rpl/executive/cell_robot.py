@@ -173,6 +173,12 @@ class CellRobot:
         """d(TCP position)/dq (3 x n, world) at the measured joint angles."""
         return np.asarray(self.layer.kin.arm.jacobian(self.layer.current_q(), _tool_matrix(tool)))[:3]
 
+    def servo_gains(self) -> Any:
+        """The joint servo's default gains (`ServoGains`: per-joint caps and the elastic gears they were placed
+        for), or None on a robot without a servo of ours (kinematic, bus servos)."""
+        servo = getattr(getattr(self.layer.backend, "loop", None), "servo", None)
+        return None if servo is None else servo.gains
+
     def inverse_dynamics(self, q: tuple[float, ...], qd: tuple[float, ...], qdd: tuple[float, ...],
                          load_kg: float) -> tuple[float, ...]:
         return tuple(float(t) for t in self.layer.dynamics(np.array(q), np.array(qd), np.array(qdd), load_kg).torque_nm)

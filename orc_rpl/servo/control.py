@@ -36,6 +36,10 @@ class ServoGains:
     #: per-joint caps on the two bandwidths above (elastic gears: servo/two_mass.py), () for none
     joint_velocity_bw_rad_s: tuple[float, ...] = ()
     joint_position_gain_1_s: tuple[float, ...] = ()
+    #: the elastic gears the caps were placed for (stiffness, and the rotor inertia at the joint), () for rigid
+    #: gears: a tuning that knows the inertia at its pose places its bandwidths by them (CALIBRATE)
+    gear_stiffness_nm_rad: tuple[float, ...] = ()
+    rotor_inertia_kg_m2: tuple[float, ...] = ()
 
     def per_joint(self, n: int) -> tuple[np.ndarray, np.ndarray]:
         """(position gain, velocity bandwidth) of each of n joints: the scalars, capped by the per-joint values."""
@@ -73,6 +77,9 @@ class ServoTuning:
     d_viscous_nm_s: tuple[float, ...]         #: feed-forward: viscous friction the model lacks
     d_offset_nm: tuple[float, ...]            #: feed-forward: constant torque the model lacks (weight)
     label: str = "tuning()"
+    #: feed-forward: a mass at the flange the model lacks (kg), added to the model's payload while the tuning
+    #: holds, so its weight, inertia and Coriolis torques are right at every pose of the motion
+    load_kg: float = 0.0
 
     def __post_init__(self) -> None:
         n = len(self.position_gain_1_s)
@@ -83,6 +90,8 @@ class ServoTuning:
                 raise UsageError(f"tuning {name} must be {n} finite numbers, got {getattr(self, name)!r}")
             if name.endswith(("_1_s", "_rad_s")) and np.any(values < 0):
                 raise UsageError(f"tuning {name} must be >= 0, got {getattr(self, name)!r}")
+        if not (np.isfinite(self.load_kg) and self.load_kg >= 0.0):
+            raise UsageError(f"tuning load_kg must be a finite mass >= 0, got {self.load_kg!r}")
 
     def __str__(self) -> str:
         return self.label
@@ -139,6 +148,12 @@ class JointServo:
         self._extra, self._extra_work = np.zeros(n), np.zeros(n)
         self._coulomb: np.ndarray | None = None   #: nominal friction of the model (set_friction), None: none
         self._viscous: np.ndarray | None = None
+        self._control_load_kg = 0.0   #: the payload of the motion (its LOAD); a tuning's load_kg comes on top
+
+    def set_control_payload(self, mass_kg: float) -> None:
+        """The payload the feed-forward assumes (a motion's LOAD), plus the load of the tuning in use."""
+        self._control_load_kg = float(mass_kg)
+        self.arm.set_payload(self._control_load_kg + (self.tuning.load_kg if self.tuning is not None else 0.0))
 
     def reset(self) -> None:
         """Forget the integral and the signals (after a plant reset)."""
@@ -151,12 +166,13 @@ class JointServo:
         self.torque_offset = np.zeros(n)
         self._steps = 0
 
-    def set_tuning(self, tuning: ServoTuning | None) -> None:
+    def set_tuning(self, tuning: ServoTuning | None, q: Any = None) -> None:
         """Use a task-specific tuning from the next cycle on (None: back to `gains`), without a bump.
 
         Bumpless: the integral gives up (or takes back) the constant torque the tuning's feed-forward
-        adds, so the total torque does not jump at the switch; the per-joint gains are rescheduled
-        at the next cycle's pose. Without a tuning, `update` is the plain law, unchanged.
+        adds, and the weight of its load at the measured pose `q` (no load change without q), so the
+        total torque does not jump at the switch; the per-joint gains are rescheduled at the next
+        cycle's pose. Without a tuning, `update` is the plain law, unchanged.
         """
         n, g = self.arm.n_joints, self.gains
         if tuning is None:
@@ -170,6 +186,12 @@ class JointServo:
             d_inertia, d_viscous, d_offset = (np.array(v, dtype=float) for v in (tuning.d_inertia_kg_m2,
                                                                               tuning.d_viscous_nm_s, tuning.d_offset_nm))
         integral = self.integral + self._d_offset - d_offset
+        load_kg = self._control_load_kg + (tuning.load_kg if tuning is not None else 0.0)
+        if q is not None and load_kg != self.arm.payload[0]:
+            q_now, zero = np.array(q, dtype=float), np.zeros(n)
+            weight_before = np.array(self._inverse_dynamics(q_now, zero, zero))
+            self.arm.set_payload(load_kg)
+            integral -= np.array(self._inverse_dynamics(q_now, zero, zero)) - weight_before
         np.clip(integral, self._integral_min, self._integral_max, out=integral)
         self.integral = integral
         self._kp, self._velocity_bw, self._integral_bw_dt = kp, bw, ibw * self.period_s
