@@ -355,8 +355,8 @@ def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, float]
 
 #: The variants of the tuning comparison: the default gains, the fixed boost alone, the identified tuning, and the
 #: identified tuning with one part switched off (assembly_behaviour.PARTS), to credit each part its effect.
-TUNING_VARIANTS = ("default", "boost", "identified", "identified_without_load", "identified_without_placement",
-                   "identified_without_inertia", "identified_without_feedforward")
+TUNING_VARIANTS = ("default", "boost", "identified", "identified_without_load", "identified_without_friction",
+                   "identified_without_placement", "identified_without_inertia", "identified_without_feedforward")
 
 
 def settle_ms(variant: str, plant: str, elastic: bool = False) -> float:

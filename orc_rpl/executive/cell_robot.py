@@ -181,6 +181,11 @@ class CellRobot:
         servo = getattr(getattr(self.layer.backend, "loop", None), "servo", None)
         return None if servo is None else servo.gains
 
+    def servo_friction(self) -> Any:
+        """The joint friction the servo's model feeds forward (Coulomb N m, viscous N m s/rad per joint), or None."""
+        servo = getattr(getattr(self.layer.backend, "loop", None), "servo", None)
+        return None if servo is None else servo.friction()
+
     def inverse_dynamics(self, q: tuple[float, ...], qd: tuple[float, ...], qdd: tuple[float, ...],
                          load_kg: float) -> tuple[float, ...]:
         return tuple(float(t) for t in self.layer.dynamics(np.array(q), np.array(qd), np.array(qdd), load_kg).torque_nm)

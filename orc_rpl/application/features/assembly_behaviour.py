@@ -22,7 +22,7 @@ import numpy as np
 
 from orc_rpl.application.process_log import TuningRecord, process_log
 from orc_rpl.application.runtime import BehaviourError, MotionRequest, RobotInterface, Sample, run_to_end
-from orc_rpl.servo.control import ServoGains, ServoTuning
+from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S, ServoGains, ServoTuning
 from orc_rpl.servo.two_mass import POSITION_OVER_VELOCITY
 from orc_rpl.world.pose import Joints, Pose
 
@@ -66,12 +66,14 @@ def calibrate(path: Any, *, robot: RobotInterface, tool: Pose, to_world: Callabl
         kp, bw = gains.per_joint(n)
         tuning = _tuning(gains, kp, bw, np.ones(n), np.zeros(n), np.zeros(n), np.zeros(n), 0.0, "no data")
     else:
-        tuning = identify(recordings, model, start.values, load_kg, robot.dt_s, gains)
+        own_friction = getattr(robot, "servo_friction", None)
+        friction = own_friction() if own_friction is not None else None
+        tuning = identify(recordings, model, start.values, load_kg, robot.dt_s, gains, friction=friction)
     process_log(robot).tunings.append(TuningRecord({
         "samples": sum(len(r) for r in recordings), "position_gain_1_s": list(tuning.position_gain_1_s),
         "velocity_bw_rad_s": list(tuning.velocity_bw_rad_s), "d_inertia_kg_m2": list(tuning.d_inertia_kg_m2),
         "d_viscous_nm_s": list(tuning.d_viscous_nm_s), "d_offset_nm": list(tuning.d_offset_nm),
-        "load_kg": tuning.load_kg, "label": tuning.label}))
+        "load_kg": tuning.load_kg, "friction_factor": list(tuning.friction_factor), "label": tuning.label}))
     return tuning
 
 
@@ -82,15 +84,22 @@ def _move(robot: RobotInterface, request: MotionRequest) -> list[Sample]:
 
 #: The parts of the identified tuning; `identify(..., leave_out=...)` switches parts off (to credit each its effect).
 #: load: the weight the model lacks as a mass at the flange, fed forward through the model at every pose;
+#: friction: the joints' friction as identified, as a factor on the model's nominal friction (a cold gearbox);
 #: placement: bandwidths placed per joint (below an elastic gear's anti-resonance at the identified inertia) instead
 #: of the uniform BOOST; inertia: the velocity loop scaled by the identified inertia; feedforward: the dJ, b, c
 #: corrections (without load: all of the weight as constant offsets).
-PARTS = ("load", "placement", "inertia", "feedforward")
+PARTS = ("load", "friction", "placement", "inertia", "feedforward")
+#: The identified friction factor is trusted between these multiples of the nominal friction.
+FRICTION_FACTOR_RANGE = (0.5, 3.0)
 
 
 def identify(recordings: list[list[Sample]], model: Callable[..., Any], q0: tuple[float, ...], load_kg: float,
-             dt_s: float, gains: ServoGains = ServoGains(), leave_out: frozenset[str] = frozenset()) -> ServoTuning:
-    """Least squares per joint on the torque the model does not explain; the tuning that follows."""
+             dt_s: float, gains: ServoGains = ServoGains(), leave_out: frozenset[str] = frozenset(),
+             friction: tuple[Any, Any] | None = None) -> ServoTuning:
+    """Least squares per joint on the torque the model does not explain; the tuning that follows.
+
+    `model` is the rigid-body model (no friction): the rest includes all of the joints' friction. `friction`: the
+    nominal (Coulomb, viscous) friction the servo feeds forward already, None when it feeds none."""
     parts = []
     for samples in recordings:
         if len(samples) < 3:
@@ -104,14 +113,31 @@ def identify(recordings: list[list[Sample]], model: Callable[..., Any], q0: tupl
     predicted = np.array([model(tuple(a), tuple(b), tuple(c), load_kg) for a, b, c in zip(q, qd, qdd)])
     residual = tau - predicted
     n = q.shape[1]
-    d_inertia, d_viscous, d_offset = np.zeros(n), np.zeros(n), np.zeros(n)
+    d_inertia, d_viscous, d_offset, coulomb = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
     excited = np.sqrt(np.mean(qdd ** 2, axis=0)) >= MIN_EXCITATION_RAD_S2
+    with_coulomb = friction is not None and "friction" not in leave_out
     for j in range(n):
         if excited[j]:
-            regressors = np.column_stack([qdd[:, j], qd[:, j], np.ones(len(q))])
-            (d_inertia[j], d_viscous[j], d_offset[j]), *_ = np.linalg.lstsq(regressors, residual[:, j], rcond=None)
+            columns = [qdd[:, j], qd[:, j], np.ones(len(q))]
+            if with_coulomb:  # the Coulomb friction as the servo models it (smoothed sign of the speed)
+                columns.append(np.tanh(qd[:, j] / FRICTION_SMOOTH_RAD_S))
+            fit, *_ = np.linalg.lstsq(np.column_stack(columns), residual[:, j], rcond=None)
+            d_inertia[j], d_viscous[j], d_offset[j] = fit[:3]
+            coulomb[j] = fit[3] if with_coulomb else 0.0
         else:
             d_offset[j] = float(np.mean(residual[:, j]))
+    factor = np.ones(n)
+    if with_coulomb:
+        # the friction of the joints the path moved, over the nominal; the others take their median (the gearboxes
+        # of a robot started cold warm up together)
+        nominal_c = np.asarray(friction[0], dtype=float)  # type: ignore[index]
+        measured = excited & (nominal_c > 0)
+        factor[measured] = coulomb[measured] / nominal_c[measured]
+        f_low, f_high = FRICTION_FACTOR_RANGE
+        good = measured & (factor >= f_low) & (factor <= f_high)
+        factor[~good] = float(np.median(factor[good])) if np.any(good) else 1.0
+    if friction is not None:  # the servo feeds forward (nominal) viscous friction already: only the rest
+        d_viscous = d_viscous - factor * np.asarray(friction[1], dtype=float)
     m_model = _inertia(model, q0, load_kg)
     low, high = INERTIA_RATIO_RANGE
     raw = (m_model + d_inertia) / np.maximum(m_model, 1e-9)
@@ -151,12 +177,16 @@ def identify(recordings: list[list[Sample]], model: Callable[..., Any], q0: tupl
         kp = np.where(held, np.minimum(kp0, POSITION_OVER_VELOCITY * bw), kp)
         if np.any(held):
             placed = "below the gears' anti-resonance on joint " + ", ".join(str(j + 1) for j in np.nonzero(held)[0])
+        # a joint whose gains its gear limits keeps the nominal friction: the Coulomb term switches with the
+        # demanded speed, and a larger one rings the gear (measured: it slows the settling on the IRB 2400's j1-j3)
+        factor[held | (bw0 < gains.velocity_bw_rad_s)] = 1.0
     if "feedforward" in leave_out:
         d_inertia, d_viscous, d_offset = np.zeros(n), np.zeros(n), np.zeros(n)
     notes = [placed] if placed else []
     if not np.all(trusted | ~excited):
         notes.append("inertia not trusted on joint " + ", ".join(str(j + 1) for j in np.nonzero(excited & ~trusted)[0]))
-    return _tuning(gains, kp, bw, ratio, d_inertia, d_viscous, d_offset, extra_kg, "; ".join(notes))
+    return _tuning(gains, kp, bw, ratio, d_inertia, d_viscous, d_offset, extra_kg, "; ".join(notes),
+                   tuple(factor.tolist()) if with_coulomb else ())
 
 
 def _inertia(model: Callable[..., Any], q0: tuple[float, ...], load_kg: float) -> np.ndarray:
@@ -169,12 +199,14 @@ def _inertia(model: Callable[..., Any], q0: tuple[float, ...], load_kg: float) -
 
 
 def _tuning(gains: ServoGains, kp: np.ndarray, bw: np.ndarray, ratio: np.ndarray, d_inertia: np.ndarray,
-            d_viscous: np.ndarray, d_offset: np.ndarray, load_kg: float, note: str) -> ServoTuning:
+            d_viscous: np.ndarray, d_offset: np.ndarray, load_kg: float, note: str,
+            friction_factor: tuple[float, ...] = ()) -> ServoTuning:
     ibw = np.full(len(ratio), gains.integral_bw_rad_s)
+    friction = f", friction = {_numbers(np.array(friction_factor), 2)} x nominal" if friction_factor else ""
     label = (f"tuning(bandwidth = {_numbers(bw, 0)} rad/s, inertia = {_numbers(ratio, 3)} x model, "
-             f"load = {load_kg:.1f} kg, offset = {_numbers(d_offset, 1)} N m" + (f", {note}" if note else "") + ")")
+             f"load = {load_kg:.1f} kg{friction}, offset = {_numbers(d_offset, 1)} N m" + (f", {note}" if note else "") + ")")
     return ServoTuning(tuple(kp.tolist()), tuple((bw * ratio).tolist()), tuple(ibw.tolist()), tuple(d_inertia.tolist()),
-                       tuple(d_viscous.tolist()), tuple(d_offset.tolist()), label, float(load_kg))
+                       tuple(d_viscous.tolist()), tuple(d_offset.tolist()), label, float(load_kg), friction_factor)
 
 
 def _numbers(values: np.ndarray, digits: int) -> str:
