@@ -25,9 +25,10 @@ def summary(executive: Executive, robot: Any) -> dict[str, Any]:
     planning = getattr(robot, "planning", None)
     if planning is not None:  # thesis 5.2: moves planned while the one before runs, and whether the plans held
         result["planning"] = {"planned_ahead": planning.planned_ahead, "reused": planning.reused,
-                              "replanned": planning.replanned, "at_start": planning.at_start,
-                              "from_dummy": planning.from_dummy, "confirmed": planning.confirmed,
-                              "corrected": planning.corrected}
+                              "replanned": planning.replanned, "at_start": planning.at_start}
+        if planning.from_dummy:  # motions computed from sensor dummies (executive/sensor_ahead.py)
+            result["planning"].update(from_dummy=planning.from_dummy, confirmed=planning.confirmed,
+                                      corrected=planning.corrected)
     error = executive.error
     if error is not None:
         span = error.span

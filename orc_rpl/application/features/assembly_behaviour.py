@@ -4,10 +4,13 @@
         MOVE along the short path and back, twice, at the current payload; a recording action in the
         motion cycle gives q, q-dot and the joint torques;
         residual = torque - the controller's model (inverse dynamics at the measured motion);
-        per joint, least squares: residual = dJ qdd + b qd + c  (inertia, friction, weight the model lacks);
-        gains: the velocity loop scaled by the identified inertia (its bandwidth becomes what it was
-        designed for) and raised by BOOST where the identification holds; feed-forward corrections
-        dJ, b, c.
+        per joint, least squares: residual = dJ qdd + b qd + fc tanh(qd / 0.05) + c
+            (inertia, friction, weight the model lacks);
+        load: the constant torques c as one mass at the flange, fed forward through the model at every pose;
+        friction: fc over the servo's nominal Coulomb friction, a factor on the nominal friction it feeds forward;
+        gains: BOOST times the robot's own, the velocity loop scaled by the identified inertia; a joint with an
+        elastic gear whose anti-resonance (at the identified inertia) the boost would cross keeps its own;
+        feed-forward corrections dJ, b, c for what the load and the friction do not explain.
 
 The tuning is used by `MOVE ... WITH TUNING = t` for that motion only (the motion layer hands it to the
 servo at the start of the motion and restores the default gains when it is done).
