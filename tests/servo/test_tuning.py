@@ -52,12 +52,18 @@ def test_restoring_the_default_gives_back_the_plain_law_and_its_gains() -> None:
     assert np.all(servo._kp == g.position_gain_1_s) and np.all(servo._velocity_bw == g.velocity_bw_rad_s)
 
 
-def test_switching_to_a_tuning_that_carries_the_payload_weight_does_not_bump() -> None:
+def _holding_an_unknown_payload() -> tuple[ServoLoop, np.ndarray]:
+    """A loop at home holding 12 kg its model does not know, after the integral has taken the weight."""
     loop = ServoLoop()
     q0 = loop.arm.home_q
     loop.reset(q0)
     loop.set_payload(12.0, known=False)
     loop.hold(q0, 1500)  # the integral has taken the payload's weight
+    return loop, q0
+
+
+def test_switching_to_a_tuning_that_carries_the_payload_weight_does_not_bump() -> None:
+    loop, q0 = _holding_an_unknown_payload()
     weight = loop.servo.integral.copy()
     before = loop.hold(q0, 1).tau
     loop.set_tuning(tuning(d_offset=tuple(weight)))
@@ -71,11 +77,7 @@ def test_switching_to_a_tuning_that_carries_the_payload_weight_does_not_bump() -
 def test_a_tuning_with_a_load_feeds_its_weight_forward_at_every_pose_without_a_bump() -> None:
     import dataclasses
 
-    loop = ServoLoop()
-    q0 = loop.arm.home_q
-    loop.reset(q0)
-    loop.set_payload(12.0, known=False)
-    loop.hold(q0, 1500)  # the integral has taken the payload's weight
+    loop, q0 = _holding_an_unknown_payload()
     before = loop.hold(q0, 1).tau
     loop.set_tuning(dataclasses.replace(tuning(), load_kg=12.0))
     after = loop.hold(q0, 1).tau
