@@ -8,7 +8,8 @@ import numpy as np
 
 from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S, JointServo
 
-add, subtract, multiply, tanh, minimum, maximum = np.add, np.subtract, np.multiply, np.tanh, np.minimum, np.maximum
+add, subtract, multiply, tanh, minimum, maximum, copyto = (np.add, np.subtract, np.multiply, np.tanh, np.minimum, np.maximum,
+                                                       np.copyto)
 
 
 class CompiledDrives:
@@ -32,7 +33,8 @@ class CompiledDrives:
     def __init__(self, servo: JointServo, cell: Any) -> None:
         self.servo, self.cell = servo, cell
         n = servo.arm.n_joints
-        self._ff, self._rows = np.zeros((0, n)), np.zeros((0, n))
+        self._ff = np.zeros((0, n))
+        self._friction_of: Any = None   #: the friction the rows below were made for (`_rows_for`)
         self._work, self._integral = np.zeros(n), np.zeros(n)
         self._gains = np.zeros((3, n))
         self._gain_p, self._gain_i, self._kv_ibw = self._gains   # views of its rows
@@ -40,7 +42,6 @@ class CompiledDrives:
         self._pid_p, self._pid_i = np.zeros(n), np.zeros(n)   #: kp + ki and ki * kp of the law, per kv
         self._integral_start, self._q_before, self._qd_before = np.zeros(n), np.zeros(n), np.zeros(n)
         self._integral_a, self._integral_b = np.zeros(n), np.zeros(n)   #: servo.integral's two arrays (run)
-        self._rnea = np.zeros((0, n))
         self._rnea_rows = servo.arm.inverse_dynamics_rows_function()
         self._tau_abs = np.zeros(n)
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
@@ -86,10 +87,11 @@ class CompiledDrives:
         q, _ = cell.live_state()
         self._schedule(q)
         n_steps = len(q_ref)
-        ff, work, rnea = self._ff, self._rows, self._rnea
-        if ff.shape[0] != n_steps:
-            shape = (n_steps, len(q))
-            ff, work, rnea = self._ff, self._rows, self._rnea = np.zeros(shape), np.zeros(shape), np.zeros(shape)
+        if self._ff.shape[0] != n_steps or self._friction_of is not servo._coulomb:
+            self._rows_for(n_steps)
+        # per-joint values are spread over the rows once (copyto) before they meet a (rows, joints) array:
+        # numpy 2.4 broadcasts a row three times slower than it copies it; the numbers are the same
+        ff, work, rnea, spread = self._ff, self._rows, self._rnea, self._spread
         self._rnea_rows(q_ref, qd_ref, qdd_ref, rnea)  # the model's rigid-body torques, one C call for the rows
         servo.torque_ff = rnea[-1]  # a view: the servo's signals are overwritten each cycle
         ff_so_far = rnea   # the feed-forward is summed into ff from here (the same sums in the same order)
@@ -98,12 +100,13 @@ class CompiledDrives:
             error = self._work
             subtract(q_ref[0], q, error)
             multiply(error, self._friction_p, error)
-            multiply(qd_ref, 1.0 / FRICTION_SMOOTH_RAD_S, work)
-            add(work, error, work)
+            copyto(spread, error)
+            multiply(qd_ref, self._smooth_rows, work)
+            add(work, spread, work)
             tanh(work, work)
-            multiply(work, servo._coulomb, work)
+            multiply(work, self._coulomb_rows, work)
             add(rnea, work, ff)
-            multiply(qd_ref, servo._viscous, work)
+            multiply(qd_ref, self._viscous_rows, work)
             add(ff, work, ff)
             ff_so_far = ff
         if servo.tuning is not None:
@@ -111,9 +114,11 @@ class CompiledDrives:
                 ff[:] = rnea
             ff += servo._d_inertia * qdd_ref + servo._d_viscous * qd_ref + servo._d_offset
             ff_so_far = ff
-        add(ff_so_far, servo.torque_offset, ff)
+        copyto(spread, servo.torque_offset)
+        add(ff_so_far, spread, ff)
         noise = cell.noise_rows(n_steps)
-        multiply(noise, self._kv, work)
+        copyto(spread, self._kv)
+        multiply(noise, spread, work)
         subtract(ff, work, ff)   # the velocity loop reads the noisy speed
         state = cell.drives.integral_state
         true_q, true_qd = cell.true_live_state()
@@ -159,6 +164,16 @@ class CompiledDrives:
         minimum(integral, servo._integral_max, out=integral)
         maximum(integral, servo._integral_min, out=integral)
         servo.integral = integral
+
+    def _rows_for(self, n_steps: int) -> None:
+        """Work arrays of a call of n_steps rows, and the friction's constants spread over them."""
+        servo, shape = self.servo, (n_steps, self.servo.arm.n_joints)
+        self._ff, self._rows, self._rnea, self._spread = np.zeros(shape), np.zeros(shape), np.zeros(shape), np.zeros(shape)
+        self._smooth_rows = np.full(shape, 1.0 / FRICTION_SMOOTH_RAD_S)
+        self._friction_of = servo._coulomb
+        if servo._coulomb is not None:
+            self._coulomb_rows, self._viscous_rows = np.zeros(shape), np.zeros(shape)
+            self._coulomb_rows[:], self._viscous_rows[:] = servo._coulomb, servo._viscous
 
     def _integral_now(self) -> None:
         """servo.integral: the Python law's integral torque I = kv ki e + ki_pid * integral(e)."""
