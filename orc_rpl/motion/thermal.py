@@ -136,7 +136,7 @@ class WindingTemperature:
     def _sample(self, voltage_v: np.ndarray, current_a: np.ndarray, speed_rad_s: np.ndarray) -> None:
         """One sample of the drives' measurement: calibration at the cold start, then the correction.
 
-        In Python floats, joint by joint (six numbers: a tenth of the time of numpy's calls on them), the
+        In Python floats, joint by joint (six numbers: half the time of numpy's calls on them), the
         same IEEE operations in the same order as the array formulas in the comments.
         """
         ohm_a2, a2 = [], []

@@ -68,10 +68,10 @@ class ServoBackend:
         b1 -= rnea(q, zero, zero)  # M(q) d1: friction has no part in it
         return b1, b2
 
-    def path_dynamics_rows(self, q: np.ndarray, d1: np.ndarray, d2: np.ndarray, sd: np.ndarray) -> PathDynamicsRows:
+    def path_dynamics_rows(self, q: np.ndarray, d1: np.ndarray, d2: np.ndarray, sd: np.ndarray) -> PathDynamicsBlocks:
         """`path_dynamics` at k points of a path given as rows (the nominal trajectory's motion-cycle rows): a
-        callable giving row i's (b1, b2), its model part computed in batches (see `PathDynamicsRows`)."""
-        return PathDynamicsRows(self.loop.servo, q, d1, d2, sd)
+        callable giving row i's (b1, b2), its model part computed in batches (see `PathDynamicsBlocks`)."""
+        return PathDynamicsBlocks(self.loop.servo, q, d1, d2, sd)
 
     def collision(self) -> tuple[str, str] | None:
         """The two bodies of a collision in the cell since the last call (then forgotten), or None."""
@@ -107,11 +107,11 @@ class ServoBackend:
         self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)
 
 
-#: Rows of a path whose model torques `PathDynamicsRows` computes at once (0.4 s of 4 ms motion cycles).
+#: Rows of a path whose model torques `PathDynamicsBlocks` computes at once (0.4 s of 4 ms motion cycles).
 ROWS_BLOCK = 100
 
 
-class PathDynamicsRows:
+class PathDynamicsBlocks:
     """The servo's tau = b1 s'' + b2 along a path at given rows, as `ServoBackend.path_dynamics` gives them, cheaper.
 
     The thesis' formulation along a planned path: b1 = m(s) = M(q) q'(s), and b2 = c(s) s'^2 + g(s) +
