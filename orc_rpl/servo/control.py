@@ -245,6 +245,14 @@ class JointServo:
             tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
         return tau
 
+    def model_torque_rows(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+        """`model_torque` of k motion states at once ((k, n) arrays, unchecked): the same numbers, batched."""
+        tau = np.empty(q.shape)
+        self.arm.inverse_dynamics_rows_function()(q, qd, qdd, tau)
+        if self._coulomb is not None:
+            tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
+        return tau
+
     def _choose_law(self) -> None:
         """The plain law unless a tuning or friction adds feed-forward terms."""
         if self.tuning is None and self._coulomb is None:
