@@ -17,6 +17,7 @@ from orc_rpl.syntax.blocks import NEUTRAL_HEADERS, block_keyword, check_blocks
 from orc_rpl.syntax.builder import BuildError, TreeBuilder
 from orc_rpl.syntax.fast_lexer import speed_up
 from orc_rpl.syntax.grammar_files import grammar_path
+from orc_rpl.syntax.lalr import fast_parse, paused_gc
 from orc_rpl.syntax.lexicon import RESERVED, is_reserved
 from orc_rpl.syntax.limits import check_nesting
 
@@ -49,6 +50,12 @@ _TERMINAL_NAMES = {
 }
 _HIDDEN = {"COMMENT", "CONT"}
 _CONTINUATION = re.compile(r"[ \t]*(WITH|VIA|UNTIL)\b")
+
+
+@lru_cache(maxsize=None)
+def _parse_once() -> Callable[[str], n.Program]:
+    """The on-line parser's `parse`, on its fast loop (Lark itself for errors)."""
+    return fast_parse(_lark())
 
 
 @lru_cache(maxsize=None)
@@ -227,8 +234,9 @@ def parse(text: str, path: str = "<input>") -> n.Program:
     work = list(lines)
     for number in to_blank:
         work[number - 1] = ""
-    program = parse_recovering(path, lines, work, diagnostics, _lark().parse, _diagnostic, _neutralize)
-    check_nesting(program, path, lines)
+    with paused_gc():
+        program = parse_recovering(path, lines, work, diagnostics, _parse_once(), _diagnostic, _neutralize)
+        check_nesting(program, path, lines)
     return program
 
 
