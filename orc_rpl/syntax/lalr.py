@@ -10,9 +10,7 @@ come from Lark, exactly as before.
 
 from __future__ import annotations
 
-import gc
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
 from typing import Any
 
 from lark import Lark, Token
@@ -25,24 +23,6 @@ from orc_rpl.syntax.fast_lexer import FastContextualLexer
 
 class _Unusual(Exception):
     """Something only Lark's own parser handles (a syntax error, above all): parse the text with it."""
-
-
-@contextmanager
-def paused_gc() -> Iterator[None]:
-    """The cyclic garbage collector paused while a parse or a read builds its many small objects.
-
-    The collector would walk every live object again and again as the allocations pile up (a fifth of a large
-    parse, and most of a large world read when other data is loaded); the trees built here have no reference
-    cycles, so reference counting frees whatever is dropped, and collection resumes as soon as the work is done.
-    """
-    if not gc.isenabled():
-        yield
-        return
-    gc.disable()
-    try:
-        yield
-    finally:
-        gc.enable()
 
 
 class _ParserPosition:

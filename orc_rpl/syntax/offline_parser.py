@@ -11,9 +11,10 @@ from lark.exceptions import UnexpectedInput, UnexpectedToken
 
 from orc_rpl.errors import Diagnostic, Location, SourceError
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.grammar_files import grammar_path
+from orc_rpl.syntax.grammar_files import grammar_path, parser_cache
 from orc_rpl.syntax.fast_lexer import speed_up
-from orc_rpl.syntax.lalr import fast_parse, paused_gc
+from orc_rpl.syntax.bulk import paused_gc
+from orc_rpl.syntax.lalr import fast_parse
 from orc_rpl.syntax.limits import check_nesting
 from orc_rpl.syntax.offline_builder import OFFLINE_KEYWORDS, OfflineTreeBuilder, check_names
 from orc_rpl.syntax.offline_lexer import OfflinePostLexer, code_part, plan_indentation
@@ -43,6 +44,7 @@ def _lark() -> tuple[Lark, OfflinePostLexer]:
         lexer="contextual",
         start="program",
         maybe_placeholders=True,
+        cache=parser_cache("orl"),
         postlex=postlexer,
         transformer=OfflineTreeBuilder(),
     ))

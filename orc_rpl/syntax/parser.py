@@ -16,8 +16,9 @@ from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.blocks import NEUTRAL_HEADERS, block_keyword, check_blocks
 from orc_rpl.syntax.builder import BuildError, TreeBuilder
 from orc_rpl.syntax.fast_lexer import speed_up
-from orc_rpl.syntax.grammar_files import grammar_path
-from orc_rpl.syntax.lalr import fast_parse, paused_gc
+from orc_rpl.syntax.grammar_files import grammar_path, parser_cache
+from orc_rpl.syntax.bulk import paused_gc
+from orc_rpl.syntax.lalr import fast_parse
 from orc_rpl.syntax.lexicon import RESERVED, is_reserved
 from orc_rpl.syntax.limits import check_nesting
 
@@ -67,6 +68,7 @@ def _lark() -> Lark:
         lexer="contextual",
         start="program",
         maybe_placeholders=True,
+        cache=parser_cache("rpl"),
         transformer=TreeBuilder(),
     ))
 

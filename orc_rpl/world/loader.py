@@ -6,6 +6,7 @@ import dataclasses
 from dataclasses import dataclass, field
 
 from orc_rpl.errors import Diagnostic, SourceError
+from orc_rpl.syntax.bulk import paused_gc
 from orc_rpl.world.axes import read_axis
 from orc_rpl.world.objects import FLANGE, NAME_RE, PREDEFINED, ROBOT as ROBOT_NAME, ModelAttributes, PathAttribute, Position, RobotEntry, WorldObject
 from orc_rpl.world.pose import WORLD, Pose
@@ -35,7 +36,8 @@ class Parsed:
 
 def parse_world(text: str, path: str = "<world>") -> Parsed:
     """Read and check a world file's text; raise SourceError listing every problem found."""
-    return _Reader(SourceText(text, path)).read()
+    with paused_gc():  # thousands of objects and tens of thousands of nodes: see paused_gc
+        return _Reader(SourceText(text, path)).read()
 
 
 class _Reader:
