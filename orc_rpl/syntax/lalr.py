@@ -73,16 +73,17 @@ class FastLalr:
         tokens = self._lex(text, states)
         if self.postlexer is not None:
             tokens = self.postlexer.process(tokens)
-        token = None
+        state = self.start_state   # states[-1], kept in a local too: the lexer reads the list, the loop the local
         for token in tokens:
             kind = token.type
             while True:
-                action = actions[states[-1]].get(kind)
+                action = actions[state].get(kind)
                 if action is None:
                     raise _Unusual
                 if action.__class__ is int:
                     states.append(action)
                     values.append(token)
+                    state = action
                     break
                 size, callback, origin = action
                 if size:
@@ -92,7 +93,8 @@ class FastLalr:
                 else:
                     children = []
                 values.append(callback(children))
-                states.append(actions[states[-1]][origin])
+                state = actions[states[-1]][origin]
+                states.append(state)
         end_state = self.end_state
         while True:
             action = actions[states[-1]].get("$END")
@@ -123,8 +125,8 @@ class FastLalr:
             kind = found.lastgroup if found is not None else None
             row = actions[states[-1]]
             if kind is not None and kind not in ignore_types:
-                start = found.start(kind)
-                value = found.group(kind)
+                start, stop = found.span(kind)
+                value = text[start:stop]
                 spelled = keywords.get(kind)
                 if spelled is not None:
                     kind = spelled.get(value, kind)
@@ -139,7 +141,7 @@ class FastLalr:
             token = make(Token, value)
             token.type, token.value, token.start_pos = kind, value, start
             token.line, token.column = line, start - line_start + 1
-            pos = start + len(value)
+            pos = stop
             if kind in newline_types and "\n" in value:
                 line += value.count("\n")
                 line_start = start + value.rindex("\n") + 1

@@ -15,13 +15,10 @@ from ruamel.yaml.reader import ReaderError
 from ruamel.yaml.resolver import implicit_resolvers as _RT_IMPLICIT
 
 from orc_rpl.errors import Diagnostic, Location, SourceError
-from orc_rpl.syntax.bulk import paused_gc
 
 try:  # libyaml through PyYAML composes a large world about twenty times faster than ruamel's pure-Python parser
     import yaml as _libyaml
     from yaml.cyaml import CParser as _CParser
-
-    from orc_rpl.world.subset import compose_subset
 except (ImportError, AttributeError):  # PyYAML without libyaml: ruamel alone
     _libyaml = None
 
@@ -130,19 +127,17 @@ if _libyaml is not None:
                         _libyaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG)
     _TAGS: dict[str, str] = {}   #: plain scalar text -> its tag (world files repeat the same numbers thousands of times)
 
-    def plain_tag(value: str) -> str:
-        """The tag of a plain scalar by the YAML 1.2 patterns."""
-        tag = _TAGS.get(value)
-        if tag is None:
-            tag = next((t for t, pattern in _IMPLICIT.get(value[:1], ()) if pattern.match(value)), _STR)
-            if len(_TAGS) < 65536:
-                _TAGS[value] = tag
-        return tag
-
     def _resolve(self, kind: type, value: str, implicit: tuple[bool, bool]) -> str:  # type: ignore[no-untyped-def]
         """The node's tag: implicit scalars by the YAML 1.2 patterns, everything else by its kind (no path resolvers)."""
         if kind is _SCALAR:
-            return plain_tag(value) if implicit[0] else _STR
+            if not implicit[0]:
+                return _STR
+            tag = _TAGS.get(value)
+            if tag is None:
+                tag = next((t for t, pattern in _IMPLICIT.get(value[:1], ()) if pattern.match(value)), _STR)
+                if len(_TAGS) < 65536:
+                    _TAGS[value] = tag
+            return tag
         return _SEQ if kind is _SEQUENCE else _MAP
 
     _Yaml12Loader.resolve = _resolve  # type: ignore[method-assign]
@@ -208,11 +203,6 @@ class SourceText:
             raise SourceError([Diagnostic(Location(self.path, deep[0], deep[1]),
                                           f"nested too deeply (more than {MAX_YAML_NESTING} levels)")],
                               self.text if self.looks_like_world() else None)
-        if _libyaml is not None:
-            with paused_gc():  # tens of thousands of nodes: see paused_gc
-                node = compose_subset(self.text, plain_tag)  # the subset of YAML world files use, read by us
-            if node is not None:
-                return node
         if _libyaml is not None and _MAYBE_ANCHOR.search(self.text) is None:
             loader = _Yaml12Loader(self.text)
             try:
