@@ -174,3 +174,33 @@ def test_fast_loop_same_offline_outcome_for_hostile_programs() -> None:
                 return parse(text)
             return run
         _same_outcome(planned(fast.parse), planned(plain.parse), source)
+
+
+# ---- the analysed parsers kept between runs
+
+
+def test_the_parser_cache_is_used_and_a_broken_one_is_analysed_again(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from orc_rpl.syntax import parser
+    from orc_rpl.syntax.grammar_files import parser_cache
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    cache = Path(parser_cache("rpl"))  # type: ignore[arg-type]
+    assert cache.parent == tmp_path / "orc_rpl"
+    text = "MOVE ARM TO p WITH SPEED = 0.5 * Vmax\n"
+    first = FastLalr(parser._lark.__wrapped__()).parse(text)
+    assert cache.is_file()
+    whole = cache.read_bytes()
+    cache.write_bytes(whole[: len(whole) // 2])  # half-written (a crash, or another process writing it)
+    assert FastLalr(parser._lark.__wrapped__()).parse(text) == first
+    assert len(cache.read_bytes()) > 0.9 * len(whole)  # analysed again and written whole again
+
+
+def test_without_a_cache_folder_the_grammar_is_analysed_each_time(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from orc_rpl.syntax import parser
+    from orc_rpl.syntax.grammar_files import parser_cache
+
+    blocker = tmp_path / "not-a-folder"
+    blocker.write_text("")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(blocker))
+    assert parser_cache("rpl") is False
+    assert FastLalr(parser._lark.__wrapped__()).parse("x = 1\n") == LARK.parse("x = 1\n")
