@@ -11,6 +11,7 @@ come from Lark, exactly as before.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from itertools import chain
 from typing import Any
 
 from lark import Lark, Token
@@ -19,6 +20,10 @@ from lark.lexer import LexerState, LineCounter, TextSlice
 from lark.parsers.lalr_analysis import Shift
 
 from orc_rpl.syntax.fast_lexer import FastContextualLexer
+
+
+#: The end of the token stream, as the parser is fed it (errors there are Lark's to report).
+_END = (Token("$END", ""),)
 
 
 class _Unusual(Exception):
@@ -67,20 +72,22 @@ class FastLalr:
             return self.lark.parse(text)
 
     def _parse(self, text: str) -> Any:
-        actions = self.actions
+        actions, end_state = self.actions, self.end_state
         states = [self.start_state]
         values: list[Any] = []
         tokens = self._lex(text, states)
         if self.postlexer is not None:
             tokens = self.postlexer.process(tokens)
         state = self.start_state   # states[-1], kept in a local too: the lexer reads the list, the loop the local
-        for token in tokens:
+        for token in chain(tokens, _END):
             kind = token.type
             while True:
                 action = actions[state].get(kind)
                 if action is None:
                     raise _Unusual
                 if action.__class__ is int:
+                    if kind == "$END":
+                        raise _Unusual
                     states.append(action)
                     values.append(token)
                     state = action
@@ -95,22 +102,9 @@ class FastLalr:
                 values.append(callback(children))
                 state = actions[states[-1]][origin]
                 states.append(state)
-        end_state = self.end_state
-        while True:
-            action = actions[states[-1]].get("$END")
-            if action is None or action.__class__ is int:
-                raise _Unusual
-            size, callback, origin = action
-            if size:
-                children = values[-size:]
-                del states[-size:]
-                del values[-size:]
-            else:
-                children = []
-            values.append(callback(children))
-            states.append(actions[states[-1]][origin])
-            if states[-1] == end_state:
-                return values[-1]
+                if state == end_state and kind == "$END":
+                    return values[-1]
+        raise _Unusual
 
     def _lex(self, text: str, states: list[int]) -> Iterator[Token]:
         """The tokens of `text` as Lark's contextual lexer gives them, each for the parser state it is lexed in."""
