@@ -11,6 +11,7 @@ come from Lark, exactly as before.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from functools import partial
 from itertools import chain
 from typing import Any
 
@@ -28,6 +29,28 @@ _END = (Token("$END", ""),)
 
 class _Unusual(Exception):
     """Something only Lark's own parser handles (a syntax error, above all): parse the text with it."""
+
+
+class _Spliced:
+    """The value of one of Lark's inlined rules (`_name`, and the `__x_star_N` of every repetition): its parent's
+    filter splices `.children` into its own, so nothing else of a parse tree node is ever read."""
+
+    __slots__ = ("children",)
+
+    def __init__(self, children: list[Any]) -> None:
+        self.children = children
+
+
+def _spliced(rule: Any, callback: Callable[[list[Any]], Any]) -> Callable[[list[Any]], Any]:
+    """The callback of a rule, with Lark's default tree (four calls deep) replaced by _Spliced for inlined rules."""
+    if not str(rule.origin.name).startswith("_"):
+        return callback
+    if isinstance(callback, partial) and getattr(callback.func, "__name__", "") == "default_callback":
+        return _Spliced
+    inner = getattr(callback, "node_builder", None)
+    if isinstance(inner, partial) and getattr(inner.func, "__name__", "") == "default_callback":
+        callback.node_builder = _Spliced  # type: ignore[attr-defined]  # Lark's own filter, now building the light node
+    return callback
 
 
 class _ParserPosition:
@@ -57,7 +80,7 @@ class FastLalr:
         self.start_state, self.end_state = table.start_states[start], table.end_states[start]
         # Lark names symbols with its Token class (a str with an __eq__ of its own): plain str keys hash and compare in C
         self.actions: dict[int, dict[str, Any]] = {
-            state: {str(symbol): (arg if action is Shift else (len(arg.expansion), callbacks[arg], str(arg.origin.name)))
+            state: {str(symbol): (arg if action is Shift else (len(arg.expansion), _spliced(arg, callbacks[arg]), str(arg.origin.name)))
                     for symbol, (action, arg) in row.items()}
             for state, row in table.states.items()
         }

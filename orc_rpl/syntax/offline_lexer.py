@@ -37,6 +37,8 @@ class IndentPlan:
 
 def _outside_strings(text: str, wanted: str) -> int:
     """Index of the first `wanted` character outside string literals, or -1."""
+    if '"' not in text:  # most lines: no string to step over
+        return text.find(wanted)
     in_string, escaped = False, False
     for i, ch in enumerate(text):
         if in_string:
