@@ -111,6 +111,8 @@ def wrap(body: n.Body, outer: Chain, chains: Mapping[str, Chain], functions: fro
             labels.append(MIXED)  # written by the programmer: left where it is
         elif isinstance(stmt, n.Return) and not _frame_dependent(stmt):
             labels.append(NEUTRAL)  # `RETURN OFFS(corner1, ...)` gives the same pose in any block: no FRAME needed
+        elif functions and _holds_function_motion((stmt,), functions):
+            labels.append(MIXED)  # its blocks are wrapped statement by statement, the function-space motion left out
         else:
             labels.append(_label(_chains(stmt, chains), outer))
     out: list[n.Statement] = []

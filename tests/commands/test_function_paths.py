@@ -114,3 +114,17 @@ def test_a_world_func_between_positions_of_an_online_frame_is_not_pulled_into_it
     back = tmp_path / "back.orl"
     assert main(["convert", str(online), "--world", str(tmp_path / "cell.yaml"), "-o", str(back)]) == 0
     assert back.read_text() == source.read_text()
+
+
+def test_a_func_path_inside_a_loop_is_not_pulled_into_the_block_of_its_neighbours(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    shutil.copy(CELL, tmp_path / "cell.yaml")
+    source = tmp_path / "prog.orl"
+    source.write_text("# world: cell.yaml\nfunc lift(s):\n    return POSE(1.0, 0.1, 0.75 + 0.05 * s, 0, 180deg, 0)\n"
+                      "for i in 1..2:\n    moveto base_plate.pos1\n    lmove ARM along lift\n    moveto base_plate.pos2\n")
+    assert main(["check", str(source)]) == 0, capsys.readouterr().out
+    online = tmp_path / "prog.rpl"
+    assert main(["convert", str(source), "-o", str(online), "--online-world", str(tmp_path / "online.yaml")]) == 0
+    text = online.read_text()
+    assert "    ENDFRAME\n    LMOVE ARM ALONG lift\n    FRAME base_plate\n" in text, text
+    assert main(["check", str(online), "--world", str(tmp_path / "online.yaml")]) == 0, capsys.readouterr().out
