@@ -34,7 +34,7 @@ class Checker:
         self.function_returns: dict[str, list[tuple[StaticType, n.Node]]] = {}   #: FUNC -> what its RETURNs give
         self.parameter_uses: list[tuple[ParameterUse, n.Node]] = []   #: FUNCs the motion layer evaluates
         self.untils: list[tuple[n.Expression, Scope]] = []
-        self.function_targets: list[tuple[n.Name, str]] = []          #: `TO f` with the motion's frame
+        self.function_targets: list[tuple[n.Name, str, str]] = []     #: `TO f`/`ALONG f`: the frame and the role
         self._handlers: dict[type, object] = {}
 
     # ---- reporting
@@ -192,7 +192,7 @@ class Checker:
             self.report(stmt, f"{stmt.keyword} does not move ALONG a path; use TO")
         if spec.needs_via and counts["VIA"] == 0:
             self.report(stmt, f"{stmt.keyword} needs a VIA point (the circle passes through it)")
-        target = stmt.target
+        target = stmt.target if stmt.target is not None else stmt.path
         if isinstance(target, n.Name) and "TIME" not in seen:
             symbol = scope.lookup(target.id)
             routine = symbol.node if symbol is not None and symbol.kind == "func" else None
@@ -215,7 +215,7 @@ class Checker:
 
     def check_target(self, expr: n.Expression, scope: Scope, frame: str, role: str) -> None:
         """The FRAME-context rule: inside `FRAME f` a target must be relative to f; outside, to world."""
-        if role == "target" and isinstance(expr, n.Name) and self.function_target(expr, scope, frame):
+        if role in ("target", "path") and isinstance(expr, n.Name) and self.function_target(expr, scope, frame, role):
             return
         target = self.infer(expr, scope, frame)
         if target.kind in ("pose", "path") and target.frame is not None and target.frame != frame:
@@ -226,16 +226,17 @@ class Checker:
         elif target.kind not in ("pose", "joints", "path", "list", "any"):
             self.report(expr, f"the {role} must be a position, got {target}")
 
-    def function_target(self, expr: n.Name, scope: Scope, frame: str) -> bool:
-        """`LMOVE ARM TO wave` with `FUNC wave(s)`: a motion in function space (frames checked when all RETURNs are known)."""
+    def function_target(self, expr: n.Name, scope: Scope, frame: str, role: str) -> bool:
+        """`LMOVE ARM TO wave` or `ALONG wave` with `FUNC wave(s)`: a motion in function space (frames checked when all
+        RETURNs are known); `role` is "target" or "path"."""
         symbol = scope.lookup(expr.id)
         if symbol is None or symbol.kind != "func":
             return False
         if symbol.params != 1:
-            self.report(expr, f"FUNC {expr.id} given as a target must take one parameter (s, 0..1), not {symbol.params}")
+            self.report(expr, f"FUNC {expr.id} given as a {role} must take one parameter (s, 0..1), not {symbol.params}")
             return True
-        self.function_targets.append((expr, frame))
-        self.parameter_uses.append((ParameterUse(expr.id, "the target", expr.span.line), expr))
+        self.function_targets.append((expr, frame, role))
+        self.parameter_uses.append((ParameterUse(expr.id, f"the {role}", expr.span.line), expr))
         return True
 
     def check_attribute(self, stmt: n.Motion, spec, clause: n.With, scope: Scope, frame: str, seen: dict) -> None:  # type: ignore[no-untyped-def]
@@ -426,7 +427,7 @@ class Checker:
     # ---- what needs the whole program: parameter functions
     def finish(self, scope: Scope) -> None:
         """Checks that need every routine: FUNC targets give poses of the motion's frame; parameter FUNCs are pure."""
-        for expr, frame in self.function_targets:
+        for expr, frame, role in self.function_targets:
             for value, node in self.function_returns.get(expr.id, []):
                 if value.kind == "pose" and value.frame is not None and value.frame != frame:
                     where = f"inside FRAME {frame}" if frame != WORLD else "outside every FRAME block (relative to world)"
@@ -434,7 +435,7 @@ class Checker:
                                 f"but this motion is {where}", f"return poses relative to {frame}")
                     break
                 if value.kind not in ("pose", "any"):
-                    self.report(expr, f"FUNC {expr.id} given as a target must give poses; line {node.span.line} gives {value}")
+                    self.report(expr, f"FUNC {expr.id} given as a {role} must give poses; line {node.span.line} gives {value}")
                     break
         prover = PurityProver(self.registry, scope, self.routine_scopes, self.installs)
         reported: set[str] = set()

@@ -148,9 +148,12 @@ class MotionCompiler:
             along = None
             if path is not None:
                 points = path(L)
-                if type(points) is not tuple or not points:
+                if type(points) is Routine and goal is None:  # `ALONG f` with FUNC f(s) or f(t): the same path as `TO f`
+                    goal = position(points, "target")
+                elif type(points) is not tuple or not points:
                     raise RunError(f"{keyword}: ALONG needs a non-empty PATH, got {type_name(points)}")
-                along = tuple(position(p, "path point") for p in points)
+                else:
+                    along = tuple(position(p, "path point") for p in points)
             via = tuple(position(f(L), "via point") for f in vias)
             attributes = self.attributes(spec, withs, L, span)
             until = None

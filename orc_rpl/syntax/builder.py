@@ -173,42 +173,52 @@ _COMPARISON = 4
 
 def arrange(items: list[Any]) -> n.Expression:
     """Operands and operators parsed flat, arranged by precedence (left-associative, comparisons not chained)."""
-    position = 0
-    nots = 0  # NOTs in a row recurse here, before the tree exists to be measured
+    if len(items) == 3 and not (isinstance(items[0], Token) and items[0].type == "NOT"):
+        left, op, right = items  # `a + b`, the common case: one operator (three items: `NOT NOT a` or this)
+        left, right = expr(left), expr(right)
+        return n.Binary(str(op), left, right, span=_join(left.span, right.span))
+    return _Arranger(items).climb(0)
 
-    def operand() -> n.Expression:
-        nonlocal position, nots
-        item = items[position]
-        position += 1
+
+class _Arranger:
+    """Precedence climbing over one flat expression (an object, not closures: recursive closures are cyclic garbage)."""
+
+    __slots__ = ("items", "position", "nots")
+
+    def __init__(self, items: list[Any]) -> None:
+        self.items, self.position = items, 0
+        self.nots = 0  # NOTs in a row recurse here, before the tree exists to be measured
+
+    def operand(self) -> n.Expression:
+        item = self.items[self.position]
+        self.position += 1
         if isinstance(item, Token) and item.type == "NOT":
-            nots += 1
-            if nots > MAX_NESTING:
+            self.nots += 1
+            if self.nots > MAX_NESTING:
                 raise BuildError(f"nested too deeply (more than {MAX_NESTING} levels of blocks and expressions)",
                                  token_span(item))
-            inner = climb(_COMPARISON)  # NOT a = b means NOT (a = b)
-            nots -= 1
+            inner = self.climb(_COMPARISON)  # NOT a = b means NOT (a = b)
+            self.nots -= 1
             return n.Unary("NOT", inner, span=_join(token_span(item), inner.span))
         return expr(item)
 
-    def climb(min_precedence: int) -> n.Expression:
-        nonlocal position
-        left = operand()
+    def climb(self, min_precedence: int) -> n.Expression:
+        items = self.items
+        left = self.operand()
         fresh_comparison = False
-        while position < len(items):
-            op = items[position]
+        while self.position < len(items):
+            op = items[self.position]
             precedence = BINARY_PRECEDENCE[str(op)]
             if precedence < min_precedence:
                 break
             if precedence == _COMPARISON and fresh_comparison:
                 raise BuildError("comparisons cannot be chained; combine them with AND", token_span(op),
                                  hint="write `a < b AND b < c`")
-            position += 1
-            right = climb(precedence + 1)
+            self.position += 1
+            right = self.climb(precedence + 1)
             left = n.Binary(str(op), left, right, span=_join(left.span, right.span))
             fresh_comparison = precedence == _COMPARISON
         return left
-
-    return climb(0)
 
 
 def _positional(value: n.Expression) -> n.Argument:

@@ -46,21 +46,36 @@ def _span_of(node: n.Node, fallback: n.Span) -> n.Span:
     return node.span if node.span.line else fallback
 
 
-def nesting_problem(program: n.Node) -> tuple[n.Span, int] | None:
-    """The span of the first node deeper than MAX_NESTING and its depth, or None (walked without recursion)."""
+#: Most tree levels a statement adds beyond one per character of its line (the statement, its clause, its WITH...).
+_LEVELS_WITHOUT_TEXT = 8
+
+
+def nesting_problem(program: n.Node, lines: list[str] | None = None) -> tuple[n.Span, int] | None:
+    """The span of the first node deeper than MAX_NESTING and its depth, or None (walked without recursion).
+
+    With the program's `lines`, a statement on one line is not walked when it cannot reach the limit: below the
+    statement level every tree level takes at least one character of the line (`(`, `[`, `-`, an operator and its
+    operand), so such a statement is at most its line's length and a few levels deep.
+    """
     stack: list[tuple[n.Node, int, n.Span]] = [(program, 0, program.span)]
+    limit = MAX_NESTING - _LEVELS_WITHOUT_TEXT
+    count = len(lines) if lines is not None else 0
     while stack:
         node, depth, around = stack.pop()
         span = _span_of(node, around)
         if depth > MAX_NESTING:
             return span, depth
+        line = node.span.line
+        if (0 < line <= count and line == node.span.end_line and isinstance(node, n.Statement)
+                and not isinstance(node, n.Routine) and depth + len(lines[line - 1]) <= limit):  # type: ignore[index]
+            continue
         stack.extend((child, depth + 1, span) for child in node.children())
     return None
 
 
 def check_nesting(program: n.Program, path: str, lines: list[str]) -> None:
     """Raise a located SourceError when the program nests deeper than the walkers can follow."""
-    problem = nesting_problem(program)
+    problem = nesting_problem(program, lines)
     if problem is None:
         return
     span, _ = problem

@@ -37,6 +37,8 @@ class IndentPlan:
 
 def _outside_strings(text: str, wanted: str) -> int:
     """Index of the first `wanted` character outside string literals, or -1."""
+    if '"' not in text:  # most lines: no string to step over
+        return text.find(wanted)
     in_string, escaped = False, False
     for i, ch in enumerate(text):
         if in_string:
@@ -185,18 +187,20 @@ class OfflinePostLexer:
             yield Token.new_borrow_pos(kind, "", like)
 
     def process(self, stream: Iterator[Token]) -> Iterator[Token]:
-        first = True
         last: Token | None = None
         names = self.names = set()
+        before = self.plan.before
         for token in stream:
-            if token.type == "NAME":
-                names.add(token.value)
-            if first:
-                first = False
-                yield from self._tokens(self.plan.before.get(1, []), token)
+            kind = token.type
+            if last is None:
+                yield from self._tokens(before.get(1, []), token)
             yield token
             last = token
-            if token.type == "_NL":
-                yield from self._tokens(self.plan.before.get((token.line or 0) + 1, []), token)
+            if kind == "NAME":
+                names.add(token.value)
+            elif kind == "_NL":
+                planned = before.get((token.line or 0) + 1)
+                if planned:  # most lines open and close no block
+                    yield from self._tokens(planned, token)
         if last is not None:
             yield from self._tokens(["_DEDENT"] * self.plan.at_end, last)

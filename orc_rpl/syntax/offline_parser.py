@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from functools import lru_cache
 
 from lark import Lark
@@ -10,8 +11,10 @@ from lark.exceptions import UnexpectedInput, UnexpectedToken
 
 from orc_rpl.errors import Diagnostic, Location, SourceError
 from orc_rpl.syntax import nodes as n
-from orc_rpl.syntax.grammar_files import grammar_path
+from orc_rpl.syntax.grammar_files import grammar_path, parser_cache
 from orc_rpl.syntax.fast_lexer import speed_up
+from orc_rpl.syntax.bulk import paused_gc
+from orc_rpl.syntax.lalr import fast_parse
 from orc_rpl.syntax.limits import check_nesting
 from orc_rpl.syntax.offline_builder import OFFLINE_KEYWORDS, OfflineTreeBuilder, check_names
 from orc_rpl.syntax.offline_lexer import OfflinePostLexer, code_part, plan_indentation
@@ -26,6 +29,12 @@ _OFFLINE_NAMES = {"_INDENT": "an indented block", "_DEDENT": "the end of the blo
 
 
 @lru_cache(maxsize=None)
+def _parse_once() -> Callable[[str], n.Program]:
+    """The off-line parser's `parse`, on its fast loop (Lark itself for errors)."""
+    return fast_parse(_lark()[0])
+
+
+@lru_cache(maxsize=None)
 def _lark() -> tuple[Lark, OfflinePostLexer]:
     """The off-line parser and its postlexer, built once per process."""
     postlexer = OfflinePostLexer()
@@ -35,6 +44,7 @@ def _lark() -> tuple[Lark, OfflinePostLexer]:
         lexer="contextual",
         start="program",
         maybe_placeholders=True,
+        cache=parser_cache("orl"),
         postlex=postlexer,
         transformer=OfflineTreeBuilder(),
     ))
@@ -92,18 +102,19 @@ def parse_offline(text: str, path: str = "<input>") -> n.Program:
     diagnostics = [Diagnostic(Location(path, p.line, p.column, p.line, p.column + 1), p.message, p.hint) for p in plan.problems]
     if diagnostics:
         raise SourceError(diagnostics, "\n".join(lines))
-    lark, postlexer = _lark()
+    postlexer, parse_text = _lark()[1], _parse_once()
     first_source = "\n".join(lines) + "\n" if lines else ""
 
     def parse_once(source: str) -> n.Program:
         # The first pass parses the text as planned above; a repaired text (after an error) is planned again.
         postlexer.plan = plan if source == first_source else plan_indentation(source.split("\n")[:-1] if source else [])
-        tree = lark.parse(source)
+        tree = parse_text(source)
         if not postlexer.names.isdisjoint(OFFLINE_KEYWORDS):  # only then can a keyword stand as a name in the tree
             check_names(tree)
         return tree
 
-    program = parse_recovering(path, lines, list(lines), diagnostics, parse_once, _offline_diagnostic, _neutralize)
-    check_nesting(program, path, lines)
+    with paused_gc():
+        program = parse_recovering(path, lines, list(lines), diagnostics, parse_once, _offline_diagnostic, _neutralize)
+        check_nesting(program, path, lines)
     return program
 

@@ -16,7 +16,9 @@ from orc_rpl.syntax import nodes as n
 from orc_rpl.syntax.blocks import NEUTRAL_HEADERS, block_keyword, check_blocks
 from orc_rpl.syntax.builder import BuildError, TreeBuilder
 from orc_rpl.syntax.fast_lexer import speed_up
-from orc_rpl.syntax.grammar_files import grammar_path
+from orc_rpl.syntax.grammar_files import grammar_path, parser_cache
+from orc_rpl.syntax.bulk import paused_gc
+from orc_rpl.syntax.lalr import fast_parse
 from orc_rpl.syntax.lexicon import RESERVED, is_reserved
 from orc_rpl.syntax.limits import check_nesting
 
@@ -52,6 +54,12 @@ _CONTINUATION = re.compile(r"[ \t]*(WITH|VIA|UNTIL)\b")
 
 
 @lru_cache(maxsize=None)
+def _parse_once() -> Callable[[str], n.Program]:
+    """The on-line parser's `parse`, on its fast loop (Lark itself for errors)."""
+    return fast_parse(_lark())
+
+
+@lru_cache(maxsize=None)
 def _lark() -> Lark:
     """The on-line parser, built once per process (its lexer's common case sped up: same tokens, same errors)."""
     return speed_up(Lark(
@@ -60,6 +68,7 @@ def _lark() -> Lark:
         lexer="contextual",
         start="program",
         maybe_placeholders=True,
+        cache=parser_cache("rpl"),
         transformer=TreeBuilder(),
     ))
 
@@ -227,8 +236,9 @@ def parse(text: str, path: str = "<input>") -> n.Program:
     work = list(lines)
     for number in to_blank:
         work[number - 1] = ""
-    program = parse_recovering(path, lines, work, diagnostics, _lark().parse, _diagnostic, _neutralize)
-    check_nesting(program, path, lines)
+    with paused_gc():
+        program = parse_recovering(path, lines, work, diagnostics, _parse_once(), _diagnostic, _neutralize)
+        check_nesting(program, path, lines)
     return program
 
 

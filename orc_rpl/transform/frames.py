@@ -58,6 +58,29 @@ def _frame_dependent(stmt: n.Statement) -> bool:
     return False
 
 
+def functions_of(body: n.Body) -> frozenset[str]:
+    """The names of a program's FUNCs (declared at the top level)."""
+    return frozenset(s.name.id for s in body if isinstance(s, n.Routine) and s.kind == "FUNC")
+
+
+def _function_motion(stmt: n.Statement, functions: frozenset[str]) -> bool:
+    """`LMOVE ARM TO f` or `ALONG f` with a FUNC f: its poses are relative to the FRAME block it stands in, which no
+    position it names implies (so the block is neither inserted around it nor removed from around it)."""
+    return isinstance(stmt, n.Motion) and any(isinstance(e, n.Name) and e.id in functions for e in (stmt.target, stmt.path))
+
+
+def _holds_function_motion(body: n.Body, functions: frozenset[str]) -> bool:
+    """A function-space motion in the body, in blocks nested in it but not inside FRAME blocks of their own."""
+    stack: list[n.Node] = list(body)
+    while stack:
+        node = stack.pop()
+        if isinstance(node, n.Statement) and _function_motion(node, functions):
+            return True
+        stack.extend(c for c in node.children() if isinstance(c, (n.Statement, n.Branch, n.CaseArm, n.Handler))
+                     and not isinstance(c, n.FrameBlock))
+    return False
+
+
 def _map_bodies(stmt: n.Statement, fn) -> n.Statement:  # type: ignore[no-untyped-def]
     """The statement with `fn` applied to each of its blocks."""
     if isinstance(stmt, n.If):
@@ -76,16 +99,20 @@ def _map_bodies(stmt: n.Statement, fn) -> n.Statement:  # type: ignore[no-untype
     return stmt
 
 
-def wrap(body: n.Body, outer: Chain, chains: Mapping[str, Chain]) -> n.Body:
+def wrap(body: n.Body, outer: Chain, chains: Mapping[str, Chain], functions: frozenset[str] = frozenset()) -> n.Body:
     """Group the statements of a body by the frame they need and wrap each group in FRAME ... ENDFRAME."""
     labels = []
     for stmt in body:
-        if isinstance(stmt, n.Routine):
+        if _function_motion(stmt, functions):
+            labels.append(HERE)  # in the frame it is written in: never pulled into a block around its neighbours
+        elif isinstance(stmt, n.Routine):
             labels.append(NEUTRAL)
         elif isinstance(stmt, n.FrameBlock):
             labels.append(MIXED)  # written by the programmer: left where it is
         elif isinstance(stmt, n.Return) and not _frame_dependent(stmt):
             labels.append(NEUTRAL)  # `RETURN OFFS(corner1, ...)` gives the same pose in any block: no FRAME needed
+        elif functions and _holds_function_motion((stmt,), functions):
+            labels.append(MIXED)  # its blocks are wrapped statement by statement, the function-space motion left out
         else:
             labels.append(_label(_chains(stmt, chains), outer))
     out: list[n.Statement] = []
@@ -93,7 +120,7 @@ def wrap(body: n.Body, outer: Chain, chains: Mapping[str, Chain]) -> n.Body:
     while i < len(body):
         label, stmt = labels[i], body[i]
         if label in (NEUTRAL, HERE, MIXED):
-            out.append(_inside(stmt, outer, chains, label))
+            out.append(_inside(stmt, outer, chains, label, functions))
             i += 1
             continue
         last = i
@@ -103,41 +130,44 @@ def wrap(body: n.Body, outer: Chain, chains: Mapping[str, Chain]) -> n.Body:
             elif labels[j] != NEUTRAL:
                 break
         inner = outer + (label,)
-        group = wrap(body[i: last + 1], inner, chains)
+        group = wrap(body[i: last + 1], inner, chains, functions)
         out.append(n.FrameBlock(n.Name(label), group))
         i = last + 1
     return tuple(out)
 
 
-def _inside(stmt: n.Statement, outer: Chain, chains: Mapping[str, Chain], label: str) -> n.Statement:
+def _inside(stmt: n.Statement, outer: Chain, chains: Mapping[str, Chain], label: str, functions: frozenset[str]) -> n.Statement:
     """Blocks inside a statement that is not wrapped as a whole get their own FRAME blocks."""
     if isinstance(stmt, n.Routine):
-        return _map_bodies(stmt, lambda b: wrap(b, (), chains))
+        return _map_bodies(stmt, lambda b: wrap(b, (), chains, functions))
     if isinstance(stmt, n.FrameBlock):
-        return _map_bodies(stmt, lambda b: wrap(b, outer + (stmt.frame.id,), chains))
+        return _map_bodies(stmt, lambda b: wrap(b, outer + (stmt.frame.id,), chains, functions))
     if label == MIXED:
-        return _map_bodies(stmt, lambda b: wrap(b, outer, chains))
+        return _map_bodies(stmt, lambda b: wrap(b, outer, chains, functions))
     return stmt
 
 
 def insert_frame_blocks(job: Job) -> Job:
     """FRAME f ... ENDFRAME around the statements from the first to the last that use f's positions (nested as frames nest)."""
-    body = wrap(job.program.body, (), job.chains)
+    body = wrap(job.program.body, (), job.chains, functions_of(job.program.body))
     return dataclasses.replace(job, program=dataclasses.replace(job.program, body=body))
 
 
-def strip(body: n.Body, frames: frozenset[str]) -> n.Body:
-    """The body with every FRAME block of `frames` (without comments of its own) replaced by its statements."""
+def strip(body: n.Body, frames: frozenset[str], functions: frozenset[str] = frozenset()) -> n.Body:
+    """The body with every FRAME block of `frames` (without comments of its own) replaced by its statements; a block
+    around a motion to or along a FUNC stays (the FUNC's poses are relative to it, off-line too)."""
     out: list[n.Statement] = []
     for stmt in body:
-        if isinstance(stmt, n.FrameBlock) and stmt.frame.id in frames and stmt.header_comment is None and stmt.comment is None:
-            out.extend(strip(stmt.body, frames))
+        if (isinstance(stmt, n.FrameBlock) and stmt.frame.id in frames and stmt.header_comment is None and stmt.comment is None
+                and not _holds_function_motion(stmt.body, functions)):
+            out.extend(strip(stmt.body, frames, functions))
         else:
-            out.append(_map_bodies(stmt, lambda b: strip(b, frames)))
+            out.append(_map_bodies(stmt, lambda b: strip(b, frames, functions)))
     return tuple(out)
 
 
 def remove_frame_blocks(job: Job) -> Job:
     """The FRAME blocks of the world's on-line frames are removed: off-line, positions carry their frames."""
     frames = frozenset(o.name for o in job.world.objects if o.online_frame or o.axis is not None)
-    return dataclasses.replace(job, program=dataclasses.replace(job.program, body=strip(job.program.body, frames)))
+    body = strip(job.program.body, frames, functions_of(job.program.body))
+    return dataclasses.replace(job, program=dataclasses.replace(job.program, body=body))

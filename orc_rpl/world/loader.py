@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from functools import cached_property
 
 from orc_rpl.errors import Diagnostic, SourceError
+from orc_rpl.syntax.bulk import paused_gc
 from orc_rpl.world.axes import read_axis
 from orc_rpl.world.objects import FLANGE, NAME_RE, PREDEFINED, ROBOT as ROBOT_NAME, ModelAttributes, PathAttribute, Position, RobotEntry, WorldObject
 from orc_rpl.world.pose import WORLD, Pose
@@ -23,19 +25,36 @@ GEOMETRIES = {"box": 3, "cylinder": 2, "sphere": 1, "mesh": 0}
 
 @dataclass(frozen=True)
 class Parsed:
-    """A checked world file: its text, nodes (kept for exact edits) and objects in file order."""
+    """A checked world file: its text and objects in file order; its YAML nodes (for exact edits) when asked for.
+
+    The nodes are composed again from the text on first use and kept from then on: a large world has a quarter of a
+    million of them, which only an edit needs, and dropped right after reading they cost neither memory nor the
+    garbage collector's time (an `orc check --world` never asks for them).
+    """
 
     src: SourceText
-    root: MappingNode | None = field(compare=False, repr=False)
     robot: RobotEntry | None
     objects: tuple[WorldObject, ...]
-    #: name -> (key node, attribute mapping); nodes compare by identity, so they stay out of equality
-    object_nodes: dict[str, tuple[ScalarNode, MappingNode]] = field(compare=False, repr=False)
+
+    @cached_property
+    def root(self) -> MappingNode | None:
+        """The file's top-level mapping node."""
+        return self.src.compose()  # type: ignore[return-value]
+
+    @cached_property
+    def object_nodes(self) -> dict[str, tuple[ScalarNode, MappingNode]]:
+        """name -> (key node, attribute mapping) of every object; nodes compare by identity."""
+        root = self.root
+        world = next((value for key, value in root.value if key.value == "world"), None) if root is not None else None
+        if not isinstance(world, MappingNode):  # `world:` with nothing under it yet
+            return {}
+        return {key.value: (key, value) for key, value in world.value}
 
 
 def parse_world(text: str, path: str = "<world>") -> Parsed:
     """Read and check a world file's text; raise SourceError listing every problem found."""
-    return _Reader(SourceText(text, path)).read()
+    with paused_gc():  # thousands of objects and tens of thousands of nodes: see paused_gc
+        return _Reader(SourceText(text, path)).read()
 
 
 class _Reader:
@@ -89,7 +108,7 @@ class _Reader:
         if self.diags:
             self.diags.sort(key=lambda d: (d.location.line, d.location.column))
             raise SourceError(self.diags, self.src.text)
-        return Parsed(self.src, root, robot, tuple(objects), nodes)
+        return Parsed(self.src, robot, tuple(objects))
 
     def check_no_anchors(self, node: Node, seen: set[int] | None = None) -> None:
         """Anchors share one node between places: an edit of one place would silently change the other."""
