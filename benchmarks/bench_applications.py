@@ -51,6 +51,8 @@ import numpy as np
 from orc_rpl.application.features.payload_estimation import confidence, estimate
 from orc_rpl.application.runtime import MotionRequest, Sample, run_to_end
 from orc_rpl.executive.cell_robot import CellRobot
+from orc_rpl.motion.gear_friction import change_since
+from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S as SERVO_FRICTION_SMOOTH_RAD_S
 from orc_rpl.world.pose import Pose
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -70,24 +72,28 @@ def kind(mass_kg: float) -> int:
     return sum(mass_kg >= limit for limit in LIMITS_KG)
 
 
-def recordings(plant: str) -> list[tuple[float, list[Sample], CellRobot, list[Sample] | None]]:
+def recordings(plant: str) -> list[tuple[float, list[Sample], CellRobot, list[Sample] | None, Any]]:
     """One recording of IDENTMOVE's first 0.2 s per mass, speed and via point on the MuJoCo cell. On the ideal
     plant each on a fresh robot, without a tare. On the realistic plant one robot per via point and speed, as
     a program runs it: a tare lift with nothing held, then the four masses one after the other (about 2 s
-    apart: the cold arm's friction falls in between), each with the tare."""
+    apart: the cold arm's friction falls in between), each with the tare and the controller's estimate of
+    how the friction changed since the tare (motion.gear_friction; None without a tare or an estimate)."""
     out = []
     for via in VIAS:
         for speed in SPEEDS_M_S:
             robot = CellRobot.virtual(plant=plant)
             tare: list[Sample] | None = None
+            tare_state = None
             for mass in ((None, *MASSES_KG) if plant == "realistic" else MASSES_KG):
                 if plant == "ideal":
                     robot = CellRobot.virtual(plant=plant)
                 samples = _lift(robot, via, speed, mass or 0.0)
+                state = robot.friction_state()
                 if mass is None:
-                    tare = samples
+                    tare, tare_state = samples, state
                 else:
-                    out.append((mass, samples, robot, tare))
+                    change = None if tare_state is None or state is None else change_since(tare_state, state)
+                    out.append((mass, samples, robot, tare, change))
     return out
 
 
@@ -107,21 +113,29 @@ def _lift(robot: CellRobot, via: Pose, speed: float | None, mass: float) -> list
 
 
 def tare_drift(warm: bool) -> dict[str, float]:
-    """One realistic robot (cold, or warmed up: gearboxes 30 K above ambient), a tare lift toward TopPos, then
-    0, 0.3, 0.9, 2 and 0 kg one after the other: the largest error of the tared estimate, and its drift (a
-    least-squares line through the errors against the time since the tare, kg/s)."""
+    """One realistic robot (cold, or warmed up: gearboxes 30 K above ambient, which its controller then knows), a
+    tare lift toward TopPos, then 0, 0.3, 0.9, 2 and 0 kg one after the other: the largest error of the tared
+    estimate, and its drift (a least-squares line through the errors against the time since the tare, kg/s);
+    with the controller's friction warm-up estimate (as IDENTMOVE runs) and without it (`_untracked`)."""
     robot = CellRobot.virtual(plant="realistic")
     if warm:
         robot.layer.backend.loop.cell.warm_up()  # type: ignore[attr-defined]
+        robot.layer.gear_friction.warm_up(30.0)  # type: ignore[attr-defined]
     tare = _lift(robot, VIAS[0], None, 0.0)
-    tare_s, ages, errors = robot.time_s(), [], []
+    tare_s, tare_state, ages = robot.time_s(), robot.friction_state(), []
+    errors: dict[str, list[float]] = {"": [], "_untracked": []}
     for mass in (0.0, 0.3, 0.9, 2.0, 0.0):
         samples = _lift(robot, VIAS[0], None, mass)
         ages.append(samples[0].time_s - tare_s)
-        errors.append(estimate(samples, robot.inverse_dynamics, tare).mass_kg - mass)
+        change = change_since(tare_state, robot.friction_state())
+        errors[""].append(estimate(samples, robot.inverse_dynamics, tare, change).mass_kg - mass)
+        errors["_untracked"].append(estimate(samples, robot.inverse_dynamics, tare).mass_kg - mass)
     label = "warm" if warm else "cold"
-    return {f"ident_{label}_max_error_kg": round(max(abs(e) for e in errors), 3),
-            f"ident_{label}_drift_kg_s": round(float(np.polyfit(ages, errors, 1)[0]), 4)}
+    out = {}
+    for variant, found in errors.items():
+        out[f"ident_{label}{variant}_max_error_kg"] = round(max(abs(e) for e in found), 3)
+        out[f"ident_{label}{variant}_drift_kg_s"] = round(float(np.polyfit(ages, found, 1)[0]), 4)
+    return out
 
 
 def perturbed(samples: list[Sample], rng: np.random.Generator, scale: float) -> list[Sample]:
@@ -162,29 +176,31 @@ def identification(trials: int, seed: int, plant: str) -> dict[str, float]:
                                  "ident_recording_wall_s": round(recorded_s, 1)}
     for label, scale in (("ident", 1.0), ("ident_outside", 10.0)):
         rng = np.random.default_rng(seed)
-        correct = abstain = wrong = baseline_correct = 0
+        counts = {"": [0, 0, 0], "_untracked": [0, 0, 0]}  # correct, abstain, wrong; untracked: no warm-up estimate
+        baseline_correct = 0
         worst_sigma = 0.0
         for _ in range(trials):
-            mass, samples, robot, tare = base[int(rng.integers(len(base)))]
+            mass, samples, robot, tare, change = base[int(rng.integers(len(base)))]
             noisy = perturbed(samples, rng, scale)
-            found = estimate(noisy, robot.inverse_dynamics, None if tare is None else perturbed(tare, rng, 0.0))
-            answer, _, trusted = confidence(kind, found.mass_kg, found.sigma_kg)
-            worst_sigma = max(worst_sigma, found.sigma_kg)
-            if not trusted:
-                abstain += 1
-            elif answer == kind(mass):
-                correct += 1
-            else:
-                wrong += 1
+            noisy_tare = None if tare is None else perturbed(tare, rng, 0.0)
+            for variant, friction in (("", change), ("_untracked", None)):
+                found = estimate(noisy, robot.inverse_dynamics, noisy_tare, friction)
+                answer, _, trusted = confidence(kind, found.mass_kg, found.sigma_kg)
+                if not variant:
+                    worst_sigma = max(worst_sigma, found.sigma_kg)
+                counts[variant][1 if not trusted else 0 if answer == kind(mass) else 2] += 1
             baseline_correct += kind(baseline_estimate(noisy, robot.inverse_dynamics)) == kind(mass)
-        confident = correct + wrong
-        figures[f"{label}_correct_pct"] = round(100.0 * correct / confident, 2) if confident else float("nan")
-        figures[f"{label}_abstain_pct"] = round(100.0 * abstain / trials, 2)
-        figures[f"{label}_false_confident"] = wrong
+        for variant, (correct, abstain, wrong) in counts.items():
+            if variant and plant != "realistic":
+                continue  # the ideal plant has no tare and no warm-up estimate: the same figures
+            confident = correct + wrong
+            figures[f"{label}{variant}_correct_pct"] = round(100.0 * correct / confident, 2) if confident else float("nan")
+            figures[f"{label}{variant}_abstain_pct"] = round(100.0 * abstain / trials, 2)
+            figures[f"{label}{variant}_false_confident"] = wrong
         figures[f"{label}_baseline_correct_pct"] = round(100.0 * baseline_correct / trials, 2)
         figures[f"{label}_max_sigma_kg"] = round(worst_sigma, 3)
     if plant == "realistic":  # what the model's own errors read as without a tare: an empty gripper's estimate
-        empty = [estimate(samples, robot.inverse_dynamics).mass_kg for mass, samples, robot, _ in base if mass == 0.0]
+        empty = [estimate(samples, robot.inverse_dynamics).mass_kg for mass, samples, robot, *_ in base if mass == 0.0]
         figures["ident_untared_empty_min_kg"] = round(min(empty), 2)
         figures["ident_untared_empty_max_kg"] = round(max(empty), 2)
         figures.update(tare_drift(warm=False))
@@ -313,13 +329,23 @@ def servo_force_estimate(plant: str) -> dict[str, float]:
             figures["deburr_servo_force_true_mean_n"] = round(float(contact[:, 0].mean()), 1)
             figures["deburr_servo_force_error_rms_n"] = round(float(np.sqrt(np.mean(error ** 2))), 1)
             figures["deburr_servo_force_error_max_n"] = round(float(np.abs(error).max()), 1)
+            tracked = contact[:, 2] - contact[:, 0]
+            tracked -= np.median(tracked)
+            figures["deburr_servo_force_tracked_error_rms_n"] = round(float(np.sqrt(np.mean(tracked ** 2))), 1)
+            figures["deburr_servo_force_tracked_error_max_n"] = round(float(np.abs(tracked).max()), 1)
+            exact = contact[:, 3] - contact[:, 0]
+            exact -= np.median(exact)
+            figures["deburr_servo_force_plant_friction_error_rms_n"] = round(float(np.sqrt(np.mean(exact ** 2))), 1)
         else:
             figures["deburr_servo_force_free_p2p_n"] = round(float(np.ptp(rows[:, 1])), 1)
+            figures["deburr_servo_force_tracked_free_p2p_n"] = round(float(np.ptp(rows[:, 2])), 1)
     return figures
 
 
-def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, float]]:
-    """(true contact force, torque estimate) every motion cycle of the grinding moves of thesis_2_1_grindmove."""
+def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, float, float, float]]:
+    """(true contact force, torque estimate, the estimate with the friction warm-up estimate, the estimate with the
+    plant's own friction coefficients) every motion cycle of the grinding moves of thesis_2_1_grindmove (the last
+    two as the second where the controller has no warm-up estimate)."""
     from orc_rpl.application.features import deburring_behaviour
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.executive.executive import Executive
@@ -334,14 +360,30 @@ def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, float]
     machine = executive.machine
     castings = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.tcp_pose(machine.last_tool),
                            robot.set_plant_payload, robot.push_on_arm).castings if casting_on else []
-    rows: list[tuple[float, float]] = []
+    rows: list[tuple[float, float, float, float]] = []
     sample = deburring_behaviour.ForceLoop.step
+    gears = getattr(robot.layer, "gear_friction", None)
+    nominal = None if gears is None else (np.array(gears.state(0.0).coulomb_nm) / gears.factor,
+                                          np.array(gears.state(0.0).viscous_nm_s) / gears.factor)
 
     def estimating_step(loop: Any, s: float) -> tuple[float, float]:  # once a grinding cycle
         q, qd = robot.joints(), robot.joint_speeds()
         external = np.array(robot.model_torques(q, qd)) - np.array(robot.torques())
-        force = np.linalg.lstsq(robot.jacobian_linear(machine.last_tool).T, external, rcond=None)[0]
-        rows.append((sum(c.force_n for c in castings), float(force[2])))  # the casting's normal is +z
+        jacobian_t = robot.jacobian_linear(machine.last_tool).T
+        force = np.linalg.lstsq(jacobian_t, external, rcond=None)[0]
+        tracked = force
+        if gears is not None and nominal is not None:  # the friction the warm-up estimate adds to the nominal model
+            coulomb, viscous = gears.friction_nm()
+            speed = np.array(qd)
+            extra = (coulomb - nominal[0]) * np.tanh(speed / SERVO_FRICTION_SMOOTH_RAD_S) + (viscous - nominal[1]) * speed
+            tracked = np.linalg.lstsq(jacobian_t, external + extra, rcond=None)[0]
+            # the bound: the plant's own friction coefficients now (what no identification can beat with this model)
+            coulomb, viscous = robot.layer.backend.loop.cell.friction_nm()  # type: ignore[attr-defined]
+            extra = (coulomb - nominal[0]) * np.tanh(speed / SERVO_FRICTION_SMOOTH_RAD_S) + (viscous - nominal[1]) * speed
+            exact = np.linalg.lstsq(jacobian_t, external + extra, rcond=None)[0]
+        else:
+            exact = force
+        rows.append((sum(c.force_n for c in castings), float(force[2]), float(tracked[2]), float(exact[2])))  # the casting's normal is +z
         return sample(loop, s)
     deburring_behaviour.ForceLoop.step = estimating_step  # type: ignore[method-assign]
     try:

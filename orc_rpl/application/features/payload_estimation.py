@@ -42,6 +42,9 @@ VISCOUS_PRIOR_NM_S = 0.5
 NOISE_FLOOR_NM = 0.2
 #: The answer must hold over the estimate +- this many standard deviations.
 SIGMAS = 3.0
+#: Speed (rad/s) over which a Coulomb friction change turns from one sign to the other (tanh), as the servo's
+#: friction feed-forward does.
+FRICTION_SMOOTH_RAD_S = 0.02
 #: Grid of the confidence (in standard deviations from the estimate).
 GRID = np.arange(-4.0, 4.0001, 0.25)
 
@@ -56,12 +59,16 @@ class PayloadEstimate:
 
 
 def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[float]],
-             tare: Sequence[Any] | None = None) -> PayloadEstimate:
+             tare: Sequence[Any] | None = None, friction_change: Any = None) -> PayloadEstimate:
     """The payload from samples (time_s, q, qd, torque) and the controller's model `inverse_dynamics(q, qd, qdd, kg)`.
 
     With `tare` (the same lift recorded holding nothing), window k of the tare is taken off window k of the
     recording: what the model gets wrong along the path (friction, masses it does not know) cancels, and the
-    payload is fitted to what is left; a window clean in only one of the two is left out."""
+    payload is fitted to what is left; a window clean in only one of the two is left out.
+
+    `friction_change` (with a tare: the controller's estimate of how the joint friction changed since the tare,
+    motion.gear_friction.FrictionChange): its torque, Coulomb dc tanh(qd / FRICTION_SMOOTH_RAD_S) + viscous dv qd,
+    is taken off too, and its uncertainty widens the offset's and the viscous friction's priors."""
     if tare is None:
         rows = _windows(samples)
         reference = None
@@ -79,6 +86,12 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
     y = tau - tau0                                           # (windows, joints)
     if reference is not None:
         y = y - np.array([t - np.asarray(inverse_dynamics(q, v, a, 0.0), dtype=float) for q, v, a, t in reference])
+    offset_var, viscous_var = np.full(n, OFFSET_PRIOR_NM ** 2), np.full(n, VISCOUS_PRIOR_NM_S ** 2)
+    if reference is not None and friction_change is not None:  # the gearboxes warmed since the tare
+        dc, dv = np.array(friction_change.coulomb_nm), np.array(friction_change.viscous_nm_s)
+        y = y - dc * np.tanh(qd / FRICTION_SMOOTH_RAD_S) - dv * qd
+        offset_var = offset_var + np.square(friction_change.coulomb_sigma_nm)
+        viscous_var = viscous_var + np.square(friction_change.viscous_sigma_nm_s)
     k = len(rows)
     # unknowns: m, c_1..c_n, b_1..b_n; equation (w, j): y = m d + c_j + b_j qd_j
     a = np.zeros((k * n, 1 + 2 * n))
@@ -87,7 +100,7 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
         a[j::n, 1 + j] = 1.0
         a[j::n, 1 + n + j] = qd[:, j]
     b = y.reshape(-1)
-    prior = np.concatenate(([0.0], np.full(n, 1.0 / OFFSET_PRIOR_NM ** 2), np.full(n, 1.0 / VISCOUS_PRIOR_NM_S ** 2)))
+    prior = np.concatenate(([0.0], 1.0 / offset_var, 1.0 / viscous_var))
     noise = np.full(n, 1.0)
     for _ in range(2):  # a first fit with unit noise, then each joint weighted by its residual noise
         w = np.tile(1.0 / noise ** 2, k)
