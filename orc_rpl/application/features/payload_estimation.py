@@ -34,6 +34,8 @@ WINDOW = 5
 #: A window whose per-cycle joint accelerations spread by more than this (rad/s^2, plus a tenth of their size)
 #: holds an acceleration switch and is left out.
 SWITCH_RAD_S2 = 0.3
+#: ... or more than this many times the median spread of the recording's windows (the measured speed's noise).
+NOISE_SPREADS = 2.5
 #: Prior spread of each joint's offset (N m): Coulomb friction and a constant model error together.
 OFFSET_PRIOR_NM = 0.3
 #: Prior spread of each joint's viscous friction (N m s/rad).
@@ -123,18 +125,27 @@ def _windows(samples: Sequence[Any], keep: bool = False) -> list[Any]:
     acceleration switches (its per-cycle accelerations spread by more than SWITCH_RAD_S2 plus a tenth of
     their size) is left out: there the servo's torque and the measured motion do not average alike (with
     `keep`, it is None in its place, so two recordings' windows stay paired by index)."""
-    out = []
+    spans = []
     for start in range(0, len(samples) - WINDOW, WINDOW):
         window = samples[start: start + WINDOW + 1]
         t = np.array([s.time_s for s in window])
         if np.any(np.diff(t) <= 0):
-            if keep:
-                out.append(None)
+            spans.append((window, t, None, None))
             continue
         qd = np.array([s.qd for s in window], dtype=float)
         per_cycle = np.diff(qd, axis=0) / np.diff(t)[:, None]
+        spans.append((window, t, qd, per_cycle))
+    spreads = [pc.max(axis=0) - pc.min(axis=0) for _, _, _, pc in spans if pc is not None]
+    # a measured speed's noise spreads the per-cycle accelerations of every window alike: a switch stands out of that
+    floor = np.maximum(SWITCH_RAD_S2, NOISE_SPREADS * np.median(spreads, axis=0)) if spreads else SWITCH_RAD_S2
+    out = []
+    for window, t, qd, per_cycle in spans:
+        if per_cycle is None:
+            if keep:
+                out.append(None)
+            continue
         spread = per_cycle.max(axis=0) - per_cycle.min(axis=0)
-        if np.any(spread > SWITCH_RAD_S2 + 0.1 * np.abs(per_cycle).max(axis=0)):
+        if np.any(spread > floor + 0.1 * np.abs(per_cycle).max(axis=0)):
             if keep:
                 out.append(None)
             continue
