@@ -47,6 +47,9 @@ SIGMAS = 3.0
 #: Speed (rad/s) over which a Coulomb friction change turns from one sign to the other (tanh), as the servo's
 #: friction feed-forward does.
 FRICTION_SMOOTH_RAD_S = 0.02
+#: A joint whose measured speed is noisier than this (rad/s: the median size of its second difference, which a
+#: smooth motion keeps near zero) takes its accelerations from its angles (a quadratic fit over each window).
+SPEED_NOISE_RAD_S = 1.5e-4
 #: Grid of the confidence (in standard deviations from the estimate).
 GRID = np.arange(-4.0, 4.0001, 0.25)
 
@@ -138,6 +141,8 @@ def _windows(samples: Sequence[Any], keep: bool = False) -> list[Any]:
     spreads = [pc.max(axis=0) - pc.min(axis=0) for _, _, _, pc in spans if pc is not None]
     # a measured speed's noise spreads the per-cycle accelerations of every window alike: a switch stands out of that
     floor = np.maximum(SWITCH_RAD_S2, NOISE_SPREADS * np.median(spreads, axis=0)) if spreads else SWITCH_RAD_S2
+    speeds = np.array([s.qd for s in samples], dtype=float)
+    noisy = (np.median(np.abs(np.diff(speeds, 2, axis=0)), axis=0) > SPEED_NOISE_RAD_S) if len(samples) > 2 else None
     out = []
     for window, t, qd, per_cycle in spans:
         if per_cycle is None:
@@ -149,7 +154,11 @@ def _windows(samples: Sequence[Any], keep: bool = False) -> list[Any]:
             if keep:
                 out.append(None)
             continue
-        qdd = tuple(((qd[-1] - qd[0]) / (t[-1] - t[0])).tolist())
+        qdd_array = (qd[-1] - qd[0]) / (t[-1] - t[0])
+        if noisy is not None and noisy.any():  # the encoder's angles are far finer than the noisy speed
+            fit = np.polynomial.polynomial.polyfit(t - t.mean(), np.array([s.q for s in window], dtype=float), 2)
+            qdd_array = np.where(noisy, 2.0 * fit[2], qdd_array)
+        qdd = tuple(qdd_array.tolist())
         torques = np.array([s.torque for s in window], dtype=float)
         torque = (torques[1:] + torques[:-1]).mean(axis=0) / 2  # the trapezoid: the torque between the samples
         out.append((tuple(window[WINDOW // 2].q), tuple(qd.mean(axis=0).tolist()), qdd, torque))
