@@ -54,7 +54,7 @@ from orc_rpl.application.features import payload_estimation
 from orc_rpl.application.features.payload_estimation import confidence, estimate
 from orc_rpl.application.runtime import MotionRequest, Sample, run_to_end
 from orc_rpl.executive.cell_robot import CellRobot
-from orc_rpl.motion.gear_friction import change_since
+from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S, change_since
 from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S as SERVO_FRICTION_SMOOTH_RAD_S
 from orc_rpl.world.pose import Pose
 
@@ -334,37 +334,37 @@ def processes(plant: str) -> dict[str, float]:
 
 def servo_force_estimate(plant: str) -> dict[str, float]:
     """What GRINDMOVE would have without a force flange: the normal contact force estimated from the arm's own
-    motor torques (the controller's model: rigid body, declared payload, NOMINAL friction) every motion cycle of
-    thesis_2_1_grindmove.rpl (the flange variant grinds; the contact force acts on the arm), against the
-    casting's true contact force. In contact: the error's RMS and maximum after the best constant tare (its
-    median taken off). Without the casting (the same path, nothing touched): the estimate's peak-to-peak."""
+    motor torques every motion cycle of thesis_2_1_grindmove.rpl (the flange variant grinds; the contact force
+    acts on the arm), against the casting's true contact force. In contact: the error's RMS and maximum after the
+    best constant tare (its median taken off). Without the casting (the same path, nothing touched): the
+    estimate's peak-to-peak. Four models of the torque the arm needs: deburr_servo_force_* the servo's (rigid
+    body at qdd = 0, declared payload, the NOMINAL friction smoothed as its feed-forward is); _sharp_* rigid body
+    with the acceleration (from the encoder angles) and the nominal friction with a sharp Coulomb term
+    (motion.gear_friction.SIGN_SMOOTH_RAD_S); _tracked_* that with the controller's friction warm-up estimate
+    (motion.gear_friction); _plant_friction_* that with the plant's own friction coefficients (the bound of any
+    identification of Coulomb and viscous friction)."""
     figures = {}
+    names = ("", "_sharp", "_tracked", "_plant_friction")
     for casting_on in (True, False):
         rows = np.array(_torque_force_rows(plant, casting_on))
-        if casting_on:
-            contact = rows[rows[:, 0] > 0.0]
-            error = contact[:, 1] - contact[:, 0]
-            error -= np.median(error)
-            figures["deburr_servo_force_true_mean_n"] = round(float(contact[:, 0].mean()), 1)
-            figures["deburr_servo_force_error_rms_n"] = round(float(np.sqrt(np.mean(error ** 2))), 1)
-            figures["deburr_servo_force_error_max_n"] = round(float(np.abs(error).max()), 1)
-            tracked = contact[:, 2] - contact[:, 0]
-            tracked -= np.median(tracked)
-            figures["deburr_servo_force_tracked_error_rms_n"] = round(float(np.sqrt(np.mean(tracked ** 2))), 1)
-            figures["deburr_servo_force_tracked_error_max_n"] = round(float(np.abs(tracked).max()), 1)
-            exact = contact[:, 3] - contact[:, 0]
-            exact -= np.median(exact)
-            figures["deburr_servo_force_plant_friction_error_rms_n"] = round(float(np.sqrt(np.mean(exact ** 2))), 1)
-        else:
-            figures["deburr_servo_force_free_p2p_n"] = round(float(np.ptp(rows[:, 1])), 1)
-            figures["deburr_servo_force_tracked_free_p2p_n"] = round(float(np.ptp(rows[:, 2])), 1)
+        for column, name in enumerate(names, start=1):
+            if casting_on:
+                contact = rows[rows[:, 0] > 0.0]
+                error = contact[:, column] - contact[:, 0]
+                error -= np.median(error)
+                if not name:
+                    figures["deburr_servo_force_true_mean_n"] = round(float(contact[:, 0].mean()), 1)
+                figures[f"deburr_servo_force{name}_error_rms_n"] = round(float(np.sqrt(np.mean(error ** 2))), 1)
+                figures[f"deburr_servo_force{name}_error_max_n"] = round(float(np.abs(error).max()), 1)
+            else:
+                figures[f"deburr_servo_force{name}_free_p2p_n"] = round(float(np.ptp(rows[:, column])), 1)
     return figures
 
 
-def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, float, float, float]]:
-    """(true contact force, torque estimate, the estimate with the friction warm-up estimate, the estimate with the
-    plant's own friction coefficients) every motion cycle of the grinding moves of thesis_2_1_grindmove (the last
-    two as the second where the controller has no warm-up estimate)."""
+def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, ...]]:
+    """(true contact force, then the force estimated with each model of servo_force_estimate) every motion cycle of
+    the grinding moves of thesis_2_1_grindmove (without a warm-up estimate, the tracked and plant columns are the
+    sharp one)."""
     from orc_rpl.application.features import deburring_behaviour
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.executive.executive import Executive
@@ -379,30 +379,39 @@ def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, float,
     machine = executive.machine
     castings = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.tcp_pose(machine.last_tool),
                            robot.set_plant_payload, robot.push_on_arm).castings if casting_on else []
-    rows: list[tuple[float, float, float, float]] = []
+    rows: list[tuple[float, ...]] = []
     sample = deburring_behaviour.ForceLoop.step
     gears = getattr(robot.layer, "gear_friction", None)
-    nominal = None if gears is None else (np.array(gears.state(0.0).coulomb_nm) / gears.factor,
-                                          np.array(gears.state(0.0).viscous_nm_s) / gears.factor)
+    servo = getattr(robot.layer.backend, "loop", None)
+    servo = getattr(servo, "servo", None)
+    nominal = (np.zeros(6), np.zeros(6)) if gears is None else gears.warm_nm
+    angles: list[tuple[float, np.ndarray]] = []  # the last three cycles' (time, q): the acceleration from the encoder
 
     def estimating_step(loop: Any, s: float) -> tuple[float, float]:  # once a grinding cycle
         q, qd = robot.joints(), robot.joint_speeds()
         external = np.array(robot.model_torques(q, qd)) - np.array(robot.torques())
         jacobian_t = robot.jacobian_linear(machine.last_tool).T
         force = np.linalg.lstsq(jacobian_t, external, rcond=None)[0]
-        tracked = force
-        if gears is not None and nominal is not None:  # the friction the warm-up estimate adds to the nominal model
-            coulomb, viscous = gears.friction_nm()
-            speed = np.array(qd)
-            extra = (coulomb - nominal[0]) * np.tanh(speed / SERVO_FRICTION_SMOOTH_RAD_S) + (viscous - nominal[1]) * speed
-            tracked = np.linalg.lstsq(jacobian_t, external + extra, rcond=None)[0]
-            # the bound: the plant's own friction coefficients now (what no identification can beat with this model)
+        angles[:] = [*angles[-2:], (robot.time_s(), np.array(q))]
+        qdd = np.zeros(len(q))
+        if len(angles) == 3 and angles[2][0] - angles[0][0] > 0:
+            (t0, q0), (t1, q1), (t2, q2) = angles
+            qdd = ((q2 - q1) / (t2 - t1) - (q1 - q0) / (t1 - t0)) / (0.5 * (t2 - t0))
+        speed = np.array(qd)
+        # the servo's own model (its payload) with the acceleration, its nominal friction feed-forward taken out
+        rigid = (servo.model_torque(np.array(q), speed, qdd) - nominal[0] * np.tanh(speed / SERVO_FRICTION_SMOOTH_RAD_S)
+                 - nominal[1] * speed - np.array(robot.torques()))
+        sign = np.tanh(speed / SIGN_SMOOTH_RAD_S)
+        estimates = [float(force[2])]
+        frictions = [nominal[0] * sign + nominal[1] * speed]
+        if gears is not None:
             coulomb, viscous = robot.layer.backend.loop.cell.friction_nm()  # type: ignore[attr-defined]
-            extra = (coulomb - nominal[0]) * np.tanh(speed / SERVO_FRICTION_SMOOTH_RAD_S) + (viscous - nominal[1]) * speed
-            exact = np.linalg.lstsq(jacobian_t, external + extra, rcond=None)[0]
+            frictions += [gears.torque_nm(speed), coulomb * sign + viscous * speed]
         else:
-            exact = force
-        rows.append((sum(c.force_n for c in castings), float(force[2]), float(tracked[2]), float(exact[2])))  # the casting's normal is +z
+            frictions += frictions * 2
+        for friction in frictions:
+            estimates.append(float(np.linalg.lstsq(jacobian_t, rigid + friction, rcond=None)[0][2]))
+        rows.append((sum(c.force_n for c in castings), *estimates))  # the casting's normal is +z
         return sample(loop, s)
     deburring_behaviour.ForceLoop.step = estimating_step  # type: ignore[method-assign]
     try:

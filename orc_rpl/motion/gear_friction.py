@@ -29,6 +29,12 @@ from orc_rpl.errors import UsageError
 CHANGE_SPREAD = 0.2
 
 
+#: Speed (rad/s) over which the estimate's Coulomb friction turns from one sign to the other: the plant's is
+#: sharp (full at a few mrad/s), the measured speed's noise is 0.2 mrad/s. (The servo's feed-forward smooths
+#: over 0.05 rad/s for its stability; an estimate of the torque the joint needs must not.)
+SIGN_SMOOTH_RAD_S = 0.002
+
+
 @dataclass(frozen=True, slots=True)
 class FrictionState:
     """The estimated joint friction at one moment: Coulomb (N m) and viscous (N m s/rad) per joint."""
@@ -69,6 +75,11 @@ class GearFriction:
         self.rise_k = np.zeros(len(k))  #: the estimate (K above ambient)
 
     @property
+    def warm_nm(self) -> tuple[np.ndarray, np.ndarray]:
+        """The nominal warm (Coulomb N m, viscous N m s/rad) friction: the controller's model without the warm-up."""
+        return self._coulomb.copy(), self._viscous.copy()
+
+    @property
     def factor(self) -> np.ndarray:
         """Friction now over warm friction, per joint."""
         return 1.0 + self._excess * np.exp(-self.rise_k / self._warm_rise_k)
@@ -77,6 +88,11 @@ class GearFriction:
         """The estimated (Coulomb N m, viscous N m s/rad) friction now."""
         f = self.factor
         return self._coulomb * f, self._viscous * f
+
+    def torque_nm(self, qd_rad_s: np.ndarray) -> np.ndarray:
+        """The friction torque the joints need at these speeds now (N m, opposing the motion: add it to the drive's)."""
+        coulomb, viscous = self.friction_nm()
+        return coulomb * np.tanh(np.asarray(qd_rad_s) / SIGN_SMOOTH_RAD_S) + viscous * qd_rad_s
 
     def update(self, tau_nm: np.ndarray, qd_rad_s: np.ndarray, winding_rise_k: np.ndarray | None = None) -> None:
         """One motion cycle with the measured torque and speed (the winding's estimated rise for its resistance)."""

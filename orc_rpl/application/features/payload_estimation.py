@@ -29,6 +29,8 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S
+
 #: Samples averaged into one window (4 ms motion cycle: 20 ms windows).
 WINDOW = 5
 #: A window whose per-cycle joint accelerations spread by more than this (rad/s^2, plus a tenth of their size)
@@ -44,9 +46,6 @@ VISCOUS_PRIOR_NM_S = 0.5
 NOISE_FLOOR_NM = 0.2
 #: The answer must hold over the estimate +- this many standard deviations.
 SIGMAS = 3.0
-#: Speed (rad/s) over which a Coulomb friction change turns from one sign to the other (tanh), as the servo's
-#: friction feed-forward does.
-FRICTION_SMOOTH_RAD_S = 0.02
 #: A joint whose measured speed is noisier than this (rad/s: the median size of its second difference, which a
 #: smooth motion keeps near zero) takes its accelerations from its angles (a quadratic fit over each window).
 SPEED_NOISE_RAD_S = 1.5e-4
@@ -72,7 +71,7 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
     payload is fitted to what is left; a window clean in only one of the two is left out.
 
     `friction_change` (with a tare: the controller's estimate of how the joint friction changed since the tare,
-    motion.gear_friction.FrictionChange): its torque, Coulomb dc tanh(qd / FRICTION_SMOOTH_RAD_S) + viscous dv qd,
+    motion.gear_friction.FrictionChange): its torque, Coulomb dc tanh(qd / SIGN_SMOOTH_RAD_S) + viscous dv qd,
     is taken off too, and its uncertainty widens the offset's and the viscous friction's priors."""
     if tare is None:
         rows = _windows(samples)
@@ -94,7 +93,7 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
     offset_var, viscous_var = np.full(n, OFFSET_PRIOR_NM ** 2), np.full(n, VISCOUS_PRIOR_NM_S ** 2)
     if reference is not None and friction_change is not None:  # the gearboxes warmed since the tare
         dc, dv = np.array(friction_change.coulomb_nm), np.array(friction_change.viscous_nm_s)
-        y = y - dc * np.tanh(qd / FRICTION_SMOOTH_RAD_S) - dv * qd
+        y = y - dc * np.tanh(qd / SIGN_SMOOTH_RAD_S) - dv * qd
         offset_var = offset_var + np.square(friction_change.coulomb_sigma_nm)
         viscous_var = viscous_var + np.square(friction_change.viscous_sigma_nm_s)
     k = len(rows)
