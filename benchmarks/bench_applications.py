@@ -15,8 +15,10 @@ the joint's velocity), a viscous friction change (uniform in +-ENVELOPE_NM per r
 NOISE_NM per sample (the tare gets noise only). The trial classifies the estimate with limits half way between
 the kinds' masses, as the demo does, and is confident only when payload_estimation.confidence trusts it.
 Printed: ident_correct_pct (among confident answers, target >= 99), ident_abstain_pct (target <= 5),
-ident_false_confident (target 0), and in the same run the estimator that IDENTMOVE used before (least squares
-over the samples, no friction, no offsets, no tare, always answering): ident_baseline_correct_pct; and the same
+ident_false_confident (target 0); in the same run without the controller's friction warm-up estimate
+(ident_untracked_*), without that and the noise-aware windows (ident_plain_*, the estimator of the release
+before), and the estimator that IDENTMOVE used before that (least squares over the samples, no friction, no
+offsets, no tare, always answering): ident_baseline_correct_pct; and the same
 trials with the model error and friction changes ten times larger (outside the envelope): ident_outside_*.
 On the realistic plant also what an empty gripper's estimate reads without a tare (ident_untared_empty_*_kg), the tared estimate's error on one robot lifting 0, 0.3, 0.9, 2, 0 kg after a tare,
 cold and warmed up: ident_{cold,warm}_max_error_kg and its drift against the time since the tare (kg/s).
