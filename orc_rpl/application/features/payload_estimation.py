@@ -9,7 +9,8 @@ with the payload m shared by every joint and, per joint, an offset c_j (Coulomb 
 turns one way, and a constant error of the model) and a viscous friction b_j. Windows, not samples: over a
 window of WINDOW samples the torque is averaged and the acceleration is the change of the measured velocity
 divided by the window's length, so no differentiated velocity (whose one sample at an acceleration switch
-used to dominate the fit) enters. The offsets and frictions have a prior (zero mean, OFFSET_PRIOR_NM and
+used to dominate the fit) enters; a joint whose measured speed is noisy takes the window's acceleration from
+its encoder angles instead (a quadratic through them), and the switch test allows for the speed's noise. The offsets and frictions have a prior (zero mean, OFFSET_PRIOR_NM and
 VISCOUS_PRIOR_NM_S spread): what the recording cannot separate from the payload (a constant offset against a
 load's nearly constant weight) stays uncertain instead of being guessed. Each joint's equations are
 weighted by its noise, estimated from the residuals of a first fit (and never below NOISE_FLOOR_NM), and the
@@ -124,9 +125,10 @@ def _windows(samples: Sequence[Any], keep: bool = False) -> list[Any]:
     """(q, qd, qdd, mean torque) per clean window: q at its middle, qd its mean, qdd the velocity change across it
     over its length, against the torque between the samples (the mean of each cycle's two ends: the motor
     torque is sampled at the cycle's boundaries, the velocity changes in between). A window in which the
-    acceleration switches (its per-cycle accelerations spread by more than SWITCH_RAD_S2 plus a tenth of
-    their size) is left out: there the servo's torque and the measured motion do not average alike (with
-    `keep`, it is None in its place, so two recordings' windows stay paired by index)."""
+    acceleration switches (its per-cycle accelerations spread by more than SWITCH_RAD_S2, or NOISE_SPREADS times
+    the recording's median spread, plus a tenth of their size) is left out: there the servo's torque and the
+    measured motion do not average alike (with `keep`, it is None in its place, so two recordings' windows stay
+    paired by index). A joint whose measured speed is noisy (SPEED_NOISE_RAD_S) takes qdd from its angles."""
     spans = []
     for start in range(0, len(samples) - WINDOW, WINDOW):
         window = samples[start: start + WINDOW + 1]
