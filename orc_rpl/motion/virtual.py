@@ -100,7 +100,7 @@ class ServoBackend:
 
     def set_control_payload(self, mass_kg: float) -> None:
         """The payload the servo's feed-forward assumes (a move's LOAD); the plant's real payload is not touched."""
-        self.loop.servo.arm.set_payload(mass_kg)  # the servo's own model (loop.arm is another copy)
+        self.loop.servo.set_control_payload(mass_kg)  # the servo's own model (loop.arm is another copy)
 
 
 #: The virtual robots: "realistic" is not the controller's model (docs/robots.md), "ideal" is its exact twin.
