@@ -15,8 +15,10 @@ the joint's velocity), a viscous friction change (uniform in +-ENVELOPE_NM per r
 NOISE_NM per sample (the tare gets noise only). The trial classifies the estimate with limits half way between
 the kinds' masses, as the demo does, and is confident only when payload_estimation.confidence trusts it.
 Printed: ident_correct_pct (among confident answers, target >= 99), ident_abstain_pct (target <= 5),
-ident_false_confident (target 0), and in the same run the estimator that IDENTMOVE used before (least squares
-over the samples, no friction, no offsets, no tare, always answering): ident_baseline_correct_pct; and the same
+ident_false_confident (target 0); in the same run without the controller's friction warm-up estimate
+(ident_untracked_*), without that and the noise-aware windows (ident_plain_*, the estimator of the release
+before), and the estimator that IDENTMOVE used before that (least squares over the samples, no friction, no
+offsets, no tare, always answering): ident_baseline_correct_pct; and the same
 trials with the model error and friction changes ten times larger (outside the envelope): ident_outside_*.
 On the realistic plant also what an empty gripper's estimate reads without a tare (ident_untared_empty_*_kg), the tared estimate's error on one robot lifting 0, 0.3, 0.9, 2, 0 kg after a tare,
 cold and warmed up: ident_{cold,warm}_max_error_kg and its drift against the time since the tare (kg/s).
@@ -38,6 +40,7 @@ servo_force_estimate.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import shutil
@@ -45,14 +48,18 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from orc_rpl.application.features import payload_estimation
 from orc_rpl.application.features.payload_estimation import confidence, estimate
 from orc_rpl.application.runtime import MotionRequest, Sample, run_to_end
 from orc_rpl.executive.cell_robot import CellRobot
+from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S, change_since
+from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S as SERVO_FRICTION_SMOOTH_RAD_S
 from orc_rpl.world.pose import Pose
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -72,24 +79,28 @@ def kind(mass_kg: float) -> int:
     return sum(mass_kg >= limit for limit in LIMITS_KG)
 
 
-def recordings(plant: str) -> list[tuple[float, list[Sample], CellRobot, list[Sample] | None]]:
+def recordings(plant: str) -> list[tuple[float, list[Sample], CellRobot, list[Sample] | None, Any]]:
     """One recording of IDENTMOVE's first 0.2 s per mass, speed and via point on the MuJoCo cell. On the ideal
     plant each on a fresh robot, without a tare. On the realistic plant one robot per via point and speed, as
     a program runs it: a tare lift with nothing held, then the four masses one after the other (about 2 s
-    apart: the cold arm's friction falls in between), each with the tare."""
+    apart: the cold arm's friction falls in between), each with the tare and the controller's estimate of
+    how the friction changed since the tare (motion.gear_friction; None without a tare or an estimate)."""
     out = []
     for via in VIAS:
         for speed in SPEEDS_M_S:
             robot = CellRobot.virtual(plant=plant)
             tare: list[Sample] | None = None
+            tare_state = None
             for mass in ((None, *MASSES_KG) if plant == "realistic" else MASSES_KG):
                 if plant == "ideal":
                     robot = CellRobot.virtual(plant=plant)
                 samples = _lift(robot, via, speed, mass or 0.0)
+                state = robot.friction_state()
                 if mass is None:
-                    tare = samples
+                    tare, tare_state = samples, state
                 else:
-                    out.append((mass, samples, robot, tare))
+                    change = None if tare_state is None or state is None else change_since(tare_state, state)
+                    out.append((mass, samples, robot, tare, change))
     return out
 
 
@@ -109,21 +120,42 @@ def _lift(robot: CellRobot, via: Pose, speed: float | None, mass: float) -> list
 
 
 def tare_drift(warm: bool) -> dict[str, float]:
-    """One realistic robot (cold, or warmed up: gearboxes 30 K above ambient), a tare lift toward TopPos, then
-    0, 0.3, 0.9, 2 and 0 kg one after the other: the largest error of the tared estimate, and its drift (a
-    least-squares line through the errors against the time since the tare, kg/s)."""
+    """One realistic robot (cold, or warmed up: gearboxes 30 K above ambient, which its controller then knows), a
+    tare lift toward TopPos, then 0, 0.3, 0.9, 2 and 0 kg one after the other: the largest error of the tared
+    estimate, and its drift (a least-squares line through the errors against the time since the tare, kg/s);
+    with the controller's friction warm-up estimate (as IDENTMOVE runs) and without it (`_untracked`)."""
     robot = CellRobot.virtual(plant="realistic")
     if warm:
         robot.layer.backend.loop.cell.warm_up()  # type: ignore[attr-defined]
+        robot.layer.gear_friction.warm_up(30.0)  # type: ignore[attr-defined]
     tare = _lift(robot, VIAS[0], None, 0.0)
-    tare_s, ages, errors = robot.time_s(), [], []
+    tare_s, tare_state, ages = robot.time_s(), robot.friction_state(), []
+    errors: dict[str, list[float]] = {"": [], "_untracked": []}
     for mass in (0.0, 0.3, 0.9, 2.0, 0.0):
         samples = _lift(robot, VIAS[0], None, mass)
         ages.append(samples[0].time_s - tare_s)
-        errors.append(estimate(samples, robot.inverse_dynamics, tare).mass_kg - mass)
+        change = change_since(tare_state, robot.friction_state())
+        errors[""].append(estimate(samples, robot.inverse_dynamics, tare, change).mass_kg - mass)
+        errors["_untracked"].append(estimate(samples, robot.inverse_dynamics, tare).mass_kg - mass)
     label = "warm" if warm else "cold"
-    return {f"ident_{label}_max_error_kg": round(max(abs(e) for e in errors), 3),
-            f"ident_{label}_drift_kg_s": round(float(np.polyfit(ages, errors, 1)[0]), 4)}
+    out = {}
+    for variant, found in errors.items():
+        out[f"ident_{label}{variant}_max_error_kg"] = round(max(abs(e) for e in found), 3)
+        out[f"ident_{label}{variant}_drift_kg_s"] = round(float(np.polyfit(ages, found, 1)[0]), 4)
+    return out
+
+
+@contextlib.contextmanager
+def plain_windows(on: bool) -> Iterator[None]:
+    """The payload estimator's windows as before the realistic plant's speed noise was allowed for: accelerations
+    from the measured speeds and the fixed switch threshold alone."""
+    saved = payload_estimation.SPEED_NOISE_RAD_S, payload_estimation.NOISE_SPREADS
+    if on:
+        payload_estimation.SPEED_NOISE_RAD_S, payload_estimation.NOISE_SPREADS = math.inf, 0.0
+    try:
+        yield
+    finally:
+        payload_estimation.SPEED_NOISE_RAD_S, payload_estimation.NOISE_SPREADS = saved
 
 
 def perturbed(samples: list[Sample], rng: np.random.Generator, scale: float) -> list[Sample]:
@@ -164,29 +196,34 @@ def identification(trials: int, seed: int, plant: str) -> dict[str, float]:
                                  "ident_recording_wall_s": round(recorded_s, 1)}
     for label, scale in (("ident", 1.0), ("ident_outside", 10.0)):
         rng = np.random.default_rng(seed)
-        correct = abstain = wrong = baseline_correct = 0
+        # correct, abstain, wrong; _untracked: no friction warm-up estimate; _plain: neither that nor the noise-aware
+        # windows (accelerations from the measured speeds, a fixed switch threshold): the estimator of the last release
+        counts = {"": [0, 0, 0], "_untracked": [0, 0, 0], "_plain": [0, 0, 0]}
+        baseline_correct = 0
         worst_sigma = 0.0
         for _ in range(trials):
-            mass, samples, robot, tare = base[int(rng.integers(len(base)))]
+            mass, samples, robot, tare, change = base[int(rng.integers(len(base)))]
             noisy = perturbed(samples, rng, scale)
-            found = estimate(noisy, robot.inverse_dynamics, None if tare is None else perturbed(tare, rng, 0.0))
-            answer, _, trusted = confidence(kind, found.mass_kg, found.sigma_kg)
-            worst_sigma = max(worst_sigma, found.sigma_kg)
-            if not trusted:
-                abstain += 1
-            elif answer == kind(mass):
-                correct += 1
-            else:
-                wrong += 1
+            noisy_tare = None if tare is None else perturbed(tare, rng, 0.0)
+            for variant, friction in (("", change), ("_untracked", None), ("_plain", None)):
+                with plain_windows(variant == "_plain"):
+                    found = estimate(noisy, robot.inverse_dynamics, noisy_tare, friction)
+                answer, _, trusted = confidence(kind, found.mass_kg, found.sigma_kg)
+                if not variant:
+                    worst_sigma = max(worst_sigma, found.sigma_kg)
+                counts[variant][1 if not trusted else 0 if answer == kind(mass) else 2] += 1
             baseline_correct += kind(baseline_estimate(noisy, robot.inverse_dynamics)) == kind(mass)
-        confident = correct + wrong
-        figures[f"{label}_correct_pct"] = round(100.0 * correct / confident, 2) if confident else float("nan")
-        figures[f"{label}_abstain_pct"] = round(100.0 * abstain / trials, 2)
-        figures[f"{label}_false_confident"] = wrong
+        for variant, (correct, abstain, wrong) in counts.items():
+            if variant and plant != "realistic":
+                continue  # the ideal plant has no tare and no warm-up estimate: the same figures
+            confident = correct + wrong
+            figures[f"{label}{variant}_correct_pct"] = round(100.0 * correct / confident, 2) if confident else float("nan")
+            figures[f"{label}{variant}_abstain_pct"] = round(100.0 * abstain / trials, 2)
+            figures[f"{label}{variant}_false_confident"] = wrong
         figures[f"{label}_baseline_correct_pct"] = round(100.0 * baseline_correct / trials, 2)
         figures[f"{label}_max_sigma_kg"] = round(worst_sigma, 3)
     if plant == "realistic":  # what the model's own errors read as without a tare: an empty gripper's estimate
-        empty = [estimate(samples, robot.inverse_dynamics).mass_kg for mass, samples, robot, _ in base if mass == 0.0]
+        empty = [estimate(samples, robot.inverse_dynamics).mass_kg for mass, samples, robot, *_ in base if mass == 0.0]
         figures["ident_untared_empty_min_kg"] = round(min(empty), 2)
         figures["ident_untared_empty_max_kg"] = round(max(empty), 2)
         figures.update(tare_drift(warm=False))
@@ -301,27 +338,37 @@ def processes(plant: str) -> dict[str, float]:
 
 def servo_force_estimate(plant: str) -> dict[str, float]:
     """What GRINDMOVE would have without a force flange: the normal contact force estimated from the arm's own
-    motor torques (the controller's model: rigid body, declared payload, NOMINAL friction) every motion cycle of
-    thesis_2_1_grindmove.rpl (the flange variant grinds; the contact force acts on the arm), against the
-    casting's true contact force. In contact: the error's RMS and maximum after the best constant tare (its
-    median taken off). Without the casting (the same path, nothing touched): the estimate's peak-to-peak."""
+    motor torques every motion cycle of thesis_2_1_grindmove.rpl (the flange variant grinds; the contact force
+    acts on the arm), against the casting's true contact force. In contact: the error's RMS and maximum after the
+    best constant tare (its median taken off). Without the casting (the same path, nothing touched): the
+    estimate's peak-to-peak. Four models of the torque the arm needs: deburr_servo_force_* the servo's (rigid
+    body at qdd = 0, declared payload, the NOMINAL friction smoothed as its feed-forward is); _sharp_* rigid body
+    with the acceleration (from the encoder angles) and the nominal friction with a sharp Coulomb term
+    (motion.gear_friction.SIGN_SMOOTH_RAD_S); _tracked_* that with the controller's friction warm-up estimate
+    (motion.gear_friction); _plant_friction_* that with the plant's own friction coefficients (the bound of any
+    identification of Coulomb and viscous friction)."""
     figures = {}
+    names = ("", "_sharp", "_tracked", "_plant_friction")
     for casting_on in (True, False):
         rows = np.array(_torque_force_rows(plant, casting_on))
-        if casting_on:
-            contact = rows[rows[:, 0] > 0.0]
-            error = contact[:, 1] - contact[:, 0]
-            error -= np.median(error)
-            figures["deburr_servo_force_true_mean_n"] = round(float(contact[:, 0].mean()), 1)
-            figures["deburr_servo_force_error_rms_n"] = round(float(np.sqrt(np.mean(error ** 2))), 1)
-            figures["deburr_servo_force_error_max_n"] = round(float(np.abs(error).max()), 1)
-        else:
-            figures["deburr_servo_force_free_p2p_n"] = round(float(np.ptp(rows[:, 1])), 1)
+        for column, name in enumerate(names, start=1):
+            if casting_on:
+                contact = rows[rows[:, 0] > 0.0]
+                error = contact[:, column] - contact[:, 0]
+                error -= np.median(error)
+                if not name:
+                    figures["deburr_servo_force_true_mean_n"] = round(float(contact[:, 0].mean()), 1)
+                figures[f"deburr_servo_force{name}_error_rms_n"] = round(float(np.sqrt(np.mean(error ** 2))), 1)
+                figures[f"deburr_servo_force{name}_error_max_n"] = round(float(np.abs(error).max()), 1)
+            else:
+                figures[f"deburr_servo_force{name}_free_p2p_n"] = round(float(np.ptp(rows[:, column])), 1)
     return figures
 
 
-def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, float]]:
-    """(true contact force, torque estimate) every motion cycle of the grinding moves of thesis_2_1_grindmove."""
+def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, ...]]:
+    """(true contact force, then the force estimated with each model of servo_force_estimate) every motion cycle of
+    the grinding moves of thesis_2_1_grindmove (without a warm-up estimate, the tracked and plant columns are the
+    sharp one)."""
     from orc_rpl.application.features import deburring_behaviour
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.executive.executive import Executive
@@ -336,14 +383,39 @@ def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, float]
     machine = executive.machine
     castings = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.tcp_pose(machine.last_tool),
                            robot.set_plant_payload, robot.push_on_arm).castings if casting_on else []
-    rows: list[tuple[float, float]] = []
+    rows: list[tuple[float, ...]] = []
     sample = deburring_behaviour.ForceLoop.step
+    gears = getattr(robot.layer, "gear_friction", None)
+    servo = getattr(robot.layer.backend, "loop", None)
+    servo = getattr(servo, "servo", None)
+    nominal = (np.zeros(6), np.zeros(6)) if gears is None else gears.warm_nm
+    angles: list[tuple[float, np.ndarray]] = []  # the last three cycles' (time, q): the acceleration from the encoder
 
     def estimating_step(loop: Any, s: float) -> tuple[float, float]:  # once a grinding cycle
         q, qd = robot.joints(), robot.joint_speeds()
         external = np.array(robot.model_torques(q, qd)) - np.array(robot.torques())
-        force = np.linalg.lstsq(robot.jacobian_linear(machine.last_tool).T, external, rcond=None)[0]
-        rows.append((sum(c.force_n for c in castings), float(force[2])))  # the casting's normal is +z
+        jacobian_t = robot.jacobian_linear(machine.last_tool).T
+        force = np.linalg.lstsq(jacobian_t, external, rcond=None)[0]
+        angles[:] = [*angles[-2:], (robot.time_s(), np.array(q))]
+        qdd = np.zeros(len(q))
+        if len(angles) == 3 and angles[2][0] - angles[0][0] > 0:
+            (t0, q0), (t1, q1), (t2, q2) = angles
+            qdd = ((q2 - q1) / (t2 - t1) - (q1 - q0) / (t1 - t0)) / (0.5 * (t2 - t0))
+        speed = np.array(qd)
+        # the servo's own model (its payload) with the acceleration, its nominal friction feed-forward taken out
+        rigid = (servo.model_torque(np.array(q), speed, qdd) - nominal[0] * np.tanh(speed / SERVO_FRICTION_SMOOTH_RAD_S)
+                 - nominal[1] * speed - np.array(robot.torques()))
+        sign = np.tanh(speed / SIGN_SMOOTH_RAD_S)
+        estimates = [float(force[2])]
+        frictions = [nominal[0] * sign + nominal[1] * speed]
+        if gears is not None:
+            coulomb, viscous = robot.layer.backend.loop.cell.friction_nm()  # type: ignore[attr-defined]
+            frictions += [gears.torque_nm(speed), coulomb * sign + viscous * speed]
+        else:
+            frictions += frictions * 2
+        for friction in frictions:
+            estimates.append(float(np.linalg.lstsq(jacobian_t, rigid + friction, rcond=None)[0][2]))
+        rows.append((sum(c.force_n for c in castings), *estimates))  # the casting's normal is +z
         return sample(loop, s)
     deburring_behaviour.ForceLoop.step = estimating_step  # type: ignore[method-assign]
     try:

@@ -171,6 +171,11 @@ class CellRobot:
             return tuple(float(t) for t in servo.model_torque(q_a, qd_a, np.zeros_like(q_a)))
         return tuple(float(t) for t in self.layer.dynamics(q_a, qd_a, np.zeros_like(q_a), 0.0).torque_nm)
 
+    def friction_state(self) -> Any:
+        """The controller's estimate of the joint friction now (motion.gear_friction.FrictionState), None without one."""
+        gears = getattr(self.layer, "gear_friction", None)
+        return None if gears is None else gears.state(self.time_s())
+
     def jacobian_linear(self, tool: Pose | None) -> np.ndarray:
         """d(TCP position)/dq (3 x n, world) at the measured joint angles."""
         return np.asarray(self.layer.kin.arm.jacobian(self.layer.current_q(), _tool_matrix(tool)))[:3]

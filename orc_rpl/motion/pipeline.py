@@ -60,6 +60,8 @@ class MotionPipeline:
     thermal: Any
     #: the winding temperature estimate (motion.thermal.WindingTemperature), None when the motors' data is unknown
     winding: Any = None
+    #: the gearboxes' warm-up and friction estimate (motion.gear_friction.GearFriction), None when not known
+    gear_friction: Any = None
     _tuning: Any
     #: the installed sensors (motion.sensors.SensorManager), read by actions through MotionData.sensors
     sensors: Any = None
@@ -236,6 +238,9 @@ class MotionPipeline:
             self.thermal.update(tau)
             if self.winding is not None:
                 self.winding.update(tau)
+            if self.gear_friction is not None:
+                self.gear_friction.update(tau, self.backend.qd(),
+                                          None if self.winding is None else self.winding.rise_k)
         if hit is None:  # a collision stop has set the reference where the robot is
             self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
         self.cycles += 1

@@ -12,6 +12,7 @@ from orc_rpl.motion.backend import KinematicBackend
 from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.layer import MotionLayer
 from orc_rpl.motion.planner import Planner
+from orc_rpl.motion.gear_friction import GearFriction
 from orc_rpl.motion.thermal import WindingTemperature
 from orc_rpl.motion.timing import preload as preload_planning
 from orc_rpl.robot.servo_plants import servo_plant_spec
@@ -248,6 +249,11 @@ def make_virtual_motion_layer(
                                            nominal.winding_rth_k_w, nominal.winding_time_constant_s, nominal.ambient_c,
                                            motion_period_s, COPPER_TEMPCO_1_K)
         layer.winding.measurement = be.loop.cell.winding_measurement  # corrected from the drives' V and i
+        layer.gear_friction = GearFriction(nominal.coulomb_nm, nominal.viscous_nm_s, nominal.gear_rth_k_w,
+                                           nominal.gear_time_constant_s, nominal.cold_friction_factor,
+                                           nominal.warm_rise_k, nominal.gear_motor_heat_share,
+                                           nominal.torque_per_amp_nm_a, nominal.winding_resistance_ohm,
+                                           COPPER_TEMPCO_1_K, nominal.ambient_c, motion_period_s)
     # thesis 5.3: torque-limited path following is on where torques can run short of the plan
     layer.path_velocity_control = backend == "servo" and plant == "realistic" and not servo_arm
     # A robot that is set up should move at once: a paced run would start 0.4 s late otherwise.

@@ -20,8 +20,8 @@ DEMOS = {
     "programs/online/thesis_2_5_identmove.rpl": ["identified: Nut"],
     "programs/offline/spot_welding.orl": ["spots welded: 5"],
 }
-#: the identification demos' exact prints are the ideal plant's: on the realistic plant a cold arm's friction falls
-#: as it warms, which a part's estimate cannot tell from its weight (a part may come out uncertain: below)
+#: the identification demos' exact prints here are the ideal plant's; on the realistic plant a part may come out
+#: uncertain, never wrong (below; the demo's parts are all told there: test_cold_arm_identification.py)
 IDEAL_PLANT = {"programs/online/demo_identify_parts.rpl", "programs/online/thesis_2_5_identmove.rpl"}
 
 

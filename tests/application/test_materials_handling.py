@@ -177,8 +177,7 @@ def run_demo_on_cell(source: str, masses: list[float]):  # type: ignore[no-untyp
     from orc_rpl.executive.cell_robot import CellRobot
 
     # the ideal plant: these tests hold the demo to exact answers for slow moves, near via points and a heavy part;
-    # on the realistic plant a cold arm's friction falls between the tare and the lift and some parts come out
-    # uncertain (test_identification_demos_never_give_a_wrong_part_on_the_realistic_plant)
+    # on the realistic plant a slow lift's part may come out uncertain, never wrong (test_cold_arm_identification.py)
     robot = CellRobot.virtual(plant="ideal")
     prints: list[str] = []
     executive = Executive(parse(source, "demo.rpl"), robot, path="demo.rpl", source=source, output=prints.append)

@@ -19,7 +19,8 @@ same lift after lift, but they read as kilograms (the realistic IRB 2400 reads a
 21 kg, depending on the via point and the speed: docs/applications.md, "The tare"). An IDENTMOVE made while every Gripper is open holds
 nothing by construction: it is the path's tare, its estimate is kept per path (start, via point, speed, tool)
 and the user's FUNC is given 0 kg. Later IDENTMOVEs along the same path take the tare's torques off theirs,
-window by window (payload_estimation.estimate with `tare`). One without a tare trusts the model as it is: on
+window by window (payload_estimation.estimate with `tare`), and the friction change the controller estimates
+since the tare (motion.gear_friction: a cold arm's gearboxes warm lift after lift). One without a tare trusts the model as it is: on
 the realistic plant its estimate is off by the model's error and its spread does not show it (not solved).
 """
 
@@ -37,6 +38,7 @@ from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCal
 from orc_rpl.application.standard_behaviour import standard_motion
 from orc_rpl.application.values import Record
 from orc_rpl.errors import MotionFault
+from orc_rpl.motion.gear_friction import change_since
 from orc_rpl.syntax.units import MASS, TIME, TORQUE, Quantity
 from orc_rpl.world.pose import Pose
 
@@ -125,12 +127,14 @@ def identmove(call: MotionCall) -> Iterator[Any]:
     path = _path_key(here, via, call.tool, to_via)
     grippers = getattr(robot, "grippers_closed", None)
     taring = bool(grippers) and not any(grippers.values())
+    friction = getattr(robot, "friction_state", lambda: None)()  # the controller's friction warm-up estimate
     if taring:  # nothing is held: this lift is the path's tare
-        tares[:] = [(k, r) for k, r in tares if not _same_path(k, path)] + [(path, list(ticket.recording))]
+        tares[:] = [(k, r, f) for k, r, f in tares if not _same_path(k, path)] + [(path, list(ticket.recording), friction)]
         found = PayloadEstimate(0.0, 0.0, 0)
     else:
-        tare = next((r for k, r in reversed(tares) if _same_path(k, path)), None)
-        found = estimate(ticket.recording, robot.inverse_dynamics, tare)
+        tare, then = next(((r, f) for k, r, f in reversed(tares) if _same_path(k, path)), (None, None))
+        change = None if then is None or friction is None else change_since(then, friction)
+        found = estimate(ticket.recording, robot.inverse_dynamics, tare, change)
     payload_kg = max(0.0, found.mass_kg)
     record = process_log(robot)
     record.signals["payload_kg"] = payload_kg

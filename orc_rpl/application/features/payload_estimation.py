@@ -9,7 +9,8 @@ with the payload m shared by every joint and, per joint, an offset c_j (Coulomb 
 turns one way, and a constant error of the model) and a viscous friction b_j. Windows, not samples: over a
 window of WINDOW samples the torque is averaged and the acceleration is the change of the measured velocity
 divided by the window's length, so no differentiated velocity (whose one sample at an acceleration switch
-used to dominate the fit) enters. The offsets and frictions have a prior (zero mean, OFFSET_PRIOR_NM and
+used to dominate the fit) enters; a joint whose measured speed is noisy takes the window's acceleration from
+its encoder angles instead (a quadratic through them), and the switch test allows for the speed's noise. The offsets and frictions have a prior (zero mean, OFFSET_PRIOR_NM and
 VISCOUS_PRIOR_NM_S spread): what the recording cannot separate from the payload (a constant offset against a
 load's nearly constant weight) stays uncertain instead of being guessed. Each joint's equations are
 weighted by its noise, estimated from the residuals of a first fit (and never below NOISE_FLOOR_NM), and the
@@ -29,11 +30,15 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S
+
 #: Samples averaged into one window (4 ms motion cycle: 20 ms windows).
 WINDOW = 5
 #: A window whose per-cycle joint accelerations spread by more than this (rad/s^2, plus a tenth of their size)
 #: holds an acceleration switch and is left out.
 SWITCH_RAD_S2 = 0.3
+#: ... or more than this many times the median spread of the recording's windows (the measured speed's noise).
+NOISE_SPREADS = 2.5
 #: Prior spread of each joint's offset (N m): Coulomb friction and a constant model error together.
 OFFSET_PRIOR_NM = 0.3
 #: Prior spread of each joint's viscous friction (N m s/rad).
@@ -42,6 +47,9 @@ VISCOUS_PRIOR_NM_S = 0.5
 NOISE_FLOOR_NM = 0.2
 #: The answer must hold over the estimate +- this many standard deviations.
 SIGMAS = 3.0
+#: A joint whose measured speed is noisier than this (rad/s: the median size of its second difference, which a
+#: smooth motion keeps near zero) takes its accelerations from its angles (a quadratic fit over each window).
+SPEED_NOISE_RAD_S = 1.5e-4
 #: Grid of the confidence (in standard deviations from the estimate).
 GRID = np.arange(-4.0, 4.0001, 0.25)
 
@@ -56,12 +64,16 @@ class PayloadEstimate:
 
 
 def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[float]],
-             tare: Sequence[Any] | None = None) -> PayloadEstimate:
+             tare: Sequence[Any] | None = None, friction_change: Any = None) -> PayloadEstimate:
     """The payload from samples (time_s, q, qd, torque) and the controller's model `inverse_dynamics(q, qd, qdd, kg)`.
 
     With `tare` (the same lift recorded holding nothing), window k of the tare is taken off window k of the
     recording: what the model gets wrong along the path (friction, masses it does not know) cancels, and the
-    payload is fitted to what is left; a window clean in only one of the two is left out."""
+    payload is fitted to what is left; a window clean in only one of the two is left out.
+
+    `friction_change` (with a tare: the controller's estimate of how the joint friction changed since the tare,
+    motion.gear_friction.FrictionChange): its torque, Coulomb dc tanh(qd / SIGN_SMOOTH_RAD_S) + viscous dv qd,
+    is taken off too, and its uncertainty widens the offset's and the viscous friction's priors."""
     if tare is None:
         rows = _windows(samples)
         reference = None
@@ -79,6 +91,12 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
     y = tau - tau0                                           # (windows, joints)
     if reference is not None:
         y = y - np.array([t - np.asarray(inverse_dynamics(q, v, a, 0.0), dtype=float) for q, v, a, t in reference])
+    offset_var, viscous_var = np.full(n, OFFSET_PRIOR_NM ** 2), np.full(n, VISCOUS_PRIOR_NM_S ** 2)
+    if reference is not None and friction_change is not None:  # the gearboxes warmed since the tare
+        dc, dv = np.array(friction_change.coulomb_nm), np.array(friction_change.viscous_nm_s)
+        y = y - dc * np.tanh(qd / SIGN_SMOOTH_RAD_S) - dv * qd
+        offset_var = offset_var + np.square(friction_change.coulomb_sigma_nm)
+        viscous_var = viscous_var + np.square(friction_change.viscous_sigma_nm_s)
     k = len(rows)
     # unknowns: m, c_1..c_n, b_1..b_n; equation (w, j): y = m d + c_j + b_j qd_j
     a = np.zeros((k * n, 1 + 2 * n))
@@ -87,7 +105,7 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
         a[j::n, 1 + j] = 1.0
         a[j::n, 1 + n + j] = qd[:, j]
     b = y.reshape(-1)
-    prior = np.concatenate(([0.0], np.full(n, 1.0 / OFFSET_PRIOR_NM ** 2), np.full(n, 1.0 / VISCOUS_PRIOR_NM_S ** 2)))
+    prior = np.concatenate(([0.0], 1.0 / offset_var, 1.0 / viscous_var))
     noise = np.full(n, 1.0)
     for _ in range(2):  # a first fit with unit noise, then each joint weighted by its residual noise
         w = np.tile(1.0 / noise ** 2, k)
@@ -107,25 +125,41 @@ def _windows(samples: Sequence[Any], keep: bool = False) -> list[Any]:
     """(q, qd, qdd, mean torque) per clean window: q at its middle, qd its mean, qdd the velocity change across it
     over its length, against the torque between the samples (the mean of each cycle's two ends: the motor
     torque is sampled at the cycle's boundaries, the velocity changes in between). A window in which the
-    acceleration switches (its per-cycle accelerations spread by more than SWITCH_RAD_S2 plus a tenth of
-    their size) is left out: there the servo's torque and the measured motion do not average alike (with
-    `keep`, it is None in its place, so two recordings' windows stay paired by index)."""
-    out = []
+    acceleration switches (its per-cycle accelerations spread by more than SWITCH_RAD_S2, or NOISE_SPREADS times
+    the recording's median spread, plus a tenth of their size) is left out: there the servo's torque and the
+    measured motion do not average alike (with `keep`, it is None in its place, so two recordings' windows stay
+    paired by index). A joint whose measured speed is noisy (SPEED_NOISE_RAD_S) takes qdd from its angles."""
+    spans = []
     for start in range(0, len(samples) - WINDOW, WINDOW):
         window = samples[start: start + WINDOW + 1]
         t = np.array([s.time_s for s in window])
         if np.any(np.diff(t) <= 0):
-            if keep:
-                out.append(None)
+            spans.append((window, t, None, None))
             continue
         qd = np.array([s.qd for s in window], dtype=float)
         per_cycle = np.diff(qd, axis=0) / np.diff(t)[:, None]
-        spread = per_cycle.max(axis=0) - per_cycle.min(axis=0)
-        if np.any(spread > SWITCH_RAD_S2 + 0.1 * np.abs(per_cycle).max(axis=0)):
+        spans.append((window, t, qd, per_cycle))
+    spreads = [pc.max(axis=0) - pc.min(axis=0) for _, _, _, pc in spans if pc is not None]
+    # a measured speed's noise spreads the per-cycle accelerations of every window alike: a switch stands out of that
+    floor = np.maximum(SWITCH_RAD_S2, NOISE_SPREADS * np.median(spreads, axis=0)) if spreads else SWITCH_RAD_S2
+    speeds = np.array([s.qd for s in samples], dtype=float)
+    noisy = (np.median(np.abs(np.diff(speeds, 2, axis=0)), axis=0) > SPEED_NOISE_RAD_S) if len(samples) > 2 else None
+    out = []
+    for window, t, qd, per_cycle in spans:
+        if per_cycle is None:
             if keep:
                 out.append(None)
             continue
-        qdd = tuple(((qd[-1] - qd[0]) / (t[-1] - t[0])).tolist())
+        spread = per_cycle.max(axis=0) - per_cycle.min(axis=0)
+        if np.any(spread > floor + 0.1 * np.abs(per_cycle).max(axis=0)):
+            if keep:
+                out.append(None)
+            continue
+        qdd_array = (qd[-1] - qd[0]) / (t[-1] - t[0])
+        if noisy is not None and noisy.any():  # the encoder's angles are far finer than the noisy speed
+            fit = np.polynomial.polynomial.polyfit(t - t.mean(), np.array([s.q for s in window], dtype=float), 2)
+            qdd_array = np.where(noisy, 2.0 * fit[2], qdd_array)
+        qdd = tuple(qdd_array.tolist())
         torques = np.array([s.torque for s in window], dtype=float)
         torque = (torques[1:] + torques[:-1]).mean(axis=0) / 2  # the trapezoid: the torque between the samples
         out.append((tuple(window[WINDOW // 2].q), tuple(qd.mean(axis=0).tolist()), qdd, torque))
