@@ -1,0 +1,169 @@
+"""The view's web server in its own process: the run's process only pickles what to show into a pipe.
+
+Serialising scene updates for the browser, the websocket sends and viser's event loop all run Python; in the run's
+process they held the interpreter lock the motion cycle needs (bench_view measures the difference). Here the run's
+process sends one message per update (MuJoCo's arrays, a caption) and the view's process does the rest.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import signal
+import sys
+import threading
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.errors import UsageError
+
+#: The scene's methods a run may call through the pipe (CellScene's; `snapshot` is answered, not called).
+COMMANDS = frozenset({"add_cell", "add_object", "set_position", "show_position", "remove_positions", "add_path",
+                      "extend_trace", "extend_process", "add_weld", "highlight", "set_caption", "frame_camera", "show"})
+#: How long the view's process may take to start (imports, binding) before the run gives up on it.
+START_TIMEOUT_S = 120.0
+
+
+@dataclass(frozen=True)
+class Drawn:
+    """A node as the view's server has it: where it is, how large, its colour (weld spots) or its text."""
+
+    position: np.ndarray
+    wxyz: np.ndarray
+    scale: float = 1.0
+    color: tuple[int, int, int] | None = None
+
+
+@dataclass(frozen=True)
+class DrawnLine:
+    """Line segments as the view's server has them (planned paths): (n, 2, 3) points, their colours, thickness."""
+
+    points: np.ndarray
+    colors: np.ndarray
+    thickness: float
+
+
+@dataclass(frozen=True)
+class Picture:
+    """What the view's server shows now, copied out of its process (tests ask for it; the run never does)."""
+
+    moving: dict[int, Drawn] = field(default_factory=dict)
+    objects: dict[str, Drawn] = field(default_factory=dict)
+    positions: dict[str, Drawn] = field(default_factory=dict)
+    paths: dict[int, DrawnLine] = field(default_factory=dict)
+    trace_m: list[np.ndarray] = field(default_factory=list)
+    welds: dict[int, Drawn] = field(default_factory=dict)
+    process: dict[str, tuple[list[np.ndarray], list[np.ndarray]]] = field(default_factory=dict)
+    caption: str = ""
+
+
+def picture_of(scene: Any) -> Picture:
+    """A plain copy of a CellScene's nodes."""
+    def drawn(node: Any) -> Drawn:
+        color = getattr(node, "color", None)
+        return Drawn(np.array(node.position), np.array(node.wxyz), float(np.max(node.scale)),
+                     None if color is None else tuple(int(c) for c in color))  # type: ignore[arg-type]
+
+    return Picture({i: drawn(n) for i, n in scene.moving.items()}, {k: drawn(n) for k, n in scene.objects.items()},
+                   {k: drawn(n) for k, n in scene.positions.items()},
+                   {k: DrawnLine(np.array(n.points), np.array(n.colors), float(n.thickness)) for k, n in scene.paths.items()},
+                   list(scene.trace_m), {k: drawn(n) for k, n in scene.welds.items()},
+                   {k: (list(p), list(c)) for k, (p, c) in scene.process.items()},
+                   scene._caption.content if scene._caption is not None else "")
+
+
+class RemoteScene:
+    """Stands for the CellScene in the view's process: each call is one message down the pipe, in order.
+
+    Calls come from the view's sending thread and, while a view is being set up, from the thread that sets it up;
+    the lock keeps their messages whole. The motion cycle never calls it.
+    """
+
+    def __init__(self, connection: Any) -> None:
+        self._connection = connection
+        self._lock = threading.Lock()
+
+    def __getattr__(self, name: str) -> Any:
+        if name not in COMMANDS:
+            raise AttributeError(name)
+
+        def call(*args: Any) -> None:
+            with self._lock:
+                self._connection.send((name, args))
+        return call
+
+    def snapshot(self) -> Picture:
+        """What the server shows once every message sent so far is applied (drain the view's sender first)."""
+        with self._lock:
+            self._connection.send(("snapshot", ()))
+            return self._connection.recv()  # type: ignore[no-any-return]
+
+
+class ViewProcess:
+    """The view's server running in a process of its own; `scene` draws in it, `url` is where a browser goes."""
+
+    def __init__(self, host: str, port: int, shadows: bool = False) -> None:
+        context = multiprocessing.get_context("spawn")  # a fresh interpreter: forking a process with threads is unsafe
+        self.connected = context.Event()               #: set when a browser has opened the page
+        ours, theirs = context.Pipe()
+        self._process = context.Process(target=_serve, args=(theirs, host, port, self.connected, shadows),
+                                        name="orc-view-server", daemon=True)
+        self._process.start()
+        self.pid: int = self._process.pid  # type: ignore[assignment]
+        theirs.close()
+        self._connection = ours
+        if not ours.poll(START_TIMEOUT_S):
+            self._process.kill()
+            raise UsageError("the 3D view's server did not start")
+        kind, text = ours.recv()
+        if kind == "error":
+            self._process.join()
+            raise UsageError(text)
+        self.url: str = text
+        self.scene = RemoteScene(ours)
+
+    def close(self) -> None:
+        """Stop the server and its process (what was sent before is shown first)."""
+        try:
+            self.scene._connection.send(("close", ()))
+        except (OSError, ValueError):  # the process is already gone
+            pass
+        self._process.join(timeout=30)
+        if self._process.is_alive():
+            self._process.kill()
+        self._connection.close()
+
+
+def _serve(connection: Any, host: str, port: int, connected: Any, shadows: bool) -> None:
+    """The view's process: open the server, then apply the run's messages until told to close."""
+    from orc_rpl.view.scene import CellScene
+    from orc_rpl.view.server import close_server, open_server, url_of
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C at the terminal is for the run, which closes the view
+    try:
+        server = open_server(host, port)
+    except UsageError as error:
+        connection.send(("error", str(error)))
+        return
+    server.on_client_connect(lambda client: connected.set())
+    scene = CellScene(server, shadows)
+    connection.send(("ready", url_of(server)))
+    try:
+        while True:
+            try:
+                name, args = connection.recv()
+            except EOFError:  # the run's process is gone
+                break
+            if name == "close":
+                break
+            try:
+                if name == "snapshot":
+                    connection.send(picture_of(scene))
+                else:
+                    getattr(scene, name)(*args)
+            except Exception as error:  # the view stops (the run's next message finds the pipe closed); the run goes on
+                sys.stderr.write(f"orc: the 3D view stopped: {error}\n")
+                break
+    finally:
+        close_server(server)
