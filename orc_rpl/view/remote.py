@@ -7,16 +7,20 @@ process sends one message per update (MuJoCo's arrays, a caption) and the view's
 
 from __future__ import annotations
 
-import multiprocessing
+import os
+import select
 import signal
+import socket
+import subprocess
 import sys
 import threading
+from multiprocessing.connection import Connection
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from orc_rpl.errors import UsageError
+from orc_rpl.errors import OrcError, UsageError
 
 #: The scene's methods a run may call through the pipe (CellScene's; `snapshot` is answered, not called).
 COMMANDS = frozenset({"add_cell", "add_object", "set_position", "show_position", "remove_positions", "add_path",
@@ -101,27 +105,39 @@ class RemoteScene:
 
 
 class ViewProcess:
-    """The view's server running in a process of its own; `scene` draws in it, `url` is where a browser goes."""
+    """The view's server running in a process of its own; `scene` draws in it, `url` is where a browser goes.
+
+    The process is `python -m orc_rpl.view.remote`, not a multiprocessing child: that would import the caller's main
+    script again, which a script without a `__main__` guard cannot take.
+    """
 
     def __init__(self, host: str, port: int, shadows: bool = False) -> None:
-        context = multiprocessing.get_context("spawn")  # a fresh interpreter: forking a process with threads is unsafe
-        self.connected = context.Event()               #: set when a browser has opened the page
-        ours, theirs = context.Pipe()
-        self._process = context.Process(target=_serve, args=(theirs, host, port, self.connected, shadows),
-                                        name="orc-view-server", daemon=True)
-        self._process.start()
-        self.pid: int = self._process.pid  # type: ignore[assignment]
+        ours, theirs = socket.socketpair()
+        self._notice, notice_w = os.pipe()      # a byte arrives when a browser opens the page
+        self._process = subprocess.Popen(
+            [sys.executable, "-m", "orc_rpl.view.remote", str(theirs.fileno()), str(notice_w), host, str(port),
+             "shadows" if shadows else "flat"],
+            pass_fds=(theirs.fileno(), notice_w), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
+        self.pid = self._process.pid
         theirs.close()
-        self._connection = ours
-        if not ours.poll(START_TIMEOUT_S):
-            self._process.kill()
-            raise UsageError("the 3D view's server did not start")
-        kind, text = ours.recv()
+        os.close(notice_w)
+        self._connection = Connection(ours.detach())
+        try:
+            if not self._connection.poll(START_TIMEOUT_S):
+                raise EOFError
+            kind, text = self._connection.recv()
+        except EOFError:
+            self._stop()
+            raise OrcError("the 3D view's server did not start") from None
         if kind == "error":
-            self._process.join()
+            self._stop()
             raise UsageError(text)
         self.url: str = text
-        self.scene = RemoteScene(ours)
+        self.scene = RemoteScene(self._connection)
+
+    def wait_connected(self, timeout_s: float) -> bool:
+        """Wait until a browser has opened the page (at most `timeout_s`); True when one has."""
+        return bool(select.select([self._notice], [], [], timeout_s)[0])
 
     def close(self) -> None:
         """Stop the server and its process (what was sent before is shown first)."""
@@ -129,24 +145,29 @@ class ViewProcess:
             self.scene._connection.send(("close", ()))
         except (OSError, ValueError):  # the process is already gone
             pass
-        self._process.join(timeout=30)
-        if self._process.is_alive():
+        self._stop()
+
+    def _stop(self) -> None:
+        try:
+            self._process.wait(timeout=30)
+        except subprocess.TimeoutExpired:
             self._process.kill()
+            self._process.wait()
         self._connection.close()
+        os.close(self._notice)
 
 
-def _serve(connection: Any, host: str, port: int, connected: Any, shadows: bool) -> None:
+def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool) -> None:
     """The view's process: open the server, then apply the run's messages until told to close."""
     from orc_rpl.view.scene import CellScene
     from orc_rpl.view.server import close_server, open_server, url_of
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C at the terminal is for the run, which closes the view
     try:
         server = open_server(host, port)
     except UsageError as error:
         connection.send(("error", str(error)))
         return
-    server.on_client_connect(lambda client: connected.set())
+    server.on_client_connect(lambda client: os.write(notice, b"c"))
     scene = CellScene(server, shadows)
     connection.send(("ready", url_of(server)))
     try:
@@ -167,3 +188,11 @@ def _serve(connection: Any, host: str, port: int, connected: Any, shadows: bool)
                 break
     finally:
         close_server(server)
+
+
+if __name__ == "__main__":
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C at the terminal is for the run, which closes the view
+    from orc_rpl.view.remote import _serve as serve  # this module's own copy: what it pickles, the run can load
+
+    fd, notice_fd, host_arg, port_arg, light = sys.argv[1:6]
+    serve(Connection(int(fd)), int(notice_fd), host_arg, int(port_arg), light == "shadows")

@@ -119,7 +119,7 @@ def watch(executive: Executive, robot: Any, program: Any, world: Any, registry: 
             watchers.live.attach(program)
             if how.interactive:
                 stderr.write(f"orc: open it in a browser; the run starts when it connects (at most {BROWSER_WAIT_S:.0f} s)\n")
-                server.connected.wait(BROWSER_WAIT_S)
+                server.wait_connected(BROWSER_WAIT_S)
             stack.callback(watchers.live.finish)
         if how.video is not None:
             watchers.video = VideoRecorder(how.video, executive, robot, frame_work(work_points(robot, program, world, registry)))
