@@ -10,9 +10,11 @@
 * What the figures are made of, steadier than wall time on a shared machine: the CPU time the view adds to the run's
   process per update (`view_cpu_ms_per_update`), the CPU time of the view's own server process per update
   (`view_process_cpu_ms_per_update`), and the CPU time the browser spends per update it draws
-  (`browser_cpu_ms_per_update`, all of Chromium's processes).
+  (`browser_cpu_ms_per_update`, all of Chromium's processes) and per frame it renders (`browser_cpu_ms_per_frame`;
+  the page renders frames back to back while updates arrive, up to the display's rate: `browser_frames_per_s`).
 * The same figures with the view's server inside the run's process, as it was before it got a process of its own
-  (`..._in_process`), as the baseline of that change.
+  (`..._in_process`), and with the default light casting shadows, as it did before they were turned off
+  (`..._with_shadows`): the baselines of those two changes.
 
 The paced runs are repeated `--runs` times and their medians printed. Run it alone:
 `python benchmarks/bench_view.py [--runs 3] [--repeats 5]` (needs chromium and the [view] extra; a few minutes).
@@ -51,6 +53,9 @@ FOR i FROM 1 TO ROUNDS DO
     LMOVE gripper TO c
 ENDFOR
 """
+#: Counts the page's animation frames (three.js renders the scene once in each): the browser's cost per frame drawn.
+COUNT_FRAMES = """(() => { const request = window.requestAnimationFrame.bind(window); window.orcFrames = 0;
+  window.requestAnimationFrame = (callback) => request((t) => { window.orcFrames += 1; callback(t); }); })()"""
 CHROMIUM_ARGS = ["--no-sandbox", "--enable-unsafe-swiftshader", "--use-angle=swiftshader",
                  "--disable-background-networking", "--disable-component-update", "--no-first-run"]
 
@@ -126,12 +131,14 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     probe = Lateness(driven)
     executive.machine.robot = probe
     view_cpu = process_cpu_s(view_pid) if view_pid is not None else 0.0
+    frames = page.evaluate("window.orcFrames || 0") if page is not None and live is not None else 0
     others_cpu = descendants_cpu_s(os.getpid())
     wall, cpu = time.perf_counter(), time.process_time()
     status = executive.run()
     wall_s, cpu_s = time.perf_counter() - wall, time.process_time() - cpu
     view_cpu_s = process_cpu_s(view_pid) - view_cpu if view_pid is not None else 0.0
     browser_cpu_s = descendants_cpu_s(os.getpid()) - others_cpu - view_cpu_s
+    frames = page.evaluate("window.orcFrames || 0") - frames if page is not None and live is not None else 0
     if live is not None:
         live.finish()
     if server is not None:
@@ -139,7 +146,7 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
             page.goto("about:blank")
         server.close() if view == "process" else close_server(server)
     assert status == "finished", status
-    return {"wall_s": wall_s, "cpu_s": cpu_s, "browser_cpu_s": browser_cpu_s, "view_cpu_s": view_cpu_s,
+    return {"wall_s": wall_s, "cpu_s": cpu_s, "browser_cpu_s": browser_cpu_s, "view_cpu_s": view_cpu_s, "frames": frames,
             "sim_s": robot.time_s(), "late_s": np.array(probe.late_s),
             "updates": live.updates if live is not None else 0}
 
@@ -160,31 +167,34 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=5, help="interleaved pairs of fast runs (the median ratio counts)")
     parser.add_argument("--paced-rounds", type=int, default=3, help="pick-and-place rounds of the paced runs")
     parser.add_argument("--fast-rounds", type=int, default=40, help="pick-and-place rounds of the fast runs")
-    parser.add_argument("--shadows", action="store_true", help="the view's default light casts shadows (it does not)")
     args = parser.parse_args()
-    run = partial(one_run, shadows=args.shadows)
+    run, shaded = one_run, partial(one_run, shadows=True)
     from playwright.sync_api import sync_playwright
 
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
         paced, fast = _program(Path(folder), args.paced_rounds), _program(Path(folder), args.fast_rounds)
         browser = p.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
         page = browser.new_page(viewport={"width": 800, "height": 600})
+        page.add_init_script(COUNT_FRAMES)
         # interleaved, so a change of the machine's load between them touches every variant alike
         paced_runs = [(run(paced, page, True, "process"), run(paced, None, True, "process"),
                        run(paced, page, True, "none"), run(paced, page, True, "in-process"),
-                       run(paced, None, True, "in-process")) for _ in range(args.runs)]
+                       run(paced, None, True, "in-process"), shaded(paced, page, True, "process"))
+                      for _ in range(args.runs)]
         fast_runs = [(run(fast, page, False, "process"), run(fast, page, False, "none"),
-                      run(fast, page, False, "in-process")) for _ in range(args.repeats)]
+                      run(fast, page, False, "in-process"), shaded(fast, page, False, "process"))
+                     for _ in range(args.repeats)]
         browser.close()
     print(f"load_average_1min={os.getloadavg()[0]:.2f}")
-    print(f"shadows={args.shadows}")
     print(f"paced_simulated_s={paced_runs[0][0]['sim_s']:.3f}")
     _paced_figures([(r[0], r[1], r[2]) for r in paced_runs], "")
     _paced_figures([(r[3], r[4], r[2]) for r in paced_runs], "_in_process")
+    _paced_figures([(r[5], r[1], r[2]) for r in paced_runs], "_with_shadows")
     print(f"fast_simulated_s={fast_runs[0][0]['sim_s']:.3f}")
     print(f"fast_wall_s_without_view={np.median([r[1]['wall_s'] for r in fast_runs]):.3f}")
     _fast_figures([(r[0], r[1]) for r in fast_runs], "")
     _fast_figures([(r[2], r[1]) for r in fast_runs], "_in_process")
+    _fast_figures([(r[3], r[1]) for r in fast_runs], "_with_shadows")
 
 
 def _paced_figures(runs: list[tuple[dict[str, Any], dict[str, Any], dict[str, Any]]], suffix: str) -> None:
@@ -195,10 +205,13 @@ def _paced_figures(runs: list[tuple[dict[str, Any], dict[str, Any], dict[str, An
     print(f"lateness_p99_ms{suffix}={median([p99_ms(r) for r in with_browser]):.3f}")
     print(f"lateness_p99_ms_runs{suffix}={','.join(f'{p99_ms(r):.3f}' for r in with_browser)}")
     print(f"lateness_max_ms{suffix}={median([1000 * r['late_s'].max() for r in with_browser]):.3f}")
-    print(f"lateness_p99_ms_view_without_browser{suffix}={median([p99_ms(r[1]) for r in runs]):.3f}")
+    if suffix != "_with_shadows":
+        print(f"lateness_p99_ms_view_without_browser{suffix}={median([p99_ms(r[1]) for r in runs]):.3f}")
     if not suffix:
         print(f"lateness_p99_ms_without_view={median([p99_ms(r[2]) for r in runs]):.3f}")
     print(f"browser_cpu_ms_per_update{suffix}={median([1000 * r['browser_cpu_s'] / r['updates'] for r in with_browser]):.2f}")
+    print(f"browser_frames_per_s{suffix}={median([r['frames'] / r['wall_s'] for r in with_browser]):.1f}")
+    print(f"browser_cpu_ms_per_frame{suffix}={median([1000 * r['browser_cpu_s'] / max(r['frames'], 1) for r in with_browser]):.1f}")
     print(f"browser_cpu_share_paced{suffix}={median([r['browser_cpu_s'] / r['wall_s'] for r in with_browser]):.2f}")
 
 
@@ -209,8 +222,8 @@ def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: st
     print(f"fast_updates_per_s{suffix}={median([v['updates'] / v['wall_s'] for v, _ in pairs]):.1f}")
     extra_cpu_ms = [1000 * (v["cpu_s"] - b["cpu_s"]) / v["updates"] for v, b in pairs]
     print(f"view_cpu_ms_per_update{suffix}={median(extra_cpu_ms):.2f}")
-    if not suffix:
-        print(f"view_process_cpu_ms_per_update={median([1000 * v['view_cpu_s'] / v['updates'] for v, _ in pairs]):.2f}")
+    if suffix != "_in_process":
+        print(f"view_process_cpu_ms_per_update{suffix}={median([1000 * v['view_cpu_s'] / v['updates'] for v, _ in pairs]):.2f}")
     print(f"browser_cpu_share_fast{suffix}={median([v['browser_cpu_s'] / v['wall_s'] for v, _ in pairs]):.2f}")
     print(f"fast_cpu_slowdown_pct{suffix}={100 * median([v['cpu_s'] / b['cpu_s'] - 1 for v, b in pairs]):.1f}")
     slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in pairs]

@@ -74,7 +74,7 @@ def picture_of(scene: Any) -> Picture:
                    {k: DrawnLine(np.array(n.points), np.array(n.colors), float(n.thickness)) for k, n in scene.paths.items()},
                    list(scene.trace_m), {k: drawn(n) for k, n in scene.welds.items()},
                    {k: (list(p), list(c)) for k, (p, c) in scene.process.items()},
-                   scene._caption.content if scene._caption is not None else "")
+                   scene.caption)
 
 
 class RemoteScene:

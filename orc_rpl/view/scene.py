@@ -247,6 +247,11 @@ class CellScene:
 
     # -- words and the camera -------------------------------------------------------------
 
+    @property
+    def caption(self) -> str:
+        """The caption's text now (empty before the first)."""
+        return self._caption.content if self._caption is not None else ""
+
     def set_caption(self, text: str) -> None:
         """The line under the title: the simulated time and the statement the program is at."""
         if self._caption is None:
