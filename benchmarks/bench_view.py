@@ -13,8 +13,9 @@
   (`browser_cpu_ms_per_update`, all of Chromium's processes) and per frame it renders (`browser_cpu_ms_per_frame`;
   the page renders frames back to back while updates arrive, up to the display's rate: `browser_frames_per_s`).
 * The same figures with the view's server inside the run's process, as it was before it got a process of its own
-  (`..._in_process`), and with the default light casting shadows, as it did before they were turned off
-  (`..._with_shadows`): the baselines of those two changes.
+  (`..._in_process`), with the default light casting shadows, as it did before they were turned off
+  (`..._with_shadows`), and with the paced motion cycle in the system's default scheduler slice rather than the short
+  one it asks for (`..._default_slice`, with and without the view): the baselines of those three changes.
 
 The paced runs are repeated `--runs` times and their medians printed. Run it alone:
 `python benchmarks/bench_view.py [--runs 3] [--repeats 5]` (needs chromium and the [view] extra; a few minutes).
@@ -35,6 +36,7 @@ import numpy as np
 from orc_rpl.application.standard_behaviour import runtime_registry
 from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
+from orc_rpl.motion import scheduling
 from orc_rpl.transform.loading import load_program
 from orc_rpl.view.live import LiveView
 from orc_rpl.view.remote import ViewProcess
@@ -105,9 +107,12 @@ def descendants_cpu_s(root: int) -> float:
     return total
 
 
-def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False) -> dict[str, Any]:
+def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False,
+            slice_s: float | None = scheduling.PACED_SLICE_S) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process), "in-process" (the
-    server in the run's process, as before) or "none"; with a page, it is (re)loaded and connected before the run."""
+    server in the run's process, as before) or "none"; with a page, it is (re)loaded and connected before the run.
+    `slice_s`: the scheduler slice the paced motion cycle asks for (None: the system's default, as before)."""
+    scheduling.PACED_SLICE_S = slice_s
     source, program = load_program(path)
     robot = CellRobot.virtual(realtime=paced)
     executive = Executive(program, robot, runtime_registry(), path=str(path), source=source, output=lambda line: None)
@@ -168,7 +173,7 @@ def main() -> None:
     parser.add_argument("--paced-rounds", type=int, default=3, help="pick-and-place rounds of the paced runs")
     parser.add_argument("--fast-rounds", type=int, default=40, help="pick-and-place rounds of the fast runs")
     args = parser.parse_args()
-    run, shaded = one_run, partial(one_run, shadows=True)
+    run, shaded, default_slice = one_run, partial(one_run, shadows=True), partial(one_run, slice_s=None)
     from playwright.sync_api import sync_playwright
 
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
@@ -179,7 +184,8 @@ def main() -> None:
         # interleaved, so a change of the machine's load between them touches every variant alike
         paced_runs = [(run(paced, page, True, "process"), run(paced, None, True, "process"),
                        run(paced, page, True, "none"), run(paced, page, True, "in-process"),
-                       run(paced, None, True, "in-process"), shaded(paced, page, True, "process"))
+                       run(paced, None, True, "in-process"), shaded(paced, page, True, "process"),
+                       default_slice(paced, page, True, "process"), default_slice(paced, page, True, "none"))
                       for _ in range(args.runs)]
         fast_runs = [(run(fast, page, False, "process"), run(fast, page, False, "none"),
                       run(fast, page, False, "in-process"), shaded(fast, page, False, "process"))
@@ -190,6 +196,7 @@ def main() -> None:
     _paced_figures([(r[0], r[1], r[2]) for r in paced_runs], "")
     _paced_figures([(r[3], r[4], r[2]) for r in paced_runs], "_in_process")
     _paced_figures([(r[5], r[1], r[2]) for r in paced_runs], "_with_shadows")
+    _paced_figures([(r[6], r[1], r[7]) for r in paced_runs], "_default_slice")
     print(f"fast_simulated_s={fast_runs[0][0]['sim_s']:.3f}")
     print(f"fast_wall_s_without_view={np.median([r[1]['wall_s'] for r in fast_runs]):.3f}")
     _fast_figures([(r[0], r[1]) for r in fast_runs], "")
@@ -205,10 +212,10 @@ def _paced_figures(runs: list[tuple[dict[str, Any], dict[str, Any], dict[str, An
     print(f"lateness_p99_ms{suffix}={median([p99_ms(r) for r in with_browser]):.3f}")
     print(f"lateness_p99_ms_runs{suffix}={','.join(f'{p99_ms(r):.3f}' for r in with_browser)}")
     print(f"lateness_max_ms{suffix}={median([1000 * r['late_s'].max() for r in with_browser]):.3f}")
-    if suffix != "_with_shadows":
+    if suffix in ("", "_in_process"):
         print(f"lateness_p99_ms_view_without_browser{suffix}={median([p99_ms(r[1]) for r in runs]):.3f}")
-    if not suffix:
-        print(f"lateness_p99_ms_without_view={median([p99_ms(r[2]) for r in runs]):.3f}")
+    if suffix in ("", "_default_slice"):
+        print(f"lateness_p99_ms_without_view{suffix}={median([p99_ms(r[2]) for r in runs]):.3f}")
     print(f"browser_cpu_ms_per_update{suffix}={median([1000 * r['browser_cpu_s'] / r['updates'] for r in with_browser]):.2f}")
     print(f"browser_frames_per_s{suffix}={median([r['frames'] / r['wall_s'] for r in with_browser]):.1f}")
     print(f"browser_cpu_ms_per_frame{suffix}={median([1000 * r['browser_cpu_s'] / max(r['frames'], 1) for r in with_browser]):.1f}")
