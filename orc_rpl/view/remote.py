@@ -1,4 +1,4 @@
-"""The view's web server in its own process: the run's process only pickles what to show into a pipe.
+"""The view's web server in its own process: the run's process only pickles what to show into a socket.
 
 Serialising scene updates for the browser, the websocket sends and viser's event loop all run Python; in the run's
 process they held the interpreter lock the motion cycle needs (bench_view measures the difference). Here the run's
@@ -78,7 +78,7 @@ def picture_of(scene: Any) -> Picture:
 
 
 class RemoteScene:
-    """Stands for the CellScene in the view's process: each call is one message down the pipe, in order.
+    """Stands for the CellScene in the view's process: each call is one message down the socket, in order.
 
     Calls come from the view's sending thread and, while a view is being set up, from the thread that sets it up;
     the lock keeps their messages whole. The motion cycle never calls it.
@@ -183,7 +183,7 @@ def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool) ->
                     connection.send(picture_of(scene))
                 else:
                     getattr(scene, name)(*args)
-            except Exception as error:  # the view stops (the run's next message finds the pipe closed); the run goes on
+            except Exception as error:  # the view stops (the run's next message finds the socket closed); the run goes on
                 sys.stderr.write(f"orc: the 3D view stopped: {error}\n")
                 break
     finally:
