@@ -22,7 +22,7 @@ import numpy as np
 
 from orc_rpl.errors import OrcError, UsageError
 
-#: The scene's methods a run may call through the pipe (CellScene's; `snapshot` is answered, not called).
+#: The scene's methods a run may call through the socket (CellScene's; `snapshot` is answered, not called).
 COMMANDS = frozenset({"add_cell", "add_object", "set_position", "show_position", "remove_positions", "add_path",
                       "extend_trace", "extend_process", "add_weld", "highlight", "set_caption", "frame_camera", "show"})
 #: How long the view's process may take to start (imports, binding) before the run gives up on it.
