@@ -7,9 +7,15 @@
   Target at most 2 ms.
 * `fast_slowdown_pct`: wall time of a `--view --fast` run against the same run without a view (the median of the
   ratios of N interleaved pairs); target at most 10 %.
-* What the figures are made of, steadier than wall time on a shared machine: the CPU time the view adds to our
-  process per update (`view_cpu_ms_per_update`), and the CPU time the browser spends per update it draws
-  (`browser_cpu_ms_per_update`, all of Chromium's processes).
+* What the figures are made of, steadier than wall time on a shared machine: the CPU time the view adds to the run's
+  process per update (`view_cpu_ms_per_update`), the CPU time of the view's own server process per update
+  (`view_process_cpu_ms_per_update`), and the CPU time the browser spends per update it draws
+  (`browser_cpu_ms_per_update`, all of Chromium's processes) and per frame it renders (`browser_cpu_ms_per_frame`;
+  the page renders frames back to back while updates arrive, up to the display's rate: `browser_frames_per_s`).
+* The same figures with the view's server inside the run's process, as it was before it got a process of its own
+  (`..._in_process`), with the default light casting shadows, as it did before they were turned off
+  (`..._with_shadows`), and with the paced motion cycle in the system's default scheduler slice rather than the short
+  one it asks for (`..._default_slice`, with and without the view): the baselines of those three changes.
 
 The paced runs are repeated `--runs` times and their medians printed. Run it alone:
 `python benchmarks/bench_view.py [--runs 3] [--repeats 5]` (needs chromium and the [view] extra; a few minutes).
@@ -21,6 +27,7 @@ import argparse
 import os
 import tempfile
 import time
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -29,10 +36,12 @@ import numpy as np
 from orc_rpl.application.standard_behaviour import runtime_registry
 from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
+from orc_rpl.motion import scheduling
 from orc_rpl.transform.loading import load_program
 from orc_rpl.view.live import LiveView
+from orc_rpl.view.remote import ViewProcess
 from orc_rpl.view.scene import CellScene
-from orc_rpl.view.server import close_server, open_server
+from orc_rpl.view.server import close_server, open_server, url_of
 
 #: A pick-and-place cycle of joint and straight-line motions with zones, repeated ROUNDS times.
 PROGRAM = """\
@@ -46,6 +55,9 @@ FOR i FROM 1 TO ROUNDS DO
     LMOVE gripper TO c
 ENDFOR
 """
+#: Counts the page's animation frames (three.js renders the scene once in each): the browser's cost per frame drawn.
+COUNT_FRAMES = """(() => { const request = window.requestAnimationFrame.bind(window); window.orcFrames = 0;
+  window.requestAnimationFrame = (callback) => request((t) => { window.orcFrames += 1; callback(t); }); })()"""
 CHROMIUM_ARGS = ["--no-sandbox", "--enable-unsafe-swiftshader", "--use-angle=swiftshader",
                  "--disable-background-networking", "--disable-component-update", "--no-first-run"]
 
@@ -66,6 +78,12 @@ class Lateness:
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.robot, name)
+
+
+def process_cpu_s(pid: int) -> float:
+    """CPU seconds (user and system) of one process now."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def descendants_cpu_s(root: int) -> float:
@@ -89,37 +107,53 @@ def descendants_cpu_s(root: int) -> float:
     return total
 
 
-def one_run(path: Path, page: Any, paced: bool, view: bool) -> dict[str, Any]:
-    """Run the program once; with a view and a page, the page is (re)loaded and connected before it starts."""
+def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False,
+            slice_s: float | None = scheduling.PACED_SLICE_S) -> dict[str, Any]:
+    """Run the program once with `view` "process" (the product: the server in its own process), "in-process" (the
+    server in the run's process, as before) or "none"; with a page, it is (re)loaded and connected before the run.
+    `slice_s`: the scheduler slice the paced motion cycle asks for (None: the system's default, as before)."""
+    scheduling.PACED_SLICE_S = slice_s
     source, program = load_program(path)
     robot = CellRobot.virtual(realtime=paced)
     executive = Executive(program, robot, runtime_registry(), path=str(path), source=source, output=lambda line: None)
-    server = live = None
+    server: Any = None
+    live = None
     driven: Any = robot
-    if view:
-        server = open_server(port=0)
-        live = LiveView(CellScene(server), executive, robot)
+    view_pid = None
+    if view != "none":
+        if view == "process":
+            server = ViewProcess("127.0.0.1", 0, shadows)
+            scene, url, view_pid = server.scene, server.url, server.pid
+        else:
+            server = open_server(port=0)
+            scene, url = CellScene(server, shadows), url_of(server)
+        live = LiveView(scene, executive, robot)
         live.attach(program)
         if page is not None:
-            page.goto(f"http://127.0.0.1:{server.get_port()}")
+            page.goto(url)
             page.get_by_text("t = ").first.wait_for(timeout=120_000)
         driven = live.monitor(robot)
     probe = Lateness(driven)
     executive.machine.robot = probe
-    browser_cpu = descendants_cpu_s(os.getpid())
+    view_cpu = process_cpu_s(view_pid) if view_pid is not None else 0.0
+    frames = page.evaluate("window.orcFrames || 0") if page is not None and live is not None else 0
+    others_cpu = descendants_cpu_s(os.getpid())
     wall, cpu = time.perf_counter(), time.process_time()
     status = executive.run()
     wall_s, cpu_s = time.perf_counter() - wall, time.process_time() - cpu
-    browser_cpu_s = descendants_cpu_s(os.getpid()) - browser_cpu
+    view_cpu_s = process_cpu_s(view_pid) - view_cpu if view_pid is not None else 0.0
+    browser_cpu_s = descendants_cpu_s(os.getpid()) - others_cpu - view_cpu_s
+    frames = page.evaluate("window.orcFrames || 0") - frames if page is not None and live is not None else 0
     if live is not None:
         live.finish()
     if server is not None:
         if page is not None:
             page.goto("about:blank")
-        close_server(server)
+        server.close() if view == "process" else close_server(server)
     assert status == "finished", status
-    return {"wall_s": wall_s, "cpu_s": cpu_s, "browser_cpu_s": browser_cpu_s, "sim_s": robot.time_s(),
-            "late_s": np.array(probe.late_s), "updates": live.updates if live is not None else 0}
+    return {"wall_s": wall_s, "cpu_s": cpu_s, "browser_cpu_s": browser_cpu_s, "view_cpu_s": view_cpu_s, "frames": frames,
+            "sim_s": robot.time_s(), "late_s": np.array(probe.late_s),
+            "updates": live.updates if live is not None else 0}
 
 
 def _program(folder: Path, rounds: int) -> Path:
@@ -139,41 +173,69 @@ def main() -> None:
     parser.add_argument("--paced-rounds", type=int, default=3, help="pick-and-place rounds of the paced runs")
     parser.add_argument("--fast-rounds", type=int, default=40, help="pick-and-place rounds of the fast runs")
     args = parser.parse_args()
+    run, shaded, default_slice = one_run, partial(one_run, shadows=True), partial(one_run, slice_s=None)
     from playwright.sync_api import sync_playwright
 
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
         paced, fast = _program(Path(folder), args.paced_rounds), _program(Path(folder), args.fast_rounds)
         browser = p.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
         page = browser.new_page(viewport={"width": 800, "height": 600})
+        page.add_init_script(COUNT_FRAMES)
         # interleaved, so a change of the machine's load between them touches every variant alike
-        paced_runs = [(one_run(paced, page, paced=True, view=True), one_run(paced, None, paced=True, view=True),
-                       one_run(paced, page, paced=True, view=False)) for _ in range(args.runs)]
-        fast_runs = [(one_run(fast, page, paced=False, view=True), one_run(fast, page, paced=False, view=False))
+        paced_runs = [(run(paced, page, True, "process"), run(paced, None, True, "process"),
+                       run(paced, page, True, "none"), run(paced, page, True, "in-process"),
+                       run(paced, None, True, "in-process"), shaded(paced, page, True, "process"),
+                       default_slice(paced, page, True, "process"), default_slice(paced, page, True, "none"))
+                      for _ in range(args.runs)]
+        fast_runs = [(run(fast, page, False, "process"), run(fast, page, False, "none"),
+                      run(fast, page, False, "in-process"), shaded(fast, page, False, "process"))
                      for _ in range(args.repeats)]
         browser.close()
-    with_browser = [r[0] for r in paced_runs]
-    median = np.median
     print(f"load_average_1min={os.getloadavg()[0]:.2f}")
-    print(f"paced_simulated_s={with_browser[0]['sim_s']:.3f}")
-    print(f"view_updates_per_s={median([r['updates'] / r['wall_s'] for r in with_browser]):.1f}")
-    print(f"lateness_p99_ms={median([p99_ms(r) for r in with_browser]):.3f}")
-    print(f"lateness_p99_ms_runs={','.join(f'{p99_ms(r):.3f}' for r in with_browser)}")
-    print(f"lateness_max_ms={median([1000 * r['late_s'].max() for r in with_browser]):.3f}")
-    print(f"lateness_p99_ms_view_without_browser={median([p99_ms(r[1]) for r in paced_runs]):.3f}")
-    print(f"lateness_p99_ms_without_view={median([p99_ms(r[2]) for r in paced_runs]):.3f}")
-    print(f"browser_cpu_ms_per_update={median([1000 * r['browser_cpu_s'] / r['updates'] for r in with_browser]):.2f}")
-    print(f"browser_cpu_share_paced={median([r['browser_cpu_s'] / r['wall_s'] for r in with_browser]):.2f}")
-    fast_view, fast_bare = [r[0] for r in fast_runs], [r[1] for r in fast_runs]
-    print(f"fast_simulated_s={fast_view[0]['sim_s']:.3f}")
-    print(f"fast_wall_s_with_view={median([r['wall_s'] for r in fast_view]):.3f}")
-    print(f"fast_wall_s_without_view={median([r['wall_s'] for r in fast_bare]):.3f}")
-    print(f"fast_updates_per_s={median([r['updates'] / r['wall_s'] for r in fast_view]):.1f}")
-    extra_cpu_ms = [1000 * (v["cpu_s"] - b["cpu_s"]) / v["updates"] for v, b in fast_runs]
-    print(f"view_cpu_ms_per_update={median(extra_cpu_ms):.2f}")
-    print(f"fast_cpu_slowdown_pct={100 * median([v['cpu_s'] / b['cpu_s'] - 1 for v, b in fast_runs]):.1f}")
-    slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in fast_runs]
-    print(f"fast_slowdown_pct_runs={','.join(f'{x:.1f}' for x in slowdowns)}")
-    print(f"fast_slowdown_pct={median(slowdowns):.1f}")
+    print(f"paced_simulated_s={paced_runs[0][0]['sim_s']:.3f}")
+    _paced_figures([(r[0], r[1], r[2]) for r in paced_runs], "")
+    _paced_figures([(r[3], r[4], r[2]) for r in paced_runs], "_in_process")
+    _paced_figures([(r[5], r[1], r[2]) for r in paced_runs], "_with_shadows")
+    _paced_figures([(r[6], r[1], r[7]) for r in paced_runs], "_default_slice")
+    print(f"fast_simulated_s={fast_runs[0][0]['sim_s']:.3f}")
+    print(f"fast_wall_s_without_view={np.median([r[1]['wall_s'] for r in fast_runs]):.3f}")
+    _fast_figures([(r[0], r[1]) for r in fast_runs], "")
+    _fast_figures([(r[2], r[1]) for r in fast_runs], "_in_process")
+    _fast_figures([(r[3], r[1]) for r in fast_runs], "_with_shadows")
+
+
+def _paced_figures(runs: list[tuple[dict[str, Any], dict[str, Any], dict[str, Any]]], suffix: str) -> None:
+    """The paced figures of (with the browser, the view without a browser, no view) triples."""
+    with_browser = [r[0] for r in runs]
+    median = np.median
+    print(f"view_updates_per_s{suffix}={median([r['updates'] / r['wall_s'] for r in with_browser]):.1f}")
+    print(f"lateness_p99_ms{suffix}={median([p99_ms(r) for r in with_browser]):.3f}")
+    print(f"lateness_p99_ms_runs{suffix}={','.join(f'{p99_ms(r):.3f}' for r in with_browser)}")
+    print(f"lateness_max_ms{suffix}={median([1000 * r['late_s'].max() for r in with_browser]):.3f}")
+    if suffix in ("", "_in_process"):
+        print(f"lateness_p99_ms_view_without_browser{suffix}={median([p99_ms(r[1]) for r in runs]):.3f}")
+    if suffix in ("", "_default_slice"):
+        print(f"lateness_p99_ms_without_view{suffix}={median([p99_ms(r[2]) for r in runs]):.3f}")
+    print(f"browser_cpu_ms_per_update{suffix}={median([1000 * r['browser_cpu_s'] / r['updates'] for r in with_browser]):.2f}")
+    print(f"browser_frames_per_s{suffix}={median([r['frames'] / r['wall_s'] for r in with_browser]):.1f}")
+    print(f"browser_cpu_ms_per_frame{suffix}={median([1000 * r['browser_cpu_s'] / max(r['frames'], 1) for r in with_browser]):.1f}")
+    print(f"browser_cpu_share_paced{suffix}={median([r['browser_cpu_s'] / r['wall_s'] for r in with_browser]):.2f}")
+
+
+def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: str) -> None:
+    """The fast figures of (with the view and the browser, without a view) pairs."""
+    median = np.median
+    print(f"fast_wall_s_with_view{suffix}={median([v['wall_s'] for v, _ in pairs]):.3f}")
+    print(f"fast_updates_per_s{suffix}={median([v['updates'] / v['wall_s'] for v, _ in pairs]):.1f}")
+    extra_cpu_ms = [1000 * (v["cpu_s"] - b["cpu_s"]) / v["updates"] for v, b in pairs]
+    print(f"view_cpu_ms_per_update{suffix}={median(extra_cpu_ms):.2f}")
+    if suffix != "_in_process":
+        print(f"view_process_cpu_ms_per_update{suffix}={median([1000 * v['view_cpu_s'] / v['updates'] for v, _ in pairs]):.2f}")
+    print(f"browser_cpu_share_fast{suffix}={median([v['browser_cpu_s'] / v['wall_s'] for v, _ in pairs]):.2f}")
+    print(f"fast_cpu_slowdown_pct{suffix}={100 * median([v['cpu_s'] / b['cpu_s'] - 1 for v, b in pairs]):.1f}")
+    slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in pairs]
+    print(f"fast_slowdown_pct_runs{suffix}={','.join(f'{x:.1f}' for x in slowdowns)}")
+    print(f"fast_slowdown_pct{suffix}={median(slowdowns):.1f}")
 
 
 if __name__ == "__main__":

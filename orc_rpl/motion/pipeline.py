@@ -11,6 +11,7 @@ import numpy as np
 from orc_rpl.arm.external import StagedPathVelocityController
 from orc_rpl.arm.pvc import PathVelocityController
 from orc_rpl.errors import Collision, MotionFault, OrcError, PlanningError
+from orc_rpl.motion import scheduling
 from orc_rpl.motion.actions import Actions, MotionData
 from orc_rpl.motion.backend import Backend
 from orc_rpl.motion.blending import blend
@@ -435,6 +436,7 @@ class MotionPipeline:
     def _pace(self) -> None:
         if self._wall_start is None:
             self._wall_start = wallclock.perf_counter() - self.now_s()
+            scheduling.request_slice(scheduling.PACED_SLICE_S)  # wake on time while other programs keep the cores busy
         ahead = self._wall_start + self.now_s() - wallclock.perf_counter()
         if ahead > 0:
             wallclock.sleep(ahead)

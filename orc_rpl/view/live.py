@@ -10,11 +10,11 @@ import numpy as np
 
 from orc_rpl.executive.executive import Executive
 from orc_rpl.executive.report import MonitoredRobot
-from orc_rpl.plant.shapes import Frames, Poses, cell_frames, cell_poses, cell_shapes
+from orc_rpl.plant.shapes import Frames, cell_frames, cell_poses, cell_shapes
 from orc_rpl.view.framing import frame_work
 from orc_rpl.view.positions import declared_names, world_transforms
 from orc_rpl.view.process import TRACED, ProcessOverlay, ProcessState, error_colours, process_record
-from orc_rpl.view.scene import CellScene, wxyz_of, wxyz_of_many
+from orc_rpl.view.scene import FLANGE_NODE, CellScene
 from orc_rpl.view.sender import Sender
 from orc_rpl.world.objects import FLANGE, PREDEFINED
 from orc_rpl.world.pose import shown_pose
@@ -52,7 +52,7 @@ class LiveView:
     It reads the plant, the motion layer's planned-path signal and the executive's variables; it commands nothing.
     """
 
-    def __init__(self, scene: CellScene, executive: Executive, robot: Any, world: Any = None,
+    def __init__(self, scene: CellScene | Any, executive: Executive, robot: Any, world: Any = None,
                  rate_hz: float = RATE_HZ) -> None:
         self.scene, self.executive, self.robot, self.world = scene, executive, robot, world
         self.period_s = 1.0 / rate_hz
@@ -65,7 +65,7 @@ class LiveView:
         self._ticks = 0
         self._trace_new: list[np.ndarray] = []
         self._tool: tuple[Any, np.ndarray | None] = (None, None)
-        self._flange_node: Any = None
+        self._tools_mounted = False                #: a world object rides on the flange: the flange is sent too
         self._lines: tuple[str | None, list[str]] = (None, [])   #: the program's source and its lines (the caption)
         self.process = ProcessOverlay()
         self.sender = Sender()
@@ -78,29 +78,32 @@ class LiveView:
         self._names = declared_names(program)
         if self._cell is not None:
             self.scene.add_cell(cell_shapes(self._cell), cell_poses(self._cell))
-        if self.world is not None:
-            self._add_world()
         layer = self.robot.layer
+        reach = [np.zeros(3), layer.fk(layer.current_q())[:3, 3]]
+        if self.world is not None:
+            reach += self._add_world()
         layer.plan_listeners.append(self._planned)
-        reach = [np.zeros(3), layer.fk(layer.current_q())[:3, 3], *(n.position for n in self.scene.objects.values())]
         self.scene.frame_camera(frame_work(np.array(reach)))
         self.update()
 
-    def _add_world(self) -> None:
-        world = self.world
+    def _add_world(self) -> list[np.ndarray]:
+        """Draw the world's objects and named frames; where the objects standing in the cell are (the camera's aim)."""
+        world, standing = self.world, []
         for obj in world.objects:
             if obj.name in PREDEFINED:
                 continue
             if FLANGE in world.ancestors(obj.name):  # tools ride on the flange
-                if self._flange_node is None:
-                    self._flange_node = self.scene.add_mount("/flange")
-                self.scene.add_object(obj.name, world.relative_pose(obj.name, FLANGE).matrix(), obj.model, "/flange")
+                self._tools_mounted = True
+                self.scene.add_object(obj.name, world.relative_pose(obj.name, FLANGE).matrix(), obj.model, FLANGE_NODE)
                 continue
-            self.scene.add_object(obj.name, world.world_pose(obj.name).matrix(), obj.model)
+            placed = world.world_pose(obj.name).matrix()
+            self.scene.add_object(obj.name, placed, obj.model)
+            standing.append(placed[:3, 3])
             dotted_names = [f"{obj.name}.{frame.name}" for frame in obj.frames]  # the world's named positions
             dotted_names += [f"{obj.name}.{path.name}[{i}]" for path in obj.paths for i in range(1, len(path.points) + 1)]
             for dotted in dotted_names:
                 self.scene.set_position(dotted, world.world_pose(dotted).matrix())
+        return standing
 
     def _planned(self, move_id: int, tcp_m: np.ndarray) -> None:
         """The motion layer's planned-path signal: drawn before the move starts."""
@@ -154,7 +157,7 @@ class LiveView:
         """
         self._next_wall_s = time.perf_counter() + self.period_s
         frames = cell_frames(self._cell) if self._cell is not None else None
-        flange = self.robot.layer.fk(self.robot.layer.current_q()) if self._flange_node is not None else None
+        flange = self.robot.layer.fk(self.robot.layer.current_q()) if self._tools_mounted else None
         values = self.executive.machine.globals
         for name in self._names:
             value = values.get(name)
@@ -162,7 +165,7 @@ class LiveView:
                 self._seen[name] = value
                 for label, t in world_transforms(name, value, self.executive):
                     self._labels.add(label)
-                    self.sender.always(partial(self._show_position, label, t))
+                    self.sender.always(partial(self.scene.show_position, label, t))
         if self._trace_new:
             self.sender.always(partial(self.scene.extend_trace, self._trace_new))
             self._trace_new = []
@@ -190,22 +193,8 @@ class LiveView:
         caption = f"{caption_text(time_s, line, lines)}\n\nTCP {shown_pose(tcp).text()}"
         if process:
             caption += f"\n\n{process}"
-        if frames is not None:
-            self.scene.move_cell(Poses(frames.time_s, frames.position_m, wxyz_of_many(frames.rotation)))
-        if flange is not None:
-            self._flange_node.position = flange[:3, 3]
-            self._flange_node.wxyz = wxyz_of(flange[:3, :3])
-        self.scene.set_caption(caption)
+        self.scene.show(frames, flange, caption)
         self.updates += 1
-
-    def _show_position(self, label: str, world_t: np.ndarray) -> None:
-        """A declared position; an off-line program's positions are the world's frames under short names: drawn once."""
-        if label not in self.scene.positions:
-            same = [node for key, node in (*self.scene.objects.items(), *self.scene.positions.items())
-                    if key == label or key.endswith(f".{label}")]
-            if any(np.allclose(node.position, world_t[:3, 3], atol=1e-6) for node in same):
-                return
-        self.scene.set_position(label, world_t)
 
     def highlight(self, position: str | None = None, move_id: int | None = None) -> None:
         """Show a selected position and a move's planned path (the pendant's selection and program pointer)."""

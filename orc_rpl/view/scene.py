@@ -8,7 +8,7 @@ import numpy as np
 import viser
 import viser.transforms as tf
 
-from orc_rpl.plant.shapes import Poses, Shape
+from orc_rpl.plant.shapes import Frames, Poses, Shape
 from orc_rpl.view.framing import Framing
 
 #: Colours (RGB 0..255) of what the view draws over the cell.
@@ -23,6 +23,8 @@ PATHS_KEPT = 40
 #: What is selected (a position picked at the pendant, the motion at the program pointer) is drawn this much larger.
 HIGHLIGHT_SCALE = 2.5
 HIGHLIGHT_RGB = (30, 120, 255)
+#: The node that carries what is mounted on the robot's flange (tools), moved by `show`.
+FLANGE_NODE = "/flange"
 #: Spot welds: a small ball where the gun closed, green when good and red when not.
 WELD_RADIUS_M = 0.008
 GOOD_RGB = (40, 170, 60)
@@ -46,7 +48,7 @@ def _rgb(rgba: tuple[float, ...]) -> tuple[int, int, int]:
 class CellScene:
     """What one viser server shows; the handles stay readable so tests and the pendant can ask what is drawn."""
 
-    def __init__(self, server: viser.ViserServer) -> None:
+    def __init__(self, server: viser.ViserServer, shadows: bool = False) -> None:
         self.server = server
         self.scene = server.scene
         self.moving: dict[int, Any] = {}          #: geom index -> node of a geom that moves with a body
@@ -60,7 +62,11 @@ class CellScene:
         self.process: dict[str, tuple[list[np.ndarray], list[np.ndarray]]] = {}  #: process trace -> points, colours
         self._process_nodes: dict[str, list[Any]] = {}
         self._caption: Any = None
+        self._flange: Any = None                  #: the flange's mount, made when a tool is mounted on it
         self.scene.set_up_direction("+z")
+        # Shadows off unless asked for: in software WebGL (a machine without a GPU, the headless browser of the tests)
+        # the default light's three shadow cascades make each frame several times dearer (bench_view --shadows).
+        self.scene.configure_default_lights(enabled=True, cast_shadow=shadows)
 
     # -- the cell (MuJoCo geoms) -------------------------------------------------------------
 
@@ -98,6 +104,15 @@ class CellScene:
         height = 2 * size[1] if size[1] > 0 else 10.0
         return scene.add_grid(name, width, height, cell_size=0.25, section_size=1.0, plane_color=rgb, plane_opacity=0.5)
 
+    def show(self, frames: Frames | None, flange: np.ndarray | None, caption: str) -> None:
+        """One update of the run: the moving geoms (MuJoCo's rotation matrices), the flange (4x4), the caption."""
+        if frames is not None:
+            self.move_cell(Poses(frames.time_s, frames.position_m, wxyz_of_many(frames.rotation)))
+        if flange is not None and self._flange is not None:
+            self._flange.position = flange[:3, 3]
+            self._flange.wxyz = wxyz_of(flange[:3, :3])
+        self.set_caption(caption)
+
     def move_cell(self, poses: Poses) -> None:
         """The moving geoms where the plant has them now, sent together so a browser never shows half a robot."""
         with self.server.atomic():
@@ -109,6 +124,8 @@ class CellScene:
 
     def add_object(self, name: str, world_t: np.ndarray, model: Any, parent_node: str = "/world") -> None:
         """A world object: its frame with its name, and its geometry (box, cylinder, sphere) where the model says."""
+        if parent_node == FLANGE_NODE and self._flange is None:
+            self._flange = self.add_mount(FLANGE_NODE)
         node_name = f"{parent_node}/{name}"
         node = self.scene.add_frame(node_name, axes_length=OBJECT_AXES_M, axes_radius=0.004,
                                     position=world_t[:3, 3], wxyz=wxyz_of(world_t[:3, :3]))
@@ -140,6 +157,15 @@ class CellScene:
             self.positions[name] = node
         node.position = world_t[:3, 3]
         node.wxyz = wxyz_of(world_t[:3, :3])
+
+    def show_position(self, label: str, world_t: np.ndarray) -> None:
+        """A declared position; an off-line program's positions are the world's frames under short names: drawn once."""
+        if label not in self.positions:
+            same = [node for key, node in (*self.objects.items(), *self.positions.items())
+                    if key == label or key.endswith(f".{label}")]
+            if any(np.allclose(node.position, world_t[:3, 3], atol=1e-6) for node in same):
+                return
+        self.set_position(label, world_t)
 
     def remove_positions(self, names: list[str]) -> None:
         """Take positions off the screen (a position deleted or renamed in the pendant)."""
@@ -220,6 +246,11 @@ class CellScene:
                                           node.points.shape).copy()
 
     # -- words and the camera -------------------------------------------------------------
+
+    @property
+    def caption(self) -> str:
+        """The caption's text now (empty before the first)."""
+        return self._caption.content if self._caption is not None else ""
 
     def set_caption(self, text: str) -> None:
         """The line under the title: the simulated time and the statement the program is at."""

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import sys
-import threading
 from pathlib import Path
 from collections.abc import Iterator
 from contextlib import ExitStack, contextmanager
@@ -18,8 +17,8 @@ from orc_rpl.view.framing import frame_work
 from orc_rpl.plant.shapes import cell_poses, cell_shapes
 from orc_rpl.view.live import LiveView, sim_cell
 from orc_rpl.view.positions import declared_names, evaluate_declarations, world_transforms
-from orc_rpl.view.scene import CellScene
-from orc_rpl.view.server import DEFAULT_HOST, DEFAULT_PORT, close_server, open_server, url_of
+from orc_rpl.view.remote import ViewProcess
+from orc_rpl.view.server import DEFAULT_HOST, DEFAULT_PORT
 from orc_rpl.view.video import VideoRecorder
 from orc_rpl.world import World, load_world
 from orc_rpl.world.objects import FLANGE, PREDEFINED
@@ -105,24 +104,22 @@ def watch(executive: Executive, robot: Any, program: Any, world: Any, registry: 
     watchers = Watchers()
     with ExitStack() as stack:
         if how.view:
-            server = open_server(how.host, how.port)
+            server = ViewProcess(how.host, how.port)  # its own process: the motion cycle keeps the interpreter
             if how.interactive:  # closed by linger(), after the summary
                 def keep_open_then_close() -> None:
                     _keep_open(stderr)
-                    close_server(server)
+                    server.close()
                 watchers._linger = keep_open_then_close
             else:
-                stack.callback(close_server, server)
-            watchers.url = url_of(server)
+                stack.callback(server.close)
+            watchers.url = server.url
             stderr.write(f"orc: the 3D view is at {watchers.url}\n")
             stderr.flush()
-            connected = threading.Event()
-            server.on_client_connect(lambda client: connected.set())
-            watchers.live = LiveView(CellScene(server), executive, robot, world)
+            watchers.live = LiveView(server.scene, executive, robot, world)
             watchers.live.attach(program)
             if how.interactive:
                 stderr.write(f"orc: open it in a browser; the run starts when it connects (at most {BROWSER_WAIT_S:.0f} s)\n")
-                connected.wait(BROWSER_WAIT_S)
+                server.wait_connected(BROWSER_WAIT_S)
             stack.callback(watchers.live.finish)
         if how.video is not None:
             watchers.video = VideoRecorder(how.video, executive, robot, frame_work(work_points(robot, program, world, registry)))

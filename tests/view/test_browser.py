@@ -25,8 +25,7 @@ from orc_rpl.executive.executive import Executive  # noqa: E402
 from orc_rpl.plant.shapes import cell_poses  # noqa: E402
 from orc_rpl.transform.loading import load_program  # noqa: E402
 from orc_rpl.view.live import LiveView, sim_cell  # noqa: E402
-from orc_rpl.view.scene import CellScene  # noqa: E402
-from orc_rpl.view.server import close_server, open_server  # noqa: E402
+from orc_rpl.view.remote import ViewProcess  # noqa: E402
 from orc_rpl.world.pose import shown_pose  # noqa: E402
 
 pytestmark = pytest.mark.sim
@@ -51,16 +50,16 @@ def test_browser_shows_the_run_where_the_recording_says() -> None:
     registry = runtime_registry()
     robot = CellRobot.virtual(record=True)
     executive = Executive(program, robot, registry, path=str(PROGRAM), source=source, output=lambda line: None)
-    server = open_server(port=0)
+    server = ViewProcess("127.0.0.1", 0)  # the server in its own process, as `orc run --view` has it
     try:
-        view = LiveView(CellScene(server), executive, robot)
+        view = LiveView(server.scene, executive, robot)
         view.attach(program)
         foreign: list[str] = []
         with sync_playwright() as p:
             browser = p.chromium.launch(executable_path=executable, args=CHROMIUM_ARGS)
             page = browser.new_page(viewport={"width": 640, "height": 480})
             page.on("request", lambda r: None if urlsplit(r.url).hostname in (None, "127.0.0.1") else foreign.append(r.url))
-            page.goto(f"http://127.0.0.1:{server.get_port()}")
+            page.goto(server.url)
             page.get_by_text("t = ").first.wait_for(timeout=120_000)  # the page is connected: the caption arrived
             executive.machine.robot = view.monitor(robot)
             assert executive.run() == "finished"
@@ -72,8 +71,9 @@ def test_browser_shows_the_run_where_the_recording_says() -> None:
             time.sleep(1.0)  # the scene fades in
             pixels = _canvas_pixels(page)
             browser.close()
+        shown = server.scene.snapshot()  # what the server's scene holds
     finally:
-        close_server(server)
+        server.close()
 
     assert foreign == [], "the page asked for something beyond this machine"
     # not blank: the picture has many colours, and the robot's orange links are in it
@@ -83,22 +83,22 @@ def test_browser_shows_the_run_where_the_recording_says() -> None:
 
     # the robot's links: where the plant has them at the end of the run
     poses = cell_poses(sim_cell(robot))
-    assert view.scene.moving, "the robot's links are in the scene"
-    for index, node in view.scene.moving.items():
+    assert shown.moving, "the robot's links are in the scene"
+    for index, node in shown.moving.items():
         np.testing.assert_allclose(node.position, poses.position_m[index], atol=1e-6)
         np.testing.assert_allclose(np.abs(np.dot(node.wxyz, poses.wxyz[index])), 1.0, atol=1e-6)
     # the TCP trace ends where the recording's last measured joints put the gripper's TCP
     recording = robot.layer.logger.recording()
     tool = executive.machine.last_tool.matrix()
     expected_tcp = robot.layer.fk(recording.signals["q"][-1], tool)[:3, 3]
-    np.testing.assert_allclose(view.scene.trace_m[-1], expected_tcp, atol=1e-6)
+    np.testing.assert_allclose(shown.trace_m[-1], expected_tcp, atol=1e-6)
     # the declared positions, where the program puts them
-    assert set(view.scene.positions) == {"tray", "above_tray", "slot1", "slot2"}
+    assert set(shown.positions) == {"tray", "above_tray", "slot1", "slot2"}
     slot1 = executive.machine.to_world(executive.value("slot1"))
-    np.testing.assert_allclose(view.scene.positions["slot1"].position, (slot1.x, slot1.y, slot1.z), atol=1e-9)
+    np.testing.assert_allclose(shown.positions["slot1"].position, (slot1.x, slot1.y, slot1.z), atol=1e-9)
     # the planned paths: one per motion, each drawn before it ran; the last ends at the last target
-    assert len(view.scene.paths) == executive.motions
-    last_path = view.scene.paths[max(view.scene.paths)]
+    assert len(shown.paths) == executive.motions
+    last_path = shown.paths[max(shown.paths)]
     above = executive.machine.to_world(executive.value("above_tray"))
     np.testing.assert_allclose(last_path.points[-1, 1], (above.x, above.y, above.z), atol=1e-4)
 
