@@ -7,7 +7,7 @@ import sys
 
 from orc_rpl.application.registry import default_registry
 from orc_rpl.checking.checker import check_program
-from orc_rpl.errors import Diagnostic, SourceError, UsageError, capped
+from orc_rpl.errors import Diagnostic, Location, SourceError, UsageError, capped
 from orc_rpl.syntax.files import declared_world, is_offline, parse_file
 
 
@@ -37,8 +37,10 @@ def check_file(path: str, registry=None, world: str | None = None) -> tuple[str 
 
         try:
             world_path = world if world is not None else declared_world(path, text)
-            if world_path is None:
-                return text, []  # without a world model only the syntax can be checked
+            if world_path is None:  # without a world model only the syntax can be checked: say so, never "no errors"
+                return text, [Diagnostic(Location(path, 1, 1), "syntax only: an off-line program's names are "
+                                         "checked against its world model; give --world WORLD.yaml or a "
+                                         "`# world: FILE` line", severity="note")]
             model = load_world_file(world_path)
         except SourceError as error:
             return error.source, error.diagnostics
@@ -64,6 +66,7 @@ def run(args: argparse.Namespace) -> int:
     failed = 0
     errors = 0
     unreadable = 0
+    syntax_only = 0
     for path in args.files:
         try:
             source, diagnostics = check_file(path, registry, getattr(args, "world", None))
@@ -71,7 +74,10 @@ def run(args: argparse.Namespace) -> int:
             sys.stderr.write(f"orc check: error: {error}\n")
             unreadable += 1
             continue
-        for diagnostic in capped(diagnostics):  # 16,000 errors in one file print 50 and a count
+        notes = [d for d in diagnostics if d.severity == "note"]
+        syntax_only += bool(notes)
+        diagnostics = [d for d in diagnostics if d.severity != "note"]
+        for diagnostic in notes + capped(diagnostics):  # 16,000 errors in one file print 50 and a count
             sys.stdout.write(diagnostic.format(source) + "\n")
         if diagnostics:
             failed += 1
@@ -81,5 +87,6 @@ def run(args: argparse.Namespace) -> int:
         if failed:
             sys.stderr.write(f"{errors} error{'s' if errors != 1 else ''} in {failed} of {total} file{'s' if total != 1 else ''}\n")
         return 2
-    sys.stderr.write(f"{total} file{'s' if total != 1 else ''} checked, no errors\n")
+    partly = f" ({syntax_only} for syntax only)" if syntax_only else ""
+    sys.stderr.write(f"{total} file{'s' if total != 1 else ''} checked{partly}, no errors\n")
     return 0

@@ -89,3 +89,17 @@ def test_python_dash_m_and_no_command_shows_help() -> None:
     result = orc()
     assert result.returncode == 2
     assert "usage: orc" in result.stderr
+
+
+def test_an_offline_program_without_a_world_is_said_to_be_checked_for_syntax_only(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    program = tmp_path / "p.orl"
+    program.write_text("start = pose(0.8, 0, 0.6, 0, 180deg, 0)\nlmove arm to start\n")
+    assert main(["check", str(program)]) == 0
+    out, err = capsys.readouterr()
+    assert f"{program}:1:1: syntax only" in out and "--world" in out
+    assert "1 file checked (1 for syntax only), no errors" in err
+    world = Path(__file__).resolve().parents[2] / "worlds" / "cell_thesis.yaml"
+    assert main(["check", str(program), "--world", str(world)]) == 2
+    out, _ = capsys.readouterr()
+    assert "undefined routine or function 'pose'" in out and "unknown tool 'arm'" in out
