@@ -9,7 +9,7 @@ from orc_rpl.application.registry import Registry, default_registry, suggest
 from orc_rpl.checking.expressions import ExpressionTyper, accepts
 from orc_rpl.checking.purity import ParameterUse, PurityProver
 from orc_rpl.checking.symbols import (
-    ANY, WORLD, Scope, StaticType, Symbol, assigned_names, builtin_scope, declarations,
+    ANY, WORLD, Scope, StaticType, Symbol, assigned_names, builtin_scope, declarations, number,
 )
 from orc_rpl.errors import Diagnostic, Location
 from orc_rpl.syntax import nodes as n
@@ -425,10 +425,25 @@ class Checker:
         self.check_body(stmt.body, local, WORLD)
 
     # ---- what needs the whole program: parameter functions
+    def return_with_typed_parameter(self, function: str, value: n.Expression) -> StaticType:
+        """What a function target's RETURN gives when its one parameter is the path coordinate s (a number) or the
+        time t; diagnostics of this second look are dropped (the body was checked once already)."""
+        routine, local = self.routine_scopes[function]
+        param = routine.params[0].id
+        typed = Scope(parent=local, routine=routine)
+        typed.symbols[param] = Symbol(param, "param", number(TIME if param == "t" else DIMENSIONLESS), routine.params[0])
+        reported = len(self.diagnostics)
+        try:
+            return self.infer(value, typed, WORLD)
+        finally:
+            del self.diagnostics[reported:]
+
     def finish(self, scope: Scope) -> None:
         """Checks that need every routine: FUNC targets give poses of the motion's frame; parameter FUNCs are pure."""
         for expr, frame, role in self.function_targets:
             for value, node in self.function_returns.get(expr.id, []):
+                if value.kind == "any":  # `RETURN 2 * s`: typed again with s a number (t a time), as the motion calls it
+                    value = self.return_with_typed_parameter(expr.id, node)
                 if value.kind == "pose" and value.frame is not None and value.frame != frame:
                     where = f"inside FRAME {frame}" if frame != WORLD else "outside every FRAME block (relative to world)"
                     self.report(expr, f"FUNC {expr.id} gives poses relative to {value.frame} (line {node.span.line}), "

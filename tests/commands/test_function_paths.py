@@ -67,6 +67,18 @@ def test_along_a_func_that_gives_no_poses_is_a_check_error(tmp_path: Path, capsy
     assert f"{program}:12:17: FUNC speed given as a path must give poses; line 10 gives" in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("function, motion, gives", [
+    ("FUNC lift(s)\n    RETURN 2 * s\nENDFUNC\n", "LMOVE ARM TO lift", "a number"),
+    ("FUNC lift(t)\n    RETURN 0.1mps * t\nENDFUNC\n", "LMOVE ARM ALONG lift WITH TIME = 1s", "a length"),
+])
+def test_a_func_whose_return_depends_on_its_parameter_alone_is_typed_at_check(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], function: str, motion: str, gives: str) -> None:
+    program = tmp_path / "prog.rpl"
+    program.write_text(WAVE + function + motion + "\n")
+    assert main(["check", str(program)]) == 2  # the run would fail at the motion; the check says it first
+    assert f"{program}:12:" in (out := capsys.readouterr().out) and f"line 10 gives {gives}" in out
+
+
 OFFLINE = """\
 # world: cell.yaml
 func wave(s):
