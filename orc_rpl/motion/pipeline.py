@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.arm.external import StagedPathVelocityController
-from orc_rpl.arm.pvc import PathVelocityController
+from orc_rpl.arm.pvc import PathVelocityController, PvcSettings
 from orc_rpl.errors import Collision, MotionFault, OrcError, PlanningError
 from orc_rpl.motion.actions import Actions, MotionData
 from orc_rpl.motion.backend import Backend
@@ -21,7 +21,7 @@ from orc_rpl.motion.planner import Planner, combine
 from orc_rpl.motion.short_move import short_trajectory
 from orc_rpl.motion.specs import MoveStatus
 from orc_rpl.motion.timing import parameterize
-from orc_rpl.motion.trajectory import SplinePath, Trajectory
+from orc_rpl.motion.trajectory import SplinePath, Trajectory, smoothed
 
 _NO_SENSORS: dict[str, Any] = {}  #: MotionData.sensors when no sensor is installed (shared, never written)
 SETTLE_RAD = 2e-5          #: FINE: joint error at which a move counts as arrived
@@ -72,6 +72,10 @@ class MotionPipeline:
     #: the cell's external axes (motion.external.ExternalAxes), None when it has none
     external: Any = None
     _stages: list[Any] = []
+    #: windows (s) over which a path trajectory from rest has its time scaling averaged (elastic gears), () none
+    smoothing_s: tuple[float, ...] = ()
+    #: the path velocity controller's tuning (a jerk limit on elastic gears)
+    pvc_settings: PvcSettings = PvcSettings()
 
     def now_s(self) -> float:
         """The controller clock (simulated time on the virtual robot)."""
@@ -129,6 +133,8 @@ class MotionPipeline:
     def _set_traj(self, traj: Trajectory, handles: list[MoveHandle]) -> None:
         if traj.kind != "brake":
             self._track_dq = None  # a new move starts from the (corrected) reference; a stop keeps the correction
+        if self.smoothing_s and traj.kind == "path" and traj.sd_f[0] == 0.0:
+            traj = smoothed(traj, self.smoothing_s)  # no torque steps into elastic gears
         self._traj, self._k, self._traj_t0 = traj, 0, self.now_s()
         self._in_traj = handles
         owners = traj.owner
@@ -147,13 +153,14 @@ class MotionPipeline:
         arm_control = self.path_velocity_control if wanted is None else wanted
         if self._stages:  # external axes in the same path coordinate: the combined range (thesis fig. 5.6)
             return StagedPathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
-                                                dynamics if arm_control else None, self.kin.arm.tau_max, self._stages)
+                                                dynamics if arm_control else None, self.kin.arm.tau_max, self._stages,
+                                                self.pvc_settings)
         if traj.kind != "path" or dynamics is None or not handles:
             return None
         if not arm_control:
             return None
         return PathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
-                                      dynamics, self.kin.arm.tau_max)
+                                      dynamics, self.kin.arm.tau_max, self.pvc_settings)
 
     def _try_blend(self, nxt: MoveHandle) -> bool:
         """Replan from the current state through a blended corner onto `nxt`; False if too late or not a zone move."""

@@ -41,6 +41,7 @@ class CompiledDrives:
         self._integral_start = np.zeros(n)
         self._tau_abs = np.zeros(n)
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
+        self.twist: Any = None  #: elastic gears' twist feed-forward (servo.two_mass.GearTwist), None: rigid gears
 
     def engage(self) -> None:
         """Take over from the Python law: the drives' integral from the servo's (bumpless)."""
@@ -90,6 +91,8 @@ class CompiledDrives:
         for i in range(n_steps):
             ff[i] = rnea(q_ref[i], qd_ref[i], qdd_ref[i])
         servo.torque_ff = ff[-1].copy()
+        if self.twist is not None:  # elastic gears: the rotor leads the link by the twist (two_mass.py)
+            q_ref, qd_ref = self.twist.motor_references(q_ref, qd_ref, qdd_ref, ff)
         if servo._coulomb is not None:
             # the speed the loop asks for, with the position error at the start of the cycle (/ smoothing)
             error = self._work

@@ -11,7 +11,7 @@ from orc_rpl.plant.realistic import RealisticCell
 from orc_rpl.robot import load_robot
 from orc_rpl.robot.plants import plant_spec
 from orc_rpl.servo.control import ServoGains
-from orc_rpl.servo.two_mass import link_inertia_max, two_mass_gains
+from orc_rpl.servo.two_mass import POSITION_OVER_VELOCITY, link_inertia_max, two_mass_gains
 
 
 def test_bandwidths_sit_at_the_anti_resonance_where_it_is_below_the_default() -> None:
@@ -23,7 +23,7 @@ def test_bandwidths_sit_at_the_anti_resonance_where_it_is_below_the_default() ->
     low = anti < ServoGains().velocity_bw_rad_s
     assert low[:3].all() and not low[3:].any(), "j1..j3 of the IRB 2400 have slow gears"
     assert np.allclose(bw[low], anti[low]) and np.all(bw[~low] == 160.0)
-    assert np.allclose(kp[low], 0.25 * bw[low]) and np.all(kp[~low] == 40.0)
+    assert np.allclose(kp[low], np.minimum(POSITION_OVER_VELOCITY * bw[low], 40.0)) and np.all(kp[~low] == 40.0)
     # the rotor's loop over one 1 ms step stays below the explicit integration's limit of 2
     kv_h_over_rotor = (link_inertia_max(arm, rotor) + rotor) * bw * 1e-3 / rotor
     assert np.all(kv_h_over_rotor < 1.5)
