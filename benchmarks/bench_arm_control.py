@@ -13,8 +13,8 @@ the path errors are then the TCP's from the links' own angles (pvc_path_error_mm
 really is) and, pvc_encoder_path_error_mm, from the encoders through the controller's kinematics less
 the twist its gear model commands. --without FEATURE (repeatable) switches off one of the elastic
 gears' features to credit each: twist (the rotors' lead by the gears' twist), smoothing (trajectories
-averaged over the anti-resonance periods), jerk (the path velocity controller's jerk limit), gain
-(the position loops at 0.25 of the velocity loops' bandwidth instead of 0.6).
+averaged over the anti-resonance periods), gain (the position loops at 0.25 of the velocity loops'
+bandwidth instead of 0.6).
 """
 
 from __future__ import annotations
@@ -23,14 +23,13 @@ import argparse
 
 import numpy as np
 
-from orc_rpl.arm.pvc import PvcSettings
 from orc_rpl.motion import JointMotion, MotionLayer, Params, make_virtual_motion_layer
 from orc_rpl.servo import two_mass
 
 DECLARED_KG, CARRIED_KG = 10.0, 15.0
 ELASTIC = [False]   #: the plant's elastic gears (--elastic)
 WITHOUT: set[str] = set()   #: elastic gears' features switched off (--without)
-FEATURES = ("twist", "smoothing", "jerk", "gain")
+FEATURES = ("twist", "smoothing", "gain")
 
 #: The fast motions: joint moves (MOVE) at full speed, FINE, between these configurations (deg),
 #: the first from home; the arm swings stretched out, where gravity and inertia use most of the torque.
@@ -62,8 +61,6 @@ def _layer(robot: str, seed: int) -> MotionLayer:
         layer.backend.loop.set_gear_twist(None)
     if "smoothing" in WITHOUT:
         layer.smoothing_s = ()
-    if "jerk" in WITHOUT:
-        layer.pvc_settings = PvcSettings()
     return layer
 
 

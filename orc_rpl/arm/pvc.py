@@ -23,8 +23,6 @@ RESYNC_X, RESYNC_SD = 1e-7, 1e-5
 STOP_DECEL_MIN = 0.1
 #: Share of the admissible deceleration a late command plans to stop at the path's end with.
 BRAKE_SHARE = 0.8
-#: The jerk limit's time (PvcSettings.jerk_time_s) on elastic gears.
-ELASTIC_JERK_TIME_S = 0.05
 
 
 @dataclass(frozen=True, slots=True)
@@ -34,15 +32,10 @@ class PvcSettings:
     torque_share: float = 0.95      #: of tau_max the path acceleration may use; the rest is the servo's feedback
     overspeed: float = 0.03         #: path speed allowed above the nominal one at the same path point, to catch up
     catch_up_rad_s: float = 6.0     #: bandwidth of the time-correction term (kv = 2 w, kp = w^2)
-    #: elastic gears: s'' changes from cycle to cycle by at most the nominal's largest |s''| over this
-    #: time (a jerk limit: a step in s'' is a step in the gears' torque, which rings them); 0: no limit
-    jerk_time_s: float = 0.0
 
     def __post_init__(self) -> None:
-        if not (0.0 < self.torque_share <= 1.0 and 0.0 <= self.overspeed <= 0.2 and self.catch_up_rad_s > 0.0
-                and self.jerk_time_s >= 0.0):
-            raise UsageError("path velocity controller: torque_share in (0, 1], overspeed in [0, 0.2], catch_up > 0, "
-                             "jerk_time_s >= 0")
+        if not (0.0 < self.torque_share <= 1.0 and 0.0 <= self.overspeed <= 0.2 and self.catch_up_rad_s > 0.0):
+            raise UsageError("path velocity controller: torque_share in (0, 1], overspeed in [0, 0.2], catch_up > 0")
 
 
 class PathVelocityController:
@@ -77,10 +70,6 @@ class PathVelocityController:
         cycle_rows = np.arange(0, self.last_row + 1, sub)
         self._q_rows, self._d1_rows, self._d2_rows = (path(x_f[cycle_rows], order) for order in (0, 1, 2))
         self.x, self.sd = float(x_f[0]), float(sd_f[0])   #: the commanded path parameter and speed
-        self.sdd = 0.0   #: the commanded path acceleration of the last cycle
-        #: the largest change of s'' from one cycle to the next (inf: none)
-        self._sdd_step = (float(np.max(np.abs(self._sdd_f))) * sub * servo_period_s / settings.jerk_time_s
-                          if settings.jerk_time_s > 0.0 else math.inf)
         self.in_sync = True
         self.done = False
         self.scaled_cycles = 0       #: cycles in which the time scale was changed (saturation avoided)
@@ -128,7 +117,7 @@ class PathVelocityController:
             lo, hi = self.admissible(float(self.x_f[row]), float(self.sd_f[row]), k)
             sdd = float(self._sdd_f[first]), float(self._sdd_f[row - 1])
             if lo <= min(sdd) and max(sdd) <= hi:
-                self.x, self.sd, self.sdd = float(self.x_f[row]), float(self.sd_f[row]), sdd[1]
+                self.x, self.sd = float(self.x_f[row]), float(self.sd_f[row])
                 self.done = row == self.last_row
                 return None
             self.in_sync = False
@@ -155,8 +144,6 @@ class PathVelocityController:
         sdd = wanted if braking else min(max(wanted, lo), hi) if lo <= hi else 0.5 * (lo + hi)
         if sdd != wanted:
             self.scaled_cycles += 1
-        if not braking:  # the jerk limit (elastic gears); the bounds below still win: the path's end is kept
-            sdd = min(max(sdd, self.sdd - self._sdd_step), self.sdd + self._sdd_step)
         # never faster than (1 + overspeed) times the nominal speed where the cycle ends: keeps the
         # speed and acceleration limits the nominal profile respects, and stops at the path's end
         x_next = min(x + sd * t_cycle + 0.5 * sdd * t_cycle * t_cycle, self.end_x)
@@ -184,7 +171,7 @@ class PathVelocityController:
         if self.end_x - x_end < RESYNC_X and (nominal_ended or sd_end < RESYNC_SD):
             xs[-1], sds[-1], x_end, sd_end = self.end_x, 0.0, self.end_x, 0.0
             self.done = True
-        self.x, self.sd, self.sdd = x_end, sd_end, sdd
+        self.x, self.sd = x_end, sd_end
         if not nominal_ended and abs(x_end - x_n) < RESYNC_X and abs(sd_end - sd_n) < RESYNC_SD:
             self.in_sync, self.x, self.sd = True, x_n, sd_n  # back in step: the nominal rows from the next cycle
         path = self.path

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.arm.external import StagedPathVelocityController
-from orc_rpl.arm.pvc import PathVelocityController, PvcSettings
+from orc_rpl.arm.pvc import PathVelocityController
 from orc_rpl.errors import Collision, MotionFault, OrcError, PlanningError
 from orc_rpl.motion.actions import Actions, MotionData
 from orc_rpl.motion.backend import Backend
@@ -74,8 +74,6 @@ class MotionPipeline:
     _stages: list[Any] = []
     #: windows (s) over which a path trajectory from rest has its time scaling averaged (elastic gears), () none
     smoothing_s: tuple[float, ...] = ()
-    #: the path velocity controller's tuning (a jerk limit on elastic gears)
-    pvc_settings: PvcSettings = PvcSettings()
 
     def now_s(self) -> float:
         """The controller clock (simulated time on the virtual robot)."""
@@ -153,14 +151,13 @@ class MotionPipeline:
         arm_control = self.path_velocity_control if wanted is None else wanted
         if self._stages:  # external axes in the same path coordinate: the combined range (thesis fig. 5.6)
             return StagedPathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
-                                                dynamics if arm_control else None, self.kin.arm.tau_max, self._stages,
-                                                self.pvc_settings)
+                                                dynamics if arm_control else None, self.kin.arm.tau_max, self._stages)
         if traj.kind != "path" or dynamics is None or not handles:
             return None
         if not arm_control:
             return None
         return PathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
-                                      dynamics, self.kin.arm.tau_max, self.pvc_settings)
+                                      dynamics, self.kin.arm.tau_max)
 
     def _try_blend(self, nxt: MoveHandle) -> bool:
         """Replan from the current state through a blended corner onto `nxt`; False if too late or not a zone move."""

@@ -6,7 +6,6 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.arm.pvc import ELASTIC_JERK_TIME_S, PvcSettings
 from orc_rpl.errors import UsageError
 from orc_rpl.motion.ahead import PlanAhead
 from orc_rpl.motion.backend import KinematicBackend
@@ -141,7 +140,7 @@ def make_virtual_motion_layer(
     a world model by `plant.world_scene.cell_from_world`) replaces the default cell. `elastic`: the
     realistic plant's elastic gears (robots with a gear stiffness), the servo tuned for them, the
     rotors leading the links by the gears' twist, trajectories from rest averaged over the gears'
-    anti-resonance periods and the path velocity controller jerk-limited (servo/two_mass.py).
+    anti-resonance periods (servo/two_mass.py).
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
@@ -156,6 +155,7 @@ def make_virtual_motion_layer(
     servo_arm = backend == "servo" and plant == "realistic" and servo_plant_spec(robot) is not None
     if elastic and servo_arm:
         raise UsageError(f"robot {robot!r} runs on bus servos: its plant has no elastic gears")
+    smoothing: tuple[float, ...] = ()   #: elastic gears: the windows trajectories are averaged over
     if servo_arm:
         # an arm on bus servos: its position loops are the servos' own; goals are streamed to them
         from orc_rpl.motion.servo_arm import ServoArmBackend
@@ -170,23 +170,24 @@ def make_virtual_motion_layer(
         # The servo gets its own model: a payload is state of an ArmModel, and the planner's
         # what-if torque computations must not change the servo's feed-forward.
         sim = _make_cell(robot, plant, seed, cell, elastic)
-        gains, smoothing = ServoGains(), ()
+        gains = ServoGains()
         if getattr(sim, "elastic", False):
             from orc_rpl.servo.two_mass import two_mass_gains
 
             gains = two_mass_gains(arm, sim.motor_inertia_kg_m2, sim.plant.gear_stiffness_nm_rad)
         loop = ServoLoop(load_robot(robot), sim, gains)
-        if getattr(sim, "elastic", False):
-            from orc_rpl.servo.two_mass import GearTwist, smoothing_windows_s
-
-            loop.set_gear_twist(GearTwist(sim.plant.gear_stiffness_nm_rad, sim.motor_inertia_kg_m2, loop.period_s))
-            smoothing = smoothing_windows_s(arm, sim.motor_inertia_kg_m2, sim.plant.gear_stiffness_nm_rad)
         if plant == "realistic":
             from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, plant_spec
 
             nominal = plant_spec(robot)
             loop.servo.set_friction(nominal.coulomb_nm, nominal.viscous_nm_s)  # the model knows nominal friction
             reserve_nm = np.array(nominal.coulomb_nm) + np.array(nominal.viscous_nm_s) * arm.qd_max
+        if getattr(sim, "elastic", False):
+            from orc_rpl.servo.two_mass import GearTwist, smoothing_windows_s
+
+            k_gear, rotor = sim.plant.gear_stiffness_nm_rad, sim.motor_inertia_kg_m2
+            loop.set_gear_twist(GearTwist(k_gear, rotor, loop.period_s))
+            smoothing = smoothing_windows_s(arm, rotor, k_gear)
         loop.reset(start)
         be: Any = ServoBackend(loop)
     elif backend == "kinematic":
@@ -194,9 +195,7 @@ def make_virtual_motion_layer(
     else:
         raise UsageError(f"backend must be 'servo' or 'kinematic', not {backend!r}")
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
-    if elastic and backend == "servo":  # no torque steps into the gears: trajectories averaged over their periods, s'' jerk-limited
-        layer.smoothing_s = smoothing
-        layer.pvc_settings = PvcSettings(jerk_time_s=ELASTIC_JERK_TIME_S)
+    layer.smoothing_s = smoothing  # elastic gears: no torque steps into them (trajectories averaged over their periods)
     # the next move is planned on a worker thread, over an arm model of its own (made when first needed)
     layer.ahead = PlanAhead(lambda: Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub), paced=realtime)
     if backend == "servo" and plant == "realistic" and not servo_arm:
