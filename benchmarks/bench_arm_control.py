@@ -59,6 +59,7 @@ def _layer(robot: str, seed: int) -> MotionLayer:
     layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0])
     if "twist" in WITHOUT:
         layer.backend.loop.set_gear_twist(None)
+        layer.backend.reset(np.array(layer.reference_q()))  # the rotors at the links' angles again
     if "smoothing" in WITHOUT:
         layer.smoothing_s = ()
     return layer
@@ -111,7 +112,7 @@ def run_moves(robot: str, seed: int, pvc: bool, cold: bool, carried_kg: float) -
     return {"path_error_mm": worst * 1000.0, "moving_error_mm": worst_moving * 1000.0,
             "encoder_error_mm": worst_encoder * 1000.0,
             "saturated_fraction": saturated / max(steps, 1),
-            "duration_ratio": actual_s / nominal_s, "scaled_cycles": float(scaled_cycles)}
+            "duration_ratio": actual_s / nominal_s, "scaled_cycles": float(scaled_cycles), "duration_s": actual_s}
 
 
 def nominal_equals_actual(robot: str, seed: int) -> bool:
@@ -194,6 +195,7 @@ def main() -> None:
         print(f"pvc_encoder_path_error_mm={with_pvc['encoder_error_mm']:.3f}")
     print(f"saturated_cycle_fraction={with_pvc['saturated_fraction']:.4f}")
     print(f"duration_ratio={with_pvc['duration_ratio']:.3f}")
+    print(f"moves_duration_s={with_pvc['duration_s']:.3f}")
     print(f"nominal_equals_actual_when_feasible={same}")
     print(f"plant_winding_rise_k={' '.join(f'{v:.2f}' for v in plant_rise)}")
     print(f"model_only_winding_rise_k={' '.join(f'{v:.2f}' for v in model_only_rise)}")
