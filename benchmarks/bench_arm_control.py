@@ -14,7 +14,7 @@ really is) and, pvc_encoder_path_error_mm, from the encoders through the control
 the twist its gear model commands. --without FEATURE (repeatable) switches off one of the elastic
 gears' features to credit each: twist (the rotors' lead by the gears' twist), smoothing (trajectories
 averaged over the anti-resonance periods), gain (the position loops at 0.25 of the velocity loops'
-bandwidth instead of 0.6), adaptation (friction and payload learnt on-line: servo/adaptation.py).
+bandwidth instead of 0.6).
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from orc_rpl.servo import two_mass
 DECLARED_KG, CARRIED_KG = 10.0, 15.0
 ELASTIC = [False]   #: the plant's elastic gears (--elastic)
 WITHOUT: set[str] = set()   #: elastic gears' features switched off (--without)
-FEATURES = ("twist", "smoothing", "gain", "adaptation")
+FEATURES = ("twist", "smoothing", "gain")
 
 #: The fast motions: joint moves (MOVE) at full speed, FINE, between these configurations (deg),
 #: the first from home; the arm swings stretched out, where gravity and inertia use most of the torque.
@@ -62,8 +62,6 @@ def _layer(robot: str, seed: int) -> MotionLayer:
         layer.backend.reset(np.array(layer.reference_q()))  # the rotors at the links' angles again
     if "smoothing" in WITHOUT:
         layer.smoothing_s = ()
-    if "adaptation" in WITHOUT:
-        layer.backend.loop.adaptation = None
     return layer
 
 

@@ -183,15 +183,11 @@ def make_virtual_motion_layer(
             loop.servo.set_friction(nominal.coulomb_nm, nominal.viscous_nm_s)  # the model knows nominal friction
             reserve_nm = np.array(nominal.coulomb_nm) + np.array(nominal.viscous_nm_s) * arm.qd_max
         if getattr(sim, "elastic", False):
-            from orc_rpl.servo.adaptation import FeedForwardAdaptation
             from orc_rpl.servo.two_mass import GearTwist, smoothing_windows_s
 
             k_gear, rotor = sim.plant.gear_stiffness_nm_rad, sim.motor_inertia_kg_m2
             loop.set_gear_twist(GearTwist(k_gear, rotor, loop.period_s))
             smoothing = smoothing_windows_s(arm, rotor, k_gear)
-            servo_model = loop.servo.arm
-            loop.adaptation = FeedForwardAdaptation(loop.servo, nominal.coulomb_nm, nominal.viscous_nm_s,
-                                                    lambda q: servo_model.jacobian(q)[:3])
         loop.reset(start)
         be: Any = ServoBackend(loop)
     elif backend == "kinematic":
@@ -199,7 +195,7 @@ def make_virtual_motion_layer(
     else:
         raise UsageError(f"backend must be 'servo' or 'kinematic', not {backend!r}")
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
-    layer.smoothing_s = smoothing  # elastic gears: no torque steps into them (averaged over their periods)
+    layer.smoothing_s = smoothing  # elastic gears: no torque steps into them (trajectories averaged over their periods)
     # the next move is planned on a worker thread, over an arm model of its own (made when first needed)
     layer.ahead = PlanAhead(lambda: Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub), paced=realtime)
     if backend == "servo" and plant == "realistic" and not servo_arm:

@@ -54,8 +54,6 @@ class ServoLoop:
         self.compiled_law = self.drives is not None  #: False: the Python law, step by step
         self.drives_on = True  #: False: no torque, the brakes hold the joints (set_drives)
         self.twist: Any = None  #: the elastic gears' twist feed-forward (set_gear_twist), None: rigid gears
-        #: the adaptive feed-forward (servo.adaptation.FeedForwardAdaptation), updated each call; None: none
-        self.adaptation: Any = None
 
     def set_gear_twist(self, twist: Any) -> None:
         """Lead each rotor by its gear's twist (a `servo.two_mass.GearTwist`; None: rigid gears). The
@@ -97,8 +95,6 @@ class ServoLoop:
                 for callback in callbacks:
                     callback()
             return self.state()
-        if self.adaptation is not None:
-            self.adaptation.update(q_ref[0], qd_ref[0])
         if self.compiled_law:
             self.drives.run(q_ref, qd_ref, qdd_ref, self._each_step if callbacks else None)  # type: ignore[union-attr]
             return self.state()
