@@ -65,8 +65,8 @@ class GearTwist:
 
     The rotor's torque for the twist's acceleration (J_rotor d2/dt2 (tau_link / k)) is left out: as a
     second difference over 1 ms steps it turns every kink of the references (a path acceleration
-    that changes from one motion cycle to the next) into torque spikes; measured with it,
-    `bench_arm_control.py --elastic` saturated in 2.6 % of the cycles instead of 0.8 %.
+    that changes from one motion cycle to the next) into torque spikes (hand runs of
+    `bench_arm_control.py`'s moves on elastic gears: 2.6 % of the cycles saturated with it, 0.8 % without).
     """
 
     def __init__(self, stiffness_nm_rad: Any, rotor_inertia_kg_m2: Any, period_s: float) -> None:
