@@ -28,7 +28,9 @@ spot_signal_error_ms: per weld after the first, the close signal's time minus th
 defines it, measured on the TCP every motion cycle) minus REACTION, the largest; seam_tuned_gain_pct: the RMS
 reduction of the thesis weld with Tracking's gain against TRACKMOVE's standard gain); and CALIBRATE's settling
 (12 kg the program did not declare, a 50 mm approach at 1.5 m/s) with the default gains, the fixed 1.5x boost
-alone and the identified tuning: calibrate_vs_boost_settle_pct is what the identification adds to the boost.
+alone and the identified tuning: calibrate_vs_boost_settle_pct is what the identification adds to the boost; each
+part of the identified tuning switched off in turn (calibrate_identified_without_*); on the realistic plant with
+its elastic gears (calibrate_*) and with rigid gears (calibrate_rigid_*).
 deburr_servo_force_*: how well the arm's own motor torques tell the grinding force (no force flange), see
 servo_force_estimate.
 """
@@ -351,27 +353,53 @@ def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, float]
     return rows
 
 
-def settle_ms(variant: str, plant: str) -> float:
+#: The variants of the tuning comparison: the default gains, the fixed boost alone, the identified tuning, and the
+#: identified tuning with one part switched off (assembly_behaviour.PARTS), to credit each part its effect.
+TUNING_VARIANTS = ("default", "boost", "identified", "identified_without_load", "identified_without_friction",
+                   "identified_without_placement", "identified_without_inertia", "identified_without_feedforward")
+
+
+def settle_ms(variant: str, plant: str, elastic: bool = False) -> float:
     """After CALIBRATE with 12 kg the program did not declare, the 50 mm approach at 1.5 m/s: ms from the end of
-    the reference until the TCP stays within 0.05 mm, with the default gains, the fixed boost only, or the
-    identified tuning."""
-    from orc_rpl.application.features.assembly_behaviour import BOOST
+    the reference until the TCP stays within 0.05 mm, with the default gains, the fixed boost only (BOOST times
+    the robot's own per-joint gains, no feed-forward), or the identified tuning (whole, or with a part left out)."""
+    from orc_rpl.application.features.assembly_behaviour import BOOST, identify
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.executive.executive import Executive
-    from orc_rpl.servo.control import ServoGains, ServoTuning
+    from orc_rpl.motion import make_virtual_motion_layer
+    from orc_rpl.servo.control import ServoTuning
     from orc_rpl.syntax.parser import parse
 
     program = ROOT / "programs/online/thesis_2_4_calibrate.rpl"
     source = program.read_text(encoding="utf-8")
-    robot = CellRobot.virtual(plant=plant)
+    robot = CellRobot(make_virtual_motion_layer(plant=plant, elastic=elastic))
     robot.layer.backend.loop.set_payload(12.0, known=False)  # type: ignore[attr-defined]
     executive = Executive(parse(source, str(program)), robot, runtime_registry(), path=str(program),
                           source=source, output=lambda line: None)
-    executive.run()
-    gains, n = ServoGains(), len(robot.joints())
-    boost = ServoTuning((gains.position_gain_1_s * BOOST,) * n, (gains.velocity_bw_rad_s * BOOST,) * n,
-                        (gains.integral_bw_rad_s,) * n, (0.0,) * n, (0.0,) * n, (0.0,) * n, "boost only")
-    tuning = {"default": None, "boost": boost, "identified": executive.machine.globals["BoltTuning"]}[variant]
+    recordings: list[Any] = []
+    identify_once = identify
+
+    def recording_identify(recorded: Any, *args: Any, **kwargs: Any) -> Any:  # keep what CALIBRATE measured
+        recordings.append((recorded, args, kwargs))
+        return identify_once(recorded, *args, **kwargs)
+    import orc_rpl.application.features.assembly_behaviour as assembly
+    assembly.identify = recording_identify  # type: ignore[assignment]
+    try:
+        executive.run()
+    finally:
+        assembly.identify = identify_once  # type: ignore[assignment]
+    gains, n = robot.servo_gains(), len(robot.joints())
+    kp, bw = gains.per_joint(n)
+    zero = (0.0,) * n
+    tuning: Any = None
+    if variant == "boost":
+        tuning = ServoTuning(tuple(kp * BOOST), tuple(bw * BOOST), (gains.integral_bw_rad_s,) * n, zero, zero, zero,
+                             "boost only")
+    elif variant == "identified":
+        tuning = executive.machine.globals["BoltTuning"]
+    elif variant.startswith("identified_without_"):
+        recorded, args, kwargs = recordings[-1]
+        tuning = identify_once(recorded, *args, **kwargs, leave_out=frozenset({variant.split("_without_")[1]}))
     tool, target = Pose(0, 0, 0.12), Pose(0.95, 0, 0.65, 0, math.pi, 0)
     ticket = robot.submit(MotionRequest("MOVE", "joint", target, tool=tool, speed_m_s=1.5, tuning=tuning))
     last_outside_s = t_end_s = None
@@ -389,9 +417,16 @@ def settle_ms(variant: str, plant: str) -> float:
 
 
 def tuning(plant: str) -> dict[str, float]:
-    figures = {f"calibrate_{variant}_settle_ms": settle_ms(variant, plant) for variant in ("default", "boost", "identified")}
-    boost, identified = figures["calibrate_boost_settle_ms"], figures["calibrate_identified_settle_ms"]
-    figures["calibrate_vs_boost_settle_pct"] = round(100.0 * (boost - identified) / boost, 1) if boost else 0.0
+    """The tuning comparison; on the realistic plant with its elastic gears (`calibrate_*`) and with rigid gears
+    (`calibrate_rigid_*`), on the ideal plant rigid (printed with the ideal_ prefix)."""
+    figures: dict[str, float] = {}
+    for elastic, key in (((True, "calibrate"), (False, "calibrate_rigid")) if plant == "realistic"
+                         else ((False, "calibrate"),)):
+        settle = {variant: settle_ms(variant, plant, elastic) for variant in TUNING_VARIANTS}
+        for variant, value in settle.items():
+            figures[f"{key}_{variant}_settle_ms"] = value
+        boost, identified = settle["boost"], settle["identified"]
+        figures[f"{key}_vs_boost_settle_pct"] = round(100.0 * (boost - identified) / boost, 1) if boost else 0.0
     return figures
 
 

@@ -16,6 +16,8 @@ PathFunction = Callable[[Any, int], np.ndarray]
 #: (q, dq/dx, d2q/dx2, dx/dt) -> (b1, b2) with tau = b1 * d2x/dt2 + b2: the arm controller as the
 #: backend's model sees it (rigid-body dynamics, nominal friction, the servo's integral).
 PathDynamics = Callable[[np.ndarray, np.ndarray, np.ndarray, float], tuple[np.ndarray, np.ndarray]]
+#: (q, dq/dx, d2q/dx2, dx/dt as rows) -> row i -> (b1, b2): the same at many points of the path, computed in batches.
+PathDynamicsRows = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], Callable[[int], tuple[np.ndarray, np.ndarray]]]
 
 #: Back in step with the nominal trajectory when this close to it (path parameter, rad; its speed, rad/s).
 RESYNC_X, RESYNC_SD = 1e-7, 1e-5
@@ -50,7 +52,9 @@ class PathVelocityController:
     """
 
     def __init__(self, path: PathFunction, x_f: np.ndarray, sd_f: np.ndarray, sub: int, servo_period_s: float,
-                 dynamics: PathDynamics, tau_max: np.ndarray, settings: PvcSettings = PvcSettings()) -> None:
+                 dynamics: PathDynamics, tau_max: np.ndarray, settings: PvcSettings = PvcSettings(),
+                 dynamics_rows: PathDynamicsRows | None = None) -> None:
+        """`dynamics_rows`: the same dynamics for many path points at once (optional, faster, the same numbers)."""
         self.path, self.sub, self.h = path, sub, servo_period_s
         self.x_f, self.sd_f = x_f, sd_f
         self._sdd_f = np.append(np.diff(sd_f) / servo_period_s, 0.0)   #: nominal s'' over row i -> i+1
@@ -69,6 +73,8 @@ class PathVelocityController:
         # every cycle then costs the model's torques only
         cycle_rows = np.arange(0, self.last_row + 1, sub)
         self._q_rows, self._d1_rows, self._d2_rows = (path(x_f[cycle_rows], order) for order in (0, 1, 2))
+        self._at_cycle = None if dynamics_rows is None else dynamics_rows(self._q_rows, self._d1_rows, self._d2_rows,
+                                                                          sd_f[cycle_rows])
         self.x, self.sd = float(x_f[0]), float(sd_f[0])   #: the commanded path parameter and speed
         self.in_sync = True
         self.done = False
@@ -89,10 +95,11 @@ class PathVelocityController:
         trajectory's motion-cycle row `cycle` when given (x is then that row's)."""
         if cycle is None:
             path = self.path
-            q, d1, d2 = path(x, 0), path(x, 1), path(x, 2)
+            b1, b2 = self.dynamics(path(x, 0), path(x, 1), path(x, 2), sd)
+        elif self._at_cycle is not None:
+            b1, b2 = self._at_cycle(cycle)
         else:
-            q, d1, d2 = self._q_rows[cycle], self._d1_rows[cycle], self._d2_rows[cycle]
-        b1, b2 = self.dynamics(q, d1, d2, sd)
+            b1, b2 = self.dynamics(self._q_rows[cycle], self._d1_rows[cycle], self._d2_rows[cycle], sd)
         limit, minus_limit = self.limit, self._minus_limit
         acting = np.abs(b1) >= 1e-9  # a joint the path acceleration does not move sets no bound
         if False in acting.tolist():

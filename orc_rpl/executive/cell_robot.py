@@ -11,6 +11,7 @@ from orc_rpl.application.runtime import FunctionParam, MotionRequest, MotionView
 from orc_rpl.errors import OrcError, PlanningError
 from orc_rpl.motion import (ActionSlot, Actions, CartesianMotion, Computation, FuncParams, FunctionMotion, JointMotion, Known,
                             MotionData, MotionLayer, MoveStatus, Params)
+from orc_rpl.executive.sensor_ahead import correction
 from orc_rpl.plant.io import CellIO
 from orc_rpl.world.pose import Joints, Pose
 
@@ -58,7 +59,8 @@ class CellRobot:
         self.sensors = _sensor_manager(self)
         layer.sensors = self.sensors
         self.gripper_angles_rad: dict[int, float] = {}  #: servo grippers on the simulated cell (ideal)
-        self._ahead: tuple[MotionRequest, int] | None = None  #: the request planned ahead and its descriptor
+        #: the request planned ahead (its plan key), its descriptor, and whether it was computed from sensor dummies
+        self._ahead: tuple[MotionRequest, int, bool] | None = None
         self.axes: Any = None  #: the cell's moving frames (executive.cell_axes.CellAxes), after attach_world
 
     def attach_world(self, world: Any) -> None:
@@ -173,14 +175,27 @@ class CellRobot:
         """d(TCP position)/dq (3 x n, world) at the measured joint angles."""
         return np.asarray(self.layer.kin.arm.jacobian(self.layer.current_q(), _tool_matrix(tool)))[:3]
 
+    def servo_gains(self) -> Any:
+        """The joint servo's default gains (`ServoGains`: per-joint caps and the elastic gears they were placed
+        for), or None on a robot without a servo of ours (kinematic, bus servos)."""
+        servo = getattr(getattr(self.layer.backend, "loop", None), "servo", None)
+        return None if servo is None else servo.gains
+
+    def servo_friction(self) -> Any:
+        """The joint friction the servo's model feeds forward (Coulomb N m, viscous N m s/rad per joint), or None."""
+        servo = getattr(getattr(self.layer.backend, "loop", None), "servo", None)
+        return None if servo is None else servo.friction()
+
     def inverse_dynamics(self, q: tuple[float, ...], qd: tuple[float, ...], qdd: tuple[float, ...],
                          load_kg: float) -> tuple[float, ...]:
         return tuple(float(t) for t in self.layer.dynamics(np.array(q), np.array(qd), np.array(qdd), load_kg).torque_nm)
 
-    def plan_ahead(self, request: MotionRequest) -> bool:
+    def plan_ahead(self, request: MotionRequest, from_dummy: bool = False) -> bool:
         """Start planning `request` on the motion layer's worker, to follow the moves accepted so far (thesis 5.2,
         computation save); submit() uses the plan when it is given the same request and the robot is where the plan
-        starts. False when the request is not planned ahead (partly or not known, a FUNC in it, several pieces)."""
+        starts. False when the request is not planned ahead (partly or not known, a FUNC in it, several pieces).
+        `from_dummy`: the request was computed with the sensors' dummy values; submit() then also uses the plan for
+        a request whose target the real sensor moved a little (executive/sensor_ahead.py)."""
         if self.axes is not None:  # a cell with moving frames re-bases targets where the track will be: planned then
             return False
         params = _params(request)
@@ -190,7 +205,9 @@ class CellRobot:
         descriptor = self.layer.plan_ahead(motion, params)
         if descriptor is None:
             return False
-        self._ahead = (_plan_key(request), descriptor)
+        self._ahead = (_plan_key(request), descriptor, from_dummy)
+        if from_dummy:
+            self.layer.ahead.counts.from_dummy += 1  # type: ignore[union-attr]
         return True
 
     def ahead_ready(self) -> bool:
@@ -221,6 +238,15 @@ class CellRobot:
         ahead, self._ahead = self._ahead, None
         if ahead is not None and ahead[0] == _plan_key(request):  # the program's knowledge proved right (done)
             params = dataclasses.replace(params, computation=Computation.DONE, descriptor=ahead[1])
+            if ahead[2]:
+                self.layer.ahead.counts.confirmed += 1  # type: ignore[union-attr]
+        elif ahead is not None and ahead[2]:  # planned from the dummies: the real sensor's answer corrects it
+            fix = correction(ahead[0], request)
+            if fix is not None:
+                request = dataclasses.replace(request, target=ahead[0].target, correction=fix.along())
+                self.layer.ahead.counts.corrected += 1  # type: ignore[union-attr]
+            # the layer uses the plan if the motion is the one planned, else plans it again (replanned)
+            params = dataclasses.replace(_params(request), computation=Computation.DONE, descriptor=ahead[1])
         actions = _until_actions(request)
         layer = self.layer
         handles = []

@@ -23,6 +23,11 @@ TIME_PARAMETER = "t"
 #: Keywords whose requests can be computed early: the standard motions (an application feature's behaviour may act).
 PREDICTABLE = frozenset({"MOVE", "JMOVE", "LMOVE", "CMOVE"})
 
+#: Functions a motion computed early may call: the standard functions of positions and numbers, which have no
+#: side effects (AXES is not among them: external axes are never planned ahead).
+PURE_FUNCTIONS = frozenset({"POSE", "JOINTS", "TRANSL", "INV", "OFFS", "RELTOOL", "ABS", "ROUND", "SQRT", "SIN",
+                            "COS", "ATAN2", "MIN", "MAX", "LEN"})
+
 
 class MotionCompiler:
     """Turns a motion statement into a generator that submits it and waits as its zone requires."""
@@ -45,9 +50,17 @@ class MotionCompiler:
             yield TICK
 
     def predictor(self, stmt: n.Motion, scope: Scope) -> Callable[[Locals], Any] | None:
-        """The request the motion statement `stmt` will make, computed early without side effects (None when it may
-        have some: a call anywhere in it, a keyword of an application feature, a motion not known well enough)."""
-        if stmt.keyword not in PREDICTABLE or any(isinstance(node, n.Call) for node in stmt.walk()):
+        """The request the motion statement `stmt` will make, computed early without side effects, and whether it
+        read sensors (None when it may have side effects: a call of anything but a standard function, a keyword of
+        an application feature, a motion not known well enough).
+
+        Sensors are read from their dummies (thesis 5.2: dummy sampling for the precomputation of almost known
+        motions): the real sensor is not asked until the statement runs. A motion that needs a sensor's value is
+        computed early only when the program declares it KNOWN "almost" (its plan keeps a reserve for the
+        correction when the real value comes)."""
+        if stmt.keyword not in PREDICTABLE or any(
+                isinstance(node, n.Call) and not (isinstance(node.function, n.Name) and node.function.id in PURE_FUNCTIONS)
+                for node in stmt.walk()):
             return None
         if any(isinstance(c, n.With) and c.name.id == "KNOWN" and c.value in (n.String("partly"), n.String("not"))
                for c in stmt.clauses):
@@ -62,16 +75,25 @@ class MotionCompiler:
 
         names = {node.id for node in stmt.walk() if isinstance(node, n.Name)}
 
-        def predict(L: Locals) -> Any:
+        def predict(L: Locals) -> tuple[Any, bool] | None:
             if not names.isdisjoint(self.m.routines):  # a FUNC target or parameter: the program's code would run
                 return None
+            sensors = getattr(self.m.robot, "sensors", None)
+            reads = sensors.dummy_reads() if sensors is not None else 0
             try:
-                requests = builder(L, lambda message: None)[-1]
+                if sensors is None:
+                    requests = builder(L, lambda message: None)[-1]
+                else:
+                    with sensors.dummies():
+                        requests = builder(L, lambda message: None)[-1]
             except Exception:  # whatever goes wrong is found again, and reported, when the statement runs
                 return None
             if isinstance(requests, (list, tuple, GeneratorType)) or requests.axes or requests.frame_of is not None:
                 return None  # external axes move through the cell's stages, never from a plan made ahead
-            return requests
+            from_dummy = sensors is not None and sensors.dummy_reads() != reads
+            if from_dummy and requests.known != "almost":
+                return None  # a completely known motion that reads a sensor: the program's knowledge is wrong
+            return requests, from_dummy
         return predict
 
     def compile(self, stmt: n.Motion, scope: Scope, following: n.Motion | None = None) -> Callable[[Locals], Iterator[object]]:
@@ -176,7 +198,11 @@ class MotionCompiler:
             if predict is not None and until is None:  # FINE: the next motion is planned while this one runs
                 upcoming = predict(L)
                 if upcoming is not None and hasattr(robot, "plan_ahead"):
-                    robot.plan_ahead(upcoming)
+                    request, from_dummy = upcoming
+                    if from_dummy:
+                        robot.plan_ahead(request, from_dummy=True)
+                    else:
+                        robot.plan_ahead(request)
             while not all(t.done for t in tickets):
                 robot.tick()
                 yield TICK

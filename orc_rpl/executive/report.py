@@ -26,6 +26,9 @@ def summary(executive: Executive, robot: Any) -> dict[str, Any]:
     if planning is not None:  # thesis 5.2: moves planned while the one before runs, and whether the plans held
         result["planning"] = {"planned_ahead": planning.planned_ahead, "reused": planning.reused,
                               "replanned": planning.replanned, "at_start": planning.at_start}
+        if planning.from_dummy:  # motions computed from sensor dummies (executive/sensor_ahead.py)
+            result["planning"].update(from_dummy=planning.from_dummy, confirmed=planning.confirmed,
+                                      corrected=planning.corrected)
     error = executive.error
     if error is not None:
         span = error.span
@@ -59,6 +62,10 @@ def write_summary_text(result: dict[str, Any], wall_s: float, stream: TextIO, re
     if planning is not None:
         stream.write(f"planning: {planning['planned_ahead']} motions planned ahead ({planning['reused']} plans used, "
                      f"{planning['replanned']} made again), {planning['at_start']} planned when they started\n")
+        if planning.get("from_dummy"):
+            stream.write(f"planning: {planning['from_dummy']} motions computed ahead from sensor dummies, before the "
+                         f"sensor answered ({planning['confirmed']} confirmed, {planning['corrected']} corrected by "
+                         "its answer)\n")
     for line in process_lines(result.get("process")):
         stream.write(f"process: {line}\n")
 

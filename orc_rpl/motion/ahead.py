@@ -49,6 +49,9 @@ class Counts:
     reused: int = 0             #: of those, plans used as made (start and target proved right)
     replanned: int = 0          #: plans thrown away: the move was not the one predicted, or started elsewhere
     at_start: int = 0           #: moves planned when submitted (partly and not known motions, first motions)
+    from_dummy: int = 0         #: of those planned ahead, computed from sensor dummies (before the sensor answered)
+    confirmed: int = 0          #: of those, the real sensor's answer gave the same motion
+    corrected: int = 0          #: of those, the real answer moved the target a little: the plan used, corrected
     notes: list[str] = field(default_factory=list)
 
 

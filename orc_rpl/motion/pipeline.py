@@ -157,7 +157,8 @@ class MotionPipeline:
         if not arm_control:
             return None
         return PathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
-                                      dynamics, self.kin.arm.tau_max)
+                                      dynamics, self.kin.arm.tau_max,
+                                      dynamics_rows=getattr(self.backend, "path_dynamics_rows", None))
 
     def _try_blend(self, nxt: MoveHandle) -> bool:
         """Replan from the current state through a blended corner onto `nxt`; False if too late or not a zone move."""

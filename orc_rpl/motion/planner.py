@@ -80,6 +80,13 @@ class Planner:
                 arm.set_payload(load)
             return rnea(q, qd, qdd)  # a new array each call
 
+        rnea_rows = arm.inverse_dynamics_rows_function() if hasattr(arm, "inverse_dynamics_rows_function") else None
+
+        def inverse_dynamics_rows(q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, out: np.ndarray) -> None:
+            if arm.payload != payload:
+                arm.set_payload(load)
+            rnea_rows(q, qd, qdd, out)  # type: ignore[misc]
+
         speed = params.speed_m_s
         frac = params.speed_fraction
         cap = self.tcp_speed_cap_m_s
@@ -102,6 +109,7 @@ class Planner:
             qdd_max=arm.qdd_max * params.accel_fraction * share,
             tau_max=(arm.tau_max * TORQUE_SHARE - self.friction_reserve_nm) * share,
             inverse_dynamics=inverse_dynamics,
+            inverse_dynamics_rows=inverse_dynamics_rows if rnea_rows is not None else None,
             tcp_jacobian=self._tcp_jacobian(tool) if tcp is not None else None,
             tcp_speed_m_s=tcp,
             speed_fraction=frac_fn,
@@ -241,6 +249,7 @@ def combine(limits: dict[int, TimingLimits]) -> TimingLimits:
         qdd_max=np.min([lim.qdd_max for lim in items], axis=0),
         tau_max=np.min([lim.tau_max for lim in items if lim.tau_max is not None], axis=0),
         inverse_dynamics=heavy.inverse_dynamics,
+        inverse_dynamics_rows=heavy.inverse_dynamics_rows,
         tcp_jacobian=jac,
         tcp_speed_m_s=per_owner("tcp_speed_m_s", math.inf),
         speed_fraction=per_owner("speed_fraction", 1.0),

@@ -11,6 +11,12 @@ refused.
 Actions see the installed sensors through `MotionData.sensors`: a mapping name -> value sampled at most once
 per motion cycle, and only when an action reads it (so a cycle without sensor actions costs nothing).
 
+The manager has two sensor environments (thesis appendix A: one structure of all real sensors, one of all dummies):
+`current(name)` is the installed sensor, or its dummy while `dummies()` holds. The executive precomputes the next
+motion inside `dummies()`, so a target that reads a sensor is computed from the dummy's value, before the real
+sensor has been asked (and with no exchange on its port). A dummy answers `dummy_value()`, or the value the
+application set for it (`set_dummy_value`, the thesis' SetDummyVal: `INSTALL ... WITH DUMMY = ...`).
+
 The LaserDistance line protocol (a real sensor on a serial port, 115200 8N1, ASCII lines ending in "\\n"):
 
     host -> sensor      sensor -> host
@@ -29,6 +35,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -74,6 +81,7 @@ class Sensor:
         self.options = options
         self.on = False
         self.samples = 0
+        self._dummy: Any = None        #: the value set by the application (set_dummy_value), None: dummy_value()
 
     # -- what a kind defines ---------------------------------------------------------------
 
@@ -90,6 +98,14 @@ class Sensor:
 
     # -- generic ---------------------------------------------------------------------------
 
+    def set_dummy_value(self, value: Any) -> None:
+        """What dummy sampling answers from now on (`SetDummyVal`); None: the kind's `dummy_value()` again."""
+        self._dummy = value
+
+    def dummy_sample(self) -> Any:
+        """Dummy sampling: the value the application set, else the kind's worst case."""
+        return self.dummy_value() if self._dummy is None else self._dummy
+
     def read(self) -> Any:
         """Sample according to the behaviour (`GetVal`)."""
         self.samples += 1
@@ -97,7 +113,7 @@ class Sensor:
             return self.sample_real()
         if self.behaviour == "simulated" and self.simulate is not None:
             return self.simulate(self)
-        return self.dummy_value()
+        return self.dummy_sample()
 
     def command(self, command: str) -> None:
         """Switch the sensor ("ON", "OFF"); a real one is told over its link."""
@@ -159,6 +175,25 @@ class SensorManager:
         self.allow_devices = allow_devices
         self.simulations = dict(simulations or {})
         self.readings = SensorReadings(self)
+        self.environment = "real"      #: "dummy" while `dummies()` holds: `current()` gives the dummies
+
+    @contextmanager
+    def dummies(self) -> Iterator[None]:
+        """The dummy environment for a precomputation: `current(name)` is each sensor's dummy meanwhile."""
+        previous, self.environment = self.environment, "dummy"
+        try:
+            yield
+        finally:
+            self.environment = previous
+
+    def current(self, name: str) -> Sensor:
+        """The sensor of the environment in force: the installed one, or its dummy inside `dummies()`."""
+        pair = self.pairs[name]
+        return pair.dummy if self.environment == "dummy" else pair.sensor
+
+    def dummy_reads(self) -> int:
+        """How many times the dummies have been sampled (a precomputation that read none did not need them)."""
+        return sum(pair.dummy.samples for pair in self.pairs.values())
 
     def install(self, name: str, kind: str, port: str = "sim", **options: Any) -> SensorPair:
         """Make the pair for a sensor of `kind` named `name`: simulated for PORT "sim", else real on `port`."""

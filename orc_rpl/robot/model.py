@@ -48,6 +48,7 @@ class ArmModel:
         self._flange_in_joint = self._model.frames[self._flange_id].placement
         self._bare_inertia = self._model.inertias[self._last_joint].copy()
         self._payload: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+        self._pool: Any = None  #: a copy of the model for the batched RNEA, made again when the payload changes
         self._model.gravity.linear = np.array([0.0, 0.0, -GRAVITY_M_S2])
         self._lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -182,6 +183,7 @@ class ArmModel:
             inertia = inertia + pin.Inertia(key[0], lever, np.zeros((3, 3)))
         self._model.inertias[self._last_joint] = inertia
         self._payload = key
+        self._pool = None
 
     def inverse_dynamics(
         self, q: Any, qd: Any, qdd: Any, payload_kg: float = 0.0, payload_com: Any = None
@@ -206,6 +208,20 @@ class ArmModel:
         For the 1 kHz servo loop: one C call without a Python frame around it (about 0.1 us a step).
         """
         return functools.partial(self._pin.rnea, self._model, self._data)
+
+    def inverse_dynamics_rows_function(self) -> Any:
+        """The RNEA of k states at once as a bare callable f(q, qd, qdd, out) on (k, n) arrays, payload changes
+        included, no checks: a motion cycle's servo steps in one C call (Pinocchio's batched RNEA on one
+        thread, the same numbers as k calls of `inverse_dynamics_function`'s, a third cheaper)."""
+        pin = self._pin
+
+        def rows(q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, out: np.ndarray) -> None:
+            pool = self._pool
+            if pool is None:
+                pool = self._pool = pin.ModelPool(self._model, 1)
+            pin.rneaInParallel(1, pool, q.T, qd.T, qdd.T, out.T)
+
+        return rows
 
     def set_payload(self, payload_kg: float = 0.0, payload_com: Any = None) -> None:
         """Make a payload current for the unchecked servo-loop calls."""

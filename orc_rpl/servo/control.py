@@ -36,6 +36,10 @@ class ServoGains:
     #: per-joint caps on the two bandwidths above (elastic gears: servo/two_mass.py), () for none
     joint_velocity_bw_rad_s: tuple[float, ...] = ()
     joint_position_gain_1_s: tuple[float, ...] = ()
+    #: the elastic gears the caps were placed for (stiffness, and the rotor inertia at the joint), () for rigid
+    #: gears: a tuning that knows the inertia at its pose places its bandwidths by them (CALIBRATE)
+    gear_stiffness_nm_rad: tuple[float, ...] = ()
+    rotor_inertia_kg_m2: tuple[float, ...] = ()
 
     def per_joint(self, n: int) -> tuple[np.ndarray, np.ndarray]:
         """(position gain, velocity bandwidth) of each of n joints: the scalars, capped by the per-joint values."""
@@ -73,6 +77,12 @@ class ServoTuning:
     d_viscous_nm_s: tuple[float, ...]         #: feed-forward: viscous friction the model lacks
     d_offset_nm: tuple[float, ...]            #: feed-forward: constant torque the model lacks (weight)
     label: str = "tuning()"
+    #: feed-forward: a mass at the flange the model lacks (kg), added to the model's payload while the tuning
+    #: holds, so its weight, inertia and Coriolis torques are right at every pose of the motion
+    load_kg: float = 0.0
+    #: feed-forward: the model's nominal joint friction (Coulomb and viscous) times these, per joint, while the
+    #: tuning holds (a cold gearbox's friction, as identified); () keeps the nominal friction
+    friction_factor: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         n = len(self.position_gain_1_s)
@@ -83,6 +93,11 @@ class ServoTuning:
                 raise UsageError(f"tuning {name} must be {n} finite numbers, got {getattr(self, name)!r}")
             if name.endswith(("_1_s", "_rad_s")) and np.any(values < 0):
                 raise UsageError(f"tuning {name} must be >= 0, got {getattr(self, name)!r}")
+        if not (np.isfinite(self.load_kg) and self.load_kg >= 0.0):
+            raise UsageError(f"tuning load_kg must be a finite mass >= 0, got {self.load_kg!r}")
+        factor = np.array(self.friction_factor, dtype=float)
+        if factor.shape not in ((0,), (n,)) or not np.all(np.isfinite(factor)) or np.any(factor < 0):
+            raise UsageError(f"tuning friction_factor must be {n} finite numbers >= 0 or none, got {self.friction_factor!r}")
 
     def __str__(self) -> str:
         return self.label
@@ -137,8 +152,15 @@ class JointServo:
         self.tuning: ServoTuning | None = None  #: the task-specific tuning in use (None: `gains`)
         self._d_inertia, self._d_viscous, self._d_offset = np.zeros(n), np.zeros(n), np.zeros(n)
         self._extra, self._extra_work = np.zeros(n), np.zeros(n)
-        self._coulomb: np.ndarray | None = None   #: nominal friction of the model (set_friction), None: none
+        self._coulomb: np.ndarray | None = None   #: friction of the model in use (set_friction), None: none
         self._viscous: np.ndarray | None = None
+        self._friction_nominal: tuple[np.ndarray, np.ndarray] | None = None  #: as set, before a tuning's factor
+        self._control_load_kg = 0.0   #: the payload of the motion (its LOAD); a tuning's load_kg comes on top
+
+    def set_control_payload(self, mass_kg: float) -> None:
+        """The payload the feed-forward assumes (a motion's LOAD), plus the load of the tuning in use."""
+        self._control_load_kg = float(mass_kg)
+        self.arm.set_payload(self._control_load_kg + (self.tuning.load_kg if self.tuning is not None else 0.0))
 
     def reset(self) -> None:
         """Forget the integral and the signals (after a plant reset)."""
@@ -151,12 +173,13 @@ class JointServo:
         self.torque_offset = np.zeros(n)
         self._steps = 0
 
-    def set_tuning(self, tuning: ServoTuning | None) -> None:
+    def set_tuning(self, tuning: ServoTuning | None, q: Any = None) -> None:
         """Use a task-specific tuning from the next cycle on (None: back to `gains`), without a bump.
 
         Bumpless: the integral gives up (or takes back) the constant torque the tuning's feed-forward
-        adds, so the total torque does not jump at the switch; the per-joint gains are rescheduled
-        at the next cycle's pose. Without a tuning, `update` is the plain law, unchanged.
+        adds, and the weight of its load at the measured pose `q` (no load change without q), so the
+        total torque does not jump at the switch; the per-joint gains are rescheduled at the next
+        cycle's pose. Without a tuning, `update` is the plain law, unchanged.
         """
         n, g = self.arm.n_joints, self.gains
         if tuning is None:
@@ -170,12 +193,19 @@ class JointServo:
             d_inertia, d_viscous, d_offset = (np.array(v, dtype=float) for v in (tuning.d_inertia_kg_m2,
                                                                               tuning.d_viscous_nm_s, tuning.d_offset_nm))
         integral = self.integral + self._d_offset - d_offset
+        load_kg = self._control_load_kg + (tuning.load_kg if tuning is not None else 0.0)
+        if q is not None and load_kg != self.arm.payload[0]:
+            q_now, zero = np.array(q, dtype=float), np.zeros(n)
+            weight_before = np.array(self._inverse_dynamics(q_now, zero, zero))
+            self.arm.set_payload(load_kg)
+            integral -= np.array(self._inverse_dynamics(q_now, zero, zero)) - weight_before
         np.clip(integral, self._integral_min, self._integral_max, out=integral)
         self.integral = integral
         self._kp, self._velocity_bw, self._integral_bw_dt = kp, bw, ibw * self.period_s
         self._d_inertia, self._d_viscous, self._d_offset = d_inertia, d_viscous, d_offset
         self._steps = 0  # the next cycle schedules the gains at the measured pose
         self.tuning = tuning
+        self._apply_friction()
         self._choose_law()
 
     def set_friction(self, coulomb_nm: Any = None, viscous_nm_s: Any = None) -> None:
@@ -186,17 +216,39 @@ class JointServo:
         """
         n = self.arm.n_joints
         if coulomb_nm is None and viscous_nm_s is None:
-            self._coulomb = self._viscous = None
+            self._friction_nominal = None
         else:
             fc, fv = (np.zeros(n) if v is None else np.array(v, dtype=float).reshape(-1) for v in (coulomb_nm, viscous_nm_s))
             if fc.shape != (n,) or fv.shape != (n,) or not (np.all(np.isfinite(fc)) and np.all(np.isfinite(fv))):
                 raise UsageError(f"friction must be {n} finite Coulomb and {n} viscous values")
-            self._coulomb, self._viscous = fc, fv
+            self._friction_nominal = (fc, fv)
+        self._apply_friction()
         self._choose_law()
+
+    def friction(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The model's nominal joint friction (Coulomb N m, viscous N m s/rad) as set, or None."""
+        return self._friction_nominal
+
+    def _apply_friction(self) -> None:
+        """The friction in use: the nominal one, times the factor of the tuning in use."""
+        nominal, tuning = self._friction_nominal, self.tuning
+        if nominal is None:
+            self._coulomb = self._viscous = None
+            return
+        factor = np.array(tuning.friction_factor, dtype=float) if tuning is not None and tuning.friction_factor else 1.0
+        self._coulomb, self._viscous = nominal[0] * factor, nominal[1] * factor
 
     def model_torque(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
         """The model's torque for a motion state: rigid-body dynamics with the control payload, plus nominal friction."""
         tau = np.array(self._inverse_dynamics(q, qd, qdd))
+        if self._coulomb is not None:
+            tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
+        return tau
+
+    def model_torque_rows(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+        """`model_torque` of k motion states at once ((k, n) arrays, unchecked): the same numbers, batched."""
+        tau = np.empty(q.shape)
+        self.arm.inverse_dynamics_rows_function()(q, qd, qdd, tau)
         if self._coulomb is not None:
             tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
         return tau

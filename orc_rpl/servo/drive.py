@@ -8,7 +8,8 @@ import numpy as np
 
 from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S, JointServo
 
-add, subtract, multiply, tanh = np.add, np.subtract, np.multiply, np.tanh
+add, subtract, multiply, tanh, minimum, maximum, copyto = (np.add, np.subtract, np.multiply, np.tanh, np.minimum, np.maximum,
+                                                       np.copyto)
 
 
 class CompiledDrives:
@@ -32,13 +33,16 @@ class CompiledDrives:
     def __init__(self, servo: JointServo, cell: Any) -> None:
         self.servo, self.cell = servo, cell
         n = servo.arm.n_joints
-        self._ff, self._rows = np.zeros((0, n)), np.zeros((0, n))
+        self._ff = np.zeros((0, n))
+        self._friction_of: Any = None   #: the friction the rows below were made for (`_rows_for`)
         self._work, self._integral = np.zeros(n), np.zeros(n)
         self._gains = np.zeros((3, n))
         self._gain_p, self._gain_i, self._kv_ibw = self._gains   # views of its rows
         self._kp, self._kv, self._ibw = np.zeros(n), np.zeros(n), np.zeros(n)
         self._pid_p, self._pid_i = np.zeros(n), np.zeros(n)   #: kp + ki and ki * kp of the law, per kv
-        self._integral_start = np.zeros(n)
+        self._integral_start, self._q_before, self._qd_before = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._integral_a, self._integral_b = np.zeros(n), np.zeros(n)   #: servo.integral's two arrays (run)
+        self._rnea_rows = servo.arm.inverse_dynamics_rows_function()
         self._tau_abs = np.zeros(n)
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
         self.twist: Any = None  #: elastic gears' twist feed-forward (servo.two_mass.GearTwist), None: rigid gears
@@ -81,40 +85,51 @@ class CompiledDrives:
         servo, cell = self.servo, self.cell
         if not self.engaged:
             self.engage()
-        q, qd = cell.live_state()
+        q, _ = cell.live_state()
         self._schedule(q)
         n_steps = len(q_ref)
-        ff, work = self._ff, self._rows
-        if ff.shape[0] != n_steps:
-            ff, work = self._ff, self._rows = np.zeros((n_steps, len(q))), np.zeros((n_steps, len(q)))
-        rnea = servo._inverse_dynamics
-        for i in range(n_steps):
-            ff[i] = rnea(q_ref[i], qd_ref[i], qdd_ref[i])
-        servo.torque_ff = ff[-1].copy()
+        if self._ff.shape[0] != n_steps or self._friction_of is not servo._coulomb:
+            self._rows_for(n_steps)
+        # per-joint values are spread over the rows once (copyto) before they meet a (rows, joints) array:
+        # numpy 2.4 broadcasts a row three times slower than it copies it; the numbers are the same
+        ff, work, rnea, spread = self._ff, self._rows, self._rnea, self._spread
+        self._rnea_rows(q_ref, qd_ref, qdd_ref, rnea)  # the model's rigid-body torques, one C call for the rows
+        servo.torque_ff = rnea[-1]  # a view: the servo's signals are overwritten each cycle
+        ff_so_far = rnea   # the feed-forward is summed into ff from here (the same sums in the same order)
         if self.twist is not None:  # elastic gears: the rotor leads the link by the twist (two_mass.py)
-            q_ref, qd_ref = self.twist.motor_references(q_ref, qd_ref, qdd_ref, ff)
+            q_ref, qd_ref = self.twist.motor_references(q_ref, qd_ref, qdd_ref, rnea)
         if servo._coulomb is not None:
             # the speed the loop asks for, with the position error at the start of the cycle (/ smoothing)
             error = self._work
             subtract(q_ref[0], q, error)
             multiply(error, self._friction_p, error)
-            multiply(qd_ref, 1.0 / FRICTION_SMOOTH_RAD_S, work)
-            add(work, error, work)
+            copyto(spread, error)
+            multiply(qd_ref, self._smooth_rows, work)
+            add(work, spread, work)
             tanh(work, work)
-            multiply(work, servo._coulomb, work)
+            multiply(work, self._coulomb_rows, work)
+            add(rnea, work, ff)
+            multiply(qd_ref, self._viscous_rows, work)
             add(ff, work, ff)
-            multiply(qd_ref, servo._viscous, work)
-            add(ff, work, ff)
+            ff_so_far = ff
         if servo.tuning is not None:
+            if ff_so_far is rnea:
+                ff[:] = rnea
             ff += servo._d_inertia * qdd_ref + servo._d_viscous * qd_ref + servo._d_offset
-        add(ff, servo.torque_offset, ff)
+            ff_so_far = ff
+        copyto(spread, servo.torque_offset)
+        add(ff_so_far, spread, ff)
         noise = cell.noise_rows(n_steps)
-        multiply(noise, self._kv, work)
+        copyto(spread, self._kv)
+        multiply(noise, spread, work)
         subtract(ff, work, ff)   # the velocity loop reads the noisy speed
         state = cell.drives.integral_state
-        self._integral_start[:] = state
         true_q, true_qd = cell.true_live_state()
-        integral_before, q_before, qd_before = servo.integral.copy(), true_q.copy(), true_qd.copy()
+        start, q_before, qd_before = self._integral_start, self._q_before, self._qd_before
+        start[:] = state
+        integral_before = servo.integral  # not written: the new integral goes into another array
+        q_before[:] = true_q
+        qd_before[:] = true_qd
         if each_step is None:
             cell.drives.drive(q_ref, qd_ref, ff)
             self._signals(q_ref[-1], qd_ref[-1], False)
@@ -131,27 +146,37 @@ class CompiledDrives:
         # The Python law's integral over the call, from the drives' states: it sums h (qd_ref - qd + kp e)
         # step by step, and with MuJoCo's semi-implicit Euler sum(h qd_k) = q_n - q_0 - h (qd_n - qd_0)
         # and sum(h e_k) is the drives' integral state's change (the noise the law reads is known)
-        h, work = servo.period_s, self._rows
         true_q, true_qd = cell.true_live_state()
         subtract(qd_ref, noise, work)
-        increment = np.add.reduce(work, 0)
+        increment = add.reduce(work, 0)
         subtract(true_qd, qd_before, qd_before)
         add(increment, qd_before, increment)
-        multiply(increment, h, increment)
+        multiply(increment, servo.period_s, increment)
         subtract(true_q, q_before, q_before)
         subtract(increment, q_before, increment)
-        subtract(state, self._integral_start, q_before)
+        subtract(state, start, q_before)
         multiply(q_before, self._kp, q_before)
         add(increment, q_before, increment)
         multiply(increment, self._kv_ibw, increment)
-        integral = integral_before
         if True in servo.saturated.tolist():
             # the anti-windup, once a call: a motor that ended it saturated keeps its integral
             increment[servo.saturated] = 0.0
-        add(integral, increment, integral)
-        np.minimum(integral, servo._integral_max, out=integral)
-        np.maximum(integral, servo._integral_min, out=integral)
+        # into one of two arrays, never the one before: servo.integral alternates as the Python law's does
+        integral = self._integral_a if integral_before is not self._integral_a else self._integral_b
+        add(integral_before, increment, integral)
+        minimum(integral, servo._integral_max, out=integral)
+        maximum(integral, servo._integral_min, out=integral)
         servo.integral = integral
+
+    def _rows_for(self, n_steps: int) -> None:
+        """Work arrays of a call of n_steps rows, and the friction's constants spread over them."""
+        servo, shape = self.servo, (n_steps, self.servo.arm.n_joints)
+        self._ff, self._rows, self._rnea, self._spread = np.zeros(shape), np.zeros(shape), np.zeros(shape), np.zeros(shape)
+        self._smooth_rows = np.full(shape, 1.0 / FRICTION_SMOOTH_RAD_S)
+        self._friction_of = servo._coulomb
+        if servo._coulomb is not None:
+            self._coulomb_rows, self._viscous_rows = np.zeros(shape), np.zeros(shape)
+            self._coulomb_rows[:], self._viscous_rows[:] = servo._coulomb, servo._viscous
 
     def _integral_now(self) -> None:
         """servo.integral: the Python law's integral torque I = kv ki e + ki_pid * integral(e)."""

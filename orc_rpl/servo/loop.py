@@ -201,7 +201,7 @@ class ServoLoop:
         """A task-specific tuning from the next step on (a motion WITH TUNING); None: the default gains again."""
         if self.drives is not None:
             self.drives.release()  # the tuning's bumpless switch works on the servo's integral
-        self.servo.set_tuning(tuning)
+        self.servo.set_tuning(tuning, self.cell.q)
 
     def attach_logger(self, logger: Logger, every_steps: int = 1, tool: Any = None) -> None:
         """Record q, qd, tau, position_error, tau_ff and the TCP position ("tcp", m) every so many servo steps."""

@@ -50,7 +50,9 @@ def two_mass_gains(arm: ArmModel, motor_inertia_kg_m2: Any, gear_stiffness_nm_ra
     position = np.minimum(POSITION_OVER_VELOCITY * velocity_bw, gains.position_gain_1_s)
     position[velocity_bw >= gains.velocity_bw_rad_s] = gains.position_gain_1_s
     return dataclasses.replace(gains, joint_velocity_bw_rad_s=tuple(float(v) for v in velocity_bw),
-                               joint_position_gain_1_s=tuple(float(v) for v in position))
+                               joint_position_gain_1_s=tuple(float(v) for v in position),
+                               gear_stiffness_nm_rad=tuple(float(v) for v in gear_stiffness_nm_rad),
+                               rotor_inertia_kg_m2=tuple(float(v) for v in motor_inertia_kg_m2))
 
 
 class GearTwist:

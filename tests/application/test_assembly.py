@@ -70,9 +70,12 @@ PRINT BoltTuning
 """
 
 
-def calibrated(payload_kg: float) -> tuple[CellRobot, Executive]:
-    """The simulated cell after CALIBRATE at AssemblyPos, holding a part the program did not declare (no LOAD)."""
-    robot = CellRobot.virtual()
+def calibrated(payload_kg: float, elastic: bool | None = None) -> tuple[CellRobot, Executive]:
+    """The simulated cell after CALIBRATE at AssemblyPos, holding a part the program did not declare (no LOAD);
+    `elastic`: the realistic plant with elastic or rigid gears (None: as the plant comes by default)."""
+    from orc_rpl.motion import make_virtual_motion_layer
+
+    robot = CellRobot.virtual() if elastic is None else CellRobot(make_virtual_motion_layer(elastic=elastic))
     robot.layer.backend.loop.set_payload(payload_kg, known=False)  # type: ignore[attr-defined]
     ex = run(CALIBRATION, robot)
     assert ex.status == "finished", ex.report()
@@ -104,11 +107,24 @@ def approach(robot: CellRobot, tuning: object) -> tuple[float, float]:
 def test_calibrate_returns_a_readable_tuning_with_the_unmodelled_payload_identified() -> None:
     robot, ex = calibrated(12.0)
     tuning = ex.machine.globals["BoltTuning"]
-    assert ex.prints[0].startswith("tuning(bandwidth = ") and "offset = " in ex.prints[0]
-    # 12 kg on the flange, the wrist 0.27 m ahead of j3's axis: about 9.81 * 12 * 0.66 N m on j3 (sign: the
-    # servo's torque holding it), and j1 (excited by the shaky path's sideways steps) carries more inertia
-    assert -110 < tuning.d_offset_nm[2] < -50 and -130 < tuning.d_offset_nm[1] < -70, ex.prints[0]
-    assert tuning.velocity_bw_rad_s[0] > 160.0 * 1.5 * 1.1, "j1's inertia identified larger than the model's"
+    assert ex.prints[0].startswith("tuning(bandwidth = ") and "offset = " in ex.prints[0] and "load = " in ex.prints[0]
+    # 12 kg on the flange and the plant's 1.5 kg dress pack, the wrist 0.27 m ahead of j3's axis: the weight the
+    # model lacks (-112 N m on j2, -88 on j3 as constant offsets) is identified as a mass at the flange, fed
+    # forward through the model at every pose; little is left as constant offsets on j2 and j3
+    assert 12.0 < tuning.load_kg < 15.0, ex.prints[0]
+    assert abs(tuning.d_offset_nm[1]) < 10.0 and abs(tuning.d_offset_nm[2]) < 10.0, ex.prints[0]
+    # j1 (excited by the shaky path's sideways steps) carries more inertia than the model without the payload:
+    # the velocity loop's bandwidth is given against the model with the identified load
+    q, zero = robot.joints(), (0.0,) * 6
+    unit = (1.0, 0, 0, 0, 0, 0)
+
+    def inertia_j1(load_kg: float) -> float:
+        return robot.inverse_dynamics(q, zero, unit, load_kg)[0] - robot.inverse_dynamics(q, zero, zero, load_kg)[0]
+    identified_j1 = inertia_j1(tuning.load_kg) * tuning.velocity_bw_rad_s[0] / (160.0 * 1.5)
+    assert identified_j1 > 1.1 * inertia_j1(0.0), "j1's inertia identified larger than the model's"
+    # the arm starts cold: its gearboxes' friction is about twice the warm, nominal one the servo feeds forward
+    # (j1, which the path moves, measured; the joints it does not move take the same factor)
+    assert 1.5 < tuning.friction_factor[0] < 3.0 and "friction = [" in ex.prints[0], ex.prints[0]
     assert robot.layer.backend.loop.servo.tuning is None, "CALIBRATE leaves the default gains in place"  # type: ignore[attr-defined]
 
 
@@ -123,6 +139,28 @@ def test_the_tuned_approach_ends_closer_and_settles_faster_with_an_unmodelled_pa
           f"settled within 0.05 mm after {settle_plain:.0f} ms; tuned {miss_tuned:.3f} mm, {settle_tuned:.0f} ms")
     assert miss_tuned < 0.5 * miss_plain, "the tuned servo ends the fast motion much closer to the target"
     assert settle_tuned < 0.8 * settle_plain
+
+
+@pytest.mark.sim
+@pytest.mark.parametrize("elastic", [True, False], ids=["elastic gears", "rigid gears"])
+def test_the_identified_tuning_settles_faster_than_the_fixed_boost_alone(elastic: bool) -> None:
+    """Three variants on the realistic plant: the default gains, the fixed 1.5x boost of the robot's own gains
+    alone, and the identified tuning (the weight fed forward as a load, bandwidths placed per joint)."""
+    from orc_rpl.application.features.assembly_behaviour import BOOST
+    from orc_rpl.servo.control import ServoTuning
+
+    settle = {}
+    for variant in ("default", "boost", "identified"):
+        robot, ex = calibrated(12.0, elastic)
+        kp, bw = robot.servo_gains().per_joint(6)
+        boost = ServoTuning(tuple(kp * BOOST), tuple(bw * BOOST), (15.0,) * 6, (0.0,) * 6, (0.0,) * 6, (0.0,) * 6)
+        settle[variant] = approach(robot, {"default": None, "boost": boost,
+                                           "identified": ex.machine.globals["BoltTuning"]}[variant])[1]
+    print(f"\n{'elastic' if elastic else 'rigid'} gears, settled within 0.05 mm after (ms): {settle}")
+    assert settle["identified"] < 0.8 * settle["boost"], settle
+    assert settle["identified"] < 0.8 * settle["default"], settle
+    if not elastic:  # on rigid gears the boost alone helps too (on elastic ones, hardly: high gains cost there)
+        assert settle["boost"] < settle["default"], settle
 
 
 @pytest.mark.sim

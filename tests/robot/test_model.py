@@ -137,3 +137,15 @@ def test_joint_limit_names_the_joint_in_degrees() -> None:
 def test_bad_numbers_raise_the_projects_usage_error(call) -> None:
     with pytest.raises(UsageError):
         call(load_robot("irb2400"))
+
+
+def test_the_batched_rnea_gives_the_numbers_of_the_single_calls_and_follows_payload_changes() -> None:
+    arm = load_robot("irb2400")
+    rng = np.random.default_rng(4)
+    q, qd, qdd = (rng.normal(0.0, 1.0, (5, arm.n_joints)) for _ in range(3))
+    single, rows = arm.inverse_dynamics_function(), arm.inverse_dynamics_rows_function()
+    for payload_kg in (0.0, 12.0, 3.0):
+        arm.set_payload(payload_kg)
+        out = np.zeros(q.shape)
+        rows(q, qd, qdd, out)
+        assert np.array_equal(out, np.array([single(a, b, c) for a, b, c in zip(q, qd, qdd)])), payload_kg

@@ -52,12 +52,18 @@ def test_restoring_the_default_gives_back_the_plain_law_and_its_gains() -> None:
     assert np.all(servo._kp == g.position_gain_1_s) and np.all(servo._velocity_bw == g.velocity_bw_rad_s)
 
 
-def test_switching_to_a_tuning_that_carries_the_payload_weight_does_not_bump() -> None:
+def _holding_an_unknown_payload() -> tuple[ServoLoop, np.ndarray]:
+    """A loop at home holding 12 kg its model does not know, after the integral has taken the weight."""
     loop = ServoLoop()
     q0 = loop.arm.home_q
     loop.reset(q0)
     loop.set_payload(12.0, known=False)
     loop.hold(q0, 1500)  # the integral has taken the payload's weight
+    return loop, q0
+
+
+def test_switching_to_a_tuning_that_carries_the_payload_weight_does_not_bump() -> None:
+    loop, q0 = _holding_an_unknown_payload()
     weight = loop.servo.integral.copy()
     before = loop.hold(q0, 1).tau
     loop.set_tuning(tuning(d_offset=tuple(weight)))
@@ -66,6 +72,38 @@ def test_switching_to_a_tuning_that_carries_the_payload_weight_does_not_bump() -
     assert np.allclose(loop.servo.integral, 0.0, atol=0.05)
     loop.set_tuning(None)
     assert np.allclose(loop.hold(q0, 1).tau, before, atol=0.05), "and gives it back"
+
+
+def test_a_tuning_with_a_load_feeds_its_weight_forward_at_every_pose_without_a_bump() -> None:
+    import dataclasses
+
+    loop, q0 = _holding_an_unknown_payload()
+    before = loop.hold(q0, 1).tau
+    loop.set_tuning(dataclasses.replace(tuning(), load_kg=12.0))
+    after = loop.hold(q0, 1).tau
+    assert np.allclose(before, after, atol=0.05), "bumpless: the load's weight taken over from the integral"
+    assert np.allclose(loop.servo.integral, 0.0, atol=0.5), "the model's payload now holds the part"
+    assert loop.servo.arm.payload[0] == 12.0
+    loop.servo.set_control_payload(3.0)  # a motion's LOAD adds to the tuning's load
+    assert loop.servo.arm.payload[0] == 15.0
+    loop.servo.set_control_payload(0.0)
+    loop.set_tuning(None)
+    assert loop.servo.arm.payload[0] == 0.0
+    assert np.allclose(loop.hold(q0, 1).tau, before, atol=0.05), "and gives it back"
+
+
+def test_a_tuning_scales_the_friction_fed_forward() -> None:
+    import dataclasses
+
+    loop = ServoLoop()
+    loop.reset(loop.arm.home_q)
+    loop.servo.set_friction((10.0,) * N, (2.0,) * N)
+    loop.set_tuning(dataclasses.replace(tuning(), friction_factor=(2.0,) + (1.0,) * (N - 1)))
+    assert loop.servo._coulomb[0] == 20.0 and loop.servo._viscous[0] == 4.0 and loop.servo._coulomb[1] == 10.0
+    loop.set_tuning(None)
+    assert loop.servo._coulomb[0] == 10.0 and loop.servo.friction()[0][0] == 10.0
+    with pytest.raises(UsageError):
+        dataclasses.replace(tuning(), friction_factor=(1.0,) * 3)
 
 
 def test_the_inertia_correction_adds_to_the_feed_forward() -> None:

@@ -48,7 +48,10 @@ def register(registry: Registry) -> None:
         InstallKindSpec("ForceSensor", "a force sensor at the flange", (PORT,),
                         (MethodSpec("Force", "the measured force along the tool z axis", returns=FORCE),
                          MethodSpec("Zero", "take the present force as zero (tare)")), is_sensor=True),
-        InstallKindSpec("LaserDistance", "a laser distance sensor (seam finding and tracking)", (PORT,),
+        InstallKindSpec("LaserDistance", "a laser distance sensor (seam finding and tracking)",
+                        (PORT, AttributeSpec("DUMMY", (LENGTH,), None, "the seam's offset from the beam that a motion "
+                                             "computed ahead, before the laser has answered, assumes (the dummy's value; "
+                                             "without it the dummy sees no seam)", function_ok=False)),
                         (MethodSpec("On", "switch the laser on"), MethodSpec("Off", "switch the laser off"),
                          MethodSpec("Distance", "the measured distance", returns=LENGTH),
                          MethodSpec("EdgeDetected", "TRUE while an edge is under the laser", returns="bool")),

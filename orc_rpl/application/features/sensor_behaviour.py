@@ -8,6 +8,11 @@ seam is under the beam (FALSE while the laser is off).
 `INSTALL Gauge AS ForceSensor WITH PORT = "sim"` (or a serial device): `Gauge.Force` is the contact force along
 the tool's z axis (simulated: the cell's contact force with a bias and noise, as a real gauge), `Gauge.Zero`
 tares it.
+
+Reads go to the sensor of the manager's environment in force (`SensorManager.current`): the installed sensor,
+or its dummy while the executive precomputes a motion. `WITH DUMMY = 0mm` sets the laser dummy's answer (a seam
+that far from the beam, the thesis' "middle of range"); without it the dummy sees no seam, its worst case, and
+a motion that needs `.Distance` is computed only when the laser has answered.
 """
 
 from __future__ import annotations
@@ -35,14 +40,20 @@ class LaserDistance:
         port = context.attributes.get("PORT") or "sim"
         self.manager = sensor_manager(context.robot)
         self.pair = self.manager.install(context.name, "LaserDistance", str(port))
+        dummy = context.attributes.get("DUMMY")
+        if dummy is not None:
+            if type(dummy) is not Quantity or dummy.dim != LENGTH:
+                raise SensorFault(f"{self.name}: DUMMY must be a length (the seam's offset from the beam), got {dummy!r}")
+            self.pair.dummy.set_dummy_value(LaserValue(True, float(dummy.value), False))
 
     @property
     def sensor(self) -> Any:
+        """The installed laser (switched On and Off; the dummy follows its switch)."""
         return self.pair.sensor
 
     def value(self) -> LaserValue:
-        """One sample (LaserValue)."""
-        return self.sensor.read()
+        """One sample (LaserValue) of the environment in force: the laser, or its dummy in a precomputation."""
+        return self.manager.current(self.name).read()
 
     def On(self) -> None:  # noqa: N802 - the language's method names
         self.sensor.command("ON")
@@ -68,10 +79,11 @@ class ForceSensor:
     def __init__(self, context: InstallContext) -> None:
         self.name = context.name
         port = context.attributes.get("PORT") or "sim"
-        self.pair = sensor_manager(context.robot).install(context.name, ForceSensorDevice.kind, str(port))
+        self.manager = sensor_manager(context.robot)
+        self.pair = self.manager.install(context.name, ForceSensorDevice.kind, str(port))
 
     def Force(self) -> Quantity:  # noqa: N802 - the language's method names
-        return Quantity(float(self.pair.sensor.read()), FORCE)
+        return Quantity(float(self.manager.current(self.name).read()), FORCE)
 
     def Zero(self) -> None:  # noqa: N802
         self.pair.sensor.command("ZERO")
