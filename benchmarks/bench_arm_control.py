@@ -8,7 +8,8 @@ thermal_estimate_error_pct <= 5); no_pvc_path_error_mm is the same motions witho
 thermal_estimate_error_pct_model_only the thermal model without the correction from the drives' voltage and current.
 Path errors count every servo step from the start of a move to the end of its FINE settling;
 pvc_path_error_while_moving_mm only the steps while the reference moves.
---elastic: the same on the plant with elastic gears and the servo tuned for them (servo/two_mass.py);
+--elastic: the same on the plant with elastic gears and the servo for them with the gears' feed-forward
+(make_virtual_motion_layer(elastic=True, gear_feedforward=True), servo/two_mass.py);
 the path errors are then the TCP's from the links' own angles (pvc_path_error_mm: where the tool
 really is) and, pvc_encoder_path_error_mm, from the encoders through the controller's kinematics less
 the twist its gear model commands. --without FEATURE (repeatable) switches off one of the elastic
@@ -55,8 +56,9 @@ def _distance(p: np.ndarray, starts: np.ndarray, directions: np.ndarray) -> floa
 def _layer(robot: str, seed: int) -> MotionLayer:
     """The motion layer on the realistic plant, elastic with --elastic, less the features --without names."""
     if "gain" in WITHOUT:
-        two_mass.POSITION_OVER_VELOCITY = 0.25
-    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0])
+        two_mass.TWIST_POSITION_OVER_VELOCITY = two_mass.POSITION_OVER_VELOCITY
+    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0],
+                                      gear_feedforward=ELASTIC[0])
     if "twist" in WITHOUT:
         layer.backend.loop.set_gear_twist(None)
         layer.backend.reset(np.array(layer.reference_q()))  # the rotors at the links' angles again

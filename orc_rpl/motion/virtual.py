@@ -182,6 +182,7 @@ def make_virtual_motion_layer(
     seed: int = 0,
     cell: Any = None,
     elastic: bool = False,
+    gear_feedforward: bool = False,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
@@ -191,14 +192,17 @@ def make_virtual_motion_layer(
     makes a signals Logger with q_ref, q, qd_ref, tau, tcp and s (available as `layer.logger`); pass
     your own `logger` to choose the signals yourself. `cell` (a `plant.CellDescription`, e.g. made from
     a world model by `plant.world_scene.cell_from_world`) replaces the default cell. `elastic`: the
-    realistic plant's elastic gears (robots with a gear stiffness), the servo tuned for them, the
-    rotors leading the links by the gears' twist, trajectories from rest averaged over the gears'
-    anti-resonance periods (servo/two_mass.py).
+    realistic plant's elastic gears (robots with a gear stiffness), the servo tuned for them
+    (servo/two_mass.py); with `gear_feedforward` also the rotors leading the links by the gears'
+    twist, trajectories from rest averaged over the gears' anti-resonance periods, and the position
+    loops at TWIST_POSITION_OVER_VELOCITY of the velocity loops (docs/robots.md, "Elastic gears").
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
     if elastic and plant != "realistic":
         raise UsageError(f"elastic gears are part of the realistic plant, not of the {plant} one")
+    if gear_feedforward and not elastic:
+        raise UsageError("gear_feedforward is for elastic gears (elastic=True)")
     from orc_rpl.robot import load_robot, solve_ik
 
     arm = load_robot(robot)
@@ -225,9 +229,11 @@ def make_virtual_motion_layer(
         sim = _make_cell(robot, plant, seed, cell, elastic)
         gains = ServoGains()
         if getattr(sim, "elastic", False):
-            from orc_rpl.servo.two_mass import two_mass_gains
+            from orc_rpl.servo.two_mass import POSITION_OVER_VELOCITY, TWIST_POSITION_OVER_VELOCITY, two_mass_gains
 
-            gains = two_mass_gains(arm, sim.motor_inertia_kg_m2, sim.plant.gear_stiffness_nm_rad)
+            share = TWIST_POSITION_OVER_VELOCITY if gear_feedforward else POSITION_OVER_VELOCITY
+            gains = two_mass_gains(arm, sim.motor_inertia_kg_m2, sim.plant.gear_stiffness_nm_rad,
+                                   position_over_velocity=share)
         loop = ServoLoop(load_robot(robot), sim, gains)
         if plant == "realistic":
             from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, plant_spec
@@ -235,7 +241,7 @@ def make_virtual_motion_layer(
             nominal = plant_spec(robot)
             loop.servo.set_friction(nominal.coulomb_nm, nominal.viscous_nm_s)  # the model knows nominal friction
             reserve_nm = np.array(nominal.coulomb_nm) + np.array(nominal.viscous_nm_s) * arm.qd_max
-        if getattr(sim, "elastic", False):
+        if gear_feedforward and getattr(sim, "elastic", False):
             from orc_rpl.servo.two_mass import GearTwist, smoothing_windows_s
 
             k_gear, rotor = sim.plant.gear_stiffness_nm_rad, sim.motor_inertia_kg_m2

@@ -65,13 +65,15 @@ def test_the_rigid_tuning_rings_against_elastic_gears() -> None:
 def test_elastic_gears_belong_to_the_realistic_plant() -> None:
     with pytest.raises(UsageError, match="elastic gears are part of the realistic plant"):
         make_virtual_motion_layer("irb2400", plant="ideal", elastic=True)
+    with pytest.raises(UsageError, match="gear_feedforward is for elastic gears"):
+        make_virtual_motion_layer("irb2400", plant="realistic", gear_feedforward=True)
 
 
 def test_the_links_end_on_target_when_the_rotors_lead_them_by_the_gears_twist() -> None:
     target = (0.6, -0.3, 0.2, 0.0, 0.4, 0.0)
     ends = {}
     for twist in (True, False):
-        layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True)
+        layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_feedforward=True)
         loop = layer.backend.loop
         if not twist:
             loop.set_gear_twist(None)
@@ -113,7 +115,7 @@ def test_the_python_law_leads_the_rotors_as_the_drives_do() -> None:
     target = (0.6, -0.3, 0.2, 0.0, 0.4, 0.0)
     tcp: dict[bool, list[np.ndarray]] = {True: [], False: []}
     for compiled in (True, False):
-        layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True)
+        layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_feedforward=True)
         loop = layer.backend.loop
         loop.use_compiled_law(compiled)
         loop.cell.warm_up()
