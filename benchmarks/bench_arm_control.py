@@ -8,7 +8,14 @@ thermal_estimate_error_pct <= 5); no_pvc_path_error_mm is the same motions witho
 thermal_estimate_error_pct_model_only the thermal model without the correction from the drives' voltage and current.
 Path errors count every servo step from the start of a move to the end of its FINE settling;
 pvc_path_error_while_moving_mm only the steps while the reference moves.
---elastic: the same on the plant with elastic gears and the servo tuned for them (servo/two_mass.py).
+--elastic: the same on the plant with elastic gears and the servo for them with the gears' feed-forward
+(make_virtual_motion_layer(elastic=True, gear_feedforward=True), servo/two_mass.py);
+the path errors are then the TCP's from the links' own angles (pvc_path_error_mm: where the tool
+really is) and, pvc_encoder_path_error_mm, from the encoders through the controller's kinematics less
+the twist its gear model commands. --without FEATURE (repeatable) switches off one of the elastic
+gears' features to credit each: twist (the rotors' lead by the gears' twist), smoothing (trajectories
+averaged over the anti-resonance periods), gain (the position loops at 0.25 of the velocity loops'
+bandwidth instead of 0.6).
 """
 
 from __future__ import annotations
@@ -18,9 +25,12 @@ import argparse
 import numpy as np
 
 from orc_rpl.motion import JointMotion, MotionLayer, Params, make_virtual_motion_layer
+from orc_rpl.servo import two_mass
 
 DECLARED_KG, CARRIED_KG = 10.0, 15.0
 ELASTIC = [False]   #: the plant's elastic gears (--elastic)
+WITHOUT: set[str] = set()   #: elastic gears' features switched off (--without)
+FEATURES = ("twist", "smoothing", "gain")
 
 #: The fast motions: joint moves (MOVE) at full speed, FINE, between these configurations (deg),
 #: the first from home; the arm swings stretched out, where gravity and inertia use most of the torque.
@@ -43,24 +53,46 @@ def _distance(p: np.ndarray, starts: np.ndarray, directions: np.ndarray) -> floa
     return float(np.sqrt(np.min(np.sum((rel - u[:, None] * directions) ** 2, axis=1))))
 
 
+def _layer(robot: str, seed: int) -> MotionLayer:
+    """The motion layer on the realistic plant, elastic with --elastic, less the features --without names."""
+    if "gain" in WITHOUT:
+        two_mass.TWIST_POSITION_OVER_VELOCITY = two_mass.POSITION_OVER_VELOCITY
+    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0],
+                                      gear_feedforward=ELASTIC[0])
+    if "twist" in WITHOUT:
+        layer.backend.loop.set_gear_twist(None)
+        layer.backend.reset(np.array(layer.reference_q()))  # the rotors at the links' angles again
+    if "smoothing" in WITHOUT:
+        layer.smoothing_s = ()
+    return layer
+
+
 def run_moves(robot: str, seed: int, pvc: bool, cold: bool, carried_kg: float) -> dict[str, float]:
-    """The fast moves; the worst distance of the TCP (from the measured angles through the model) from the programmed path."""
-    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0])
+    """The fast moves; the worst distance of the TCP (from the measured angles through the model) from the programmed path.
+
+    Elastic gears: the TCP from the links' own angles ("path_error_mm") and from the encoders less the
+    commanded twist ("encoder_error_mm").
+    """
+    layer = _layer(robot, seed)
     loop = layer.backend.loop
     if not cold:
         loop.cell.warm_up()
     loop.set_payload(carried_kg, known=False)
-    worst, worst_moving, steps, saturated = 0.0, 0.0, 0, 0
+    worst, worst_moving, worst_encoder, steps, saturated = 0.0, 0.0, 0.0, 0, 0
     segments: list[np.ndarray] = []
 
     def measure() -> None:
-        nonlocal worst, worst_moving, steps, saturated
+        nonlocal worst, worst_moving, worst_encoder, steps, saturated
         if not segments:
             return
         steps += 1
         saturated += bool(loop.servo.saturated.any())
-        p = layer.kin.arm.fk_unchecked(loop.cell.q)[:3, 3]
-        distance = _distance(p, *segments)
+        fk = layer.kin.arm.fk_unchecked
+        if ELASTIC[0]:
+            distance = _distance(fk(loop.cell.link_q)[:3, 3], *segments)
+            worst_encoder = max(worst_encoder, _distance(fk(loop.state().q)[:3, 3], *segments))
+        else:
+            distance = _distance(fk(loop.cell.q)[:3, 3], *segments)
         worst = max(worst, distance)
         if layer._settling is None:  # the reference still moves (not the FINE settling at the end)
             worst_moving = max(worst_moving, distance)
@@ -80,13 +112,14 @@ def run_moves(robot: str, seed: int, pvc: bool, cold: bool, carried_kg: float) -
         layer.wait(h)
         segments.clear()
     return {"path_error_mm": worst * 1000.0, "moving_error_mm": worst_moving * 1000.0,
+            "encoder_error_mm": worst_encoder * 1000.0,
             "saturated_fraction": saturated / max(steps, 1),
-            "duration_ratio": actual_s / nominal_s, "scaled_cycles": float(scaled_cycles)}
+            "duration_ratio": actual_s / nominal_s, "scaled_cycles": float(scaled_cycles), "duration_s": actual_s}
 
 
 def nominal_equals_actual(robot: str, seed: int) -> bool:
     """On a warm plant with the payload declared right, the reference is the nominal trajectory, sample for sample."""
-    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0])
+    layer = _layer(robot, seed)
     loop = layer.backend.loop
     loop.cell.warm_up()
     loop.set_payload(DECLARED_KG, known=False)
@@ -114,7 +147,7 @@ def thermal_estimate(robot: str, seed: int, corrected: bool = True) -> tuple[flo
     `corrected`: the estimate corrected from the drives' voltage and current (the default); False: the
     thermal model alone.
     """
-    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0])
+    layer = _layer(robot, seed)
     if not corrected:
         layer.winding.measurement = None
     loop = layer.backend.loop
@@ -133,8 +166,11 @@ def main() -> None:
     ap.add_argument("--robot", default="irb2400")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--elastic", action="store_true", help="elastic gears in the plant, the servo tuned for them")
+    ap.add_argument("--without", action="append", default=[], choices=FEATURES,
+                    help="with --elastic: switch off one of the elastic gears' features (repeatable)")
     args = ap.parse_args()
     ELASTIC[0] = args.elastic
+    WITHOUT.update(args.without)
     with_pvc = run_moves(args.robot, args.seed, True, True, CARRIED_KG)
     without = run_moves(args.robot, args.seed, False, True, CARRIED_KG)
     same = nominal_equals_actual(args.robot, args.seed)
@@ -143,7 +179,10 @@ def main() -> None:
     print(f"robot={args.robot}")
     print(f"elastic={args.elastic}")
     if args.elastic:
-        gains = make_virtual_motion_layer(args.robot, backend="servo", elastic=True).backend.loop.servo.gains
+        print(f"without={','.join(sorted(WITHOUT)) or 'none'}")
+        layer = _layer(args.robot, args.seed)
+        print(f"smoothing_windows_s={' '.join(f'{v:.3f}' for v in layer.smoothing_s) or 'none'}")
+        gains = layer.backend.loop.servo.gains
         print(f"servo_velocity_bw_rad_s={' '.join(f'{v:.1f}' for v in gains.per_joint(len(gains.joint_velocity_bw_rad_s))[1])}")
         print(f"servo_position_gain_1_s={' '.join(f'{v:.1f}' for v in gains.per_joint(len(gains.joint_velocity_bw_rad_s))[0])}")
     print(f"declared_load_kg={DECLARED_KG:g}")
@@ -153,8 +192,12 @@ def main() -> None:
     print(f"no_pvc_path_error_mm={without['path_error_mm']:.3f}")
     print(f"pvc_path_error_while_moving_mm={with_pvc['moving_error_mm']:.3f}")
     print(f"pvc_path_error_mm={with_pvc['path_error_mm']:.3f}")
+    if args.elastic:
+        print(f"no_pvc_encoder_path_error_mm={without['encoder_error_mm']:.3f}")
+        print(f"pvc_encoder_path_error_mm={with_pvc['encoder_error_mm']:.3f}")
     print(f"saturated_cycle_fraction={with_pvc['saturated_fraction']:.4f}")
     print(f"duration_ratio={with_pvc['duration_ratio']:.3f}")
+    print(f"moves_duration_s={with_pvc['duration_s']:.3f}")
     print(f"nominal_equals_actual_when_feasible={same}")
     print(f"plant_winding_rise_k={' '.join(f'{v:.2f}' for v in plant_rise)}")
     print(f"model_only_winding_rise_k={' '.join(f'{v:.2f}' for v in model_only_rise)}")

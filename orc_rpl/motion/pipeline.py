@@ -22,7 +22,7 @@ from orc_rpl.motion.planner import Planner, combine
 from orc_rpl.motion.short_move import short_trajectory
 from orc_rpl.motion.specs import MoveStatus
 from orc_rpl.motion.timing import parameterize
-from orc_rpl.motion.trajectory import SplinePath, Trajectory
+from orc_rpl.motion.trajectory import SplinePath, Trajectory, smoothed
 
 _NO_SENSORS: dict[str, Any] = {}  #: MotionData.sensors when no sensor is installed (shared, never written)
 SETTLE_RAD = 2e-5          #: FINE: joint error at which a move counts as arrived
@@ -75,6 +75,8 @@ class MotionPipeline:
     #: the cell's external axes (motion.external.ExternalAxes), None when it has none
     external: Any = None
     _stages: list[Any] = []
+    #: windows (s) over which a path trajectory from rest has its time scaling averaged (elastic gears), () none
+    smoothing_s: tuple[float, ...] = ()
 
     def now_s(self) -> float:
         """The controller clock (simulated time on the virtual robot)."""
@@ -132,6 +134,8 @@ class MotionPipeline:
     def _set_traj(self, traj: Trajectory, handles: list[MoveHandle]) -> None:
         if traj.kind != "brake":
             self._track_dq = None  # a new move starts from the (corrected) reference; a stop keeps the correction
+        if self.smoothing_s and traj.kind == "path" and traj.sd_f[0] == 0.0:
+            traj = smoothed(traj, self.smoothing_s)  # no torque steps into elastic gears
         self._traj, self._k, self._traj_t0 = traj, 0, self.now_s()
         self._in_traj = handles
         owners = traj.owner

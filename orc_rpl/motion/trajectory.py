@@ -148,3 +148,33 @@ def sample(path: SplinePath, x_grid: np.ndarray, sd_grid: np.ndarray, dt_s: floa
     qdd = d2 * (sd**2)[:, None] + d1 * sdd[:, None]
     owner, s = path.owner_and_s(x[::sub])
     return Trajectory(dt_s, sub, path, x, sd, q, qd, qdd, owner, s, total)
+
+
+def smoothed(traj: Trajectory, windows_s: tuple[float, ...]) -> Trajectory:
+    """The trajectory on the same path with its time scaling x(t) averaged over each window in turn (FIR).
+
+    A moving average of x(t) over T leaves the path f(x) as it is, starts and ends at rest where the
+    original does, bounds the path acceleration by the original's and makes it continuous (two
+    windows: its rate too), and lasts T longer; an average over the period of a resonance does not
+    excite it (elastic gears: servo/two_mass.py).
+    """
+    h = traj.dt_s / traj.sub
+    x, sd = traj.x_f, traj.sd_f
+    sdd = np.append(np.diff(sd) / h, 0.0)
+    for window_s in windows_s:
+        n = max(1, int(round(window_s / h)))
+        box = np.full(n, 1.0 / n)
+        pad = n - 1
+        x = np.convolve(np.concatenate([np.full(pad, x[0]), x, np.full(pad, x[-1])]), box, "valid")
+        sd = np.convolve(np.concatenate([np.zeros(pad), sd, np.zeros(pad)]), box, "valid")
+        sdd = np.convolve(np.concatenate([np.zeros(pad), sdd, np.zeros(pad)]), box, "valid")
+    rows = len(x)
+    cycles = max(1, math.ceil((rows - 1) / traj.sub))
+    extra = cycles * traj.sub + 1 - rows
+    x = np.concatenate([x, np.full(extra, x[-1])])
+    sd, sdd = np.concatenate([sd, np.zeros(extra)]), np.concatenate([sdd, np.zeros(extra)])
+    path = traj.path
+    d1, d2 = path(x, 1), path(x, 2)
+    owner, s = path.owner_and_s(x[:: traj.sub])
+    return Trajectory(traj.dt_s, traj.sub, path, x, sd, path(x), d1 * sd[:, None],
+                      d2 * (sd * sd)[:, None] + d1 * sdd[:, None], owner, s, (rows - 1) * h, traj.blendable, traj.kind)

@@ -183,6 +183,7 @@ def make_virtual_motion_layer(
     seed: int = 0,
     cell: Any = None,
     elastic: bool = False,
+    gear_feedforward: bool = False,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
@@ -193,12 +194,16 @@ def make_virtual_motion_layer(
     your own `logger` to choose the signals yourself. `cell` (a `plant.CellDescription`, e.g. made from
     a world model by `plant.world_scene.cell_from_world`) replaces the default cell. `elastic`: the
     realistic plant's elastic gears (robots with a gear stiffness), the servo tuned for them
-    (servo/two_mass.py).
+    (servo/two_mass.py); with `gear_feedforward` also the rotors leading the links by the gears'
+    twist, trajectories from rest averaged over the gears' anti-resonance periods, and the position
+    loops at TWIST_POSITION_OVER_VELOCITY of the velocity loops (docs/robots.md, "Elastic gears").
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
     if elastic and plant != "realistic":
         raise UsageError(f"elastic gears are part of the realistic plant, not of the {plant} one")
+    if gear_feedforward and not elastic:
+        raise UsageError("gear_feedforward is for elastic gears (elastic=True)")
     from orc_rpl.robot import load_robot, solve_ik
 
     arm = load_robot(robot)
@@ -208,6 +213,7 @@ def make_virtual_motion_layer(
     servo_arm = backend == "servo" and plant == "realistic" and servo_plant_spec(robot) is not None
     if elastic and servo_arm:
         raise UsageError(f"robot {robot!r} runs on bus servos: its plant has no elastic gears")
+    smoothing: tuple[float, ...] = ()   #: elastic gears: the windows trajectories are averaged over
     if servo_arm:
         # an arm on bus servos: its position loops are the servos' own; goals are streamed to them
         from orc_rpl.motion.servo_arm import ServoArmBackend
@@ -224,9 +230,11 @@ def make_virtual_motion_layer(
         sim = _make_cell(robot, plant, seed, cell, elastic)
         gains = ServoGains()
         if getattr(sim, "elastic", False):
-            from orc_rpl.servo.two_mass import two_mass_gains
+            from orc_rpl.servo.two_mass import POSITION_OVER_VELOCITY, TWIST_POSITION_OVER_VELOCITY, two_mass_gains
 
-            gains = two_mass_gains(arm, sim.motor_inertia_kg_m2, sim.plant.gear_stiffness_nm_rad)
+            share = TWIST_POSITION_OVER_VELOCITY if gear_feedforward else POSITION_OVER_VELOCITY
+            gains = two_mass_gains(arm, sim.motor_inertia_kg_m2, sim.plant.gear_stiffness_nm_rad,
+                                   position_over_velocity=share)
         loop = ServoLoop(load_robot(robot), sim, gains)
         if plant == "realistic":
             from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, plant_spec
@@ -234,6 +242,12 @@ def make_virtual_motion_layer(
             nominal = plant_spec(robot)
             loop.servo.set_friction(nominal.coulomb_nm, nominal.viscous_nm_s)  # the model knows nominal friction
             reserve_nm = np.array(nominal.coulomb_nm) + np.array(nominal.viscous_nm_s) * arm.qd_max
+        if gear_feedforward and getattr(sim, "elastic", False):
+            from orc_rpl.servo.two_mass import GearTwist, smoothing_windows_s
+
+            k_gear, rotor = sim.plant.gear_stiffness_nm_rad, sim.motor_inertia_kg_m2
+            loop.set_gear_twist(GearTwist(k_gear, rotor, loop.period_s))
+            smoothing = smoothing_windows_s(arm, rotor, k_gear)
         loop.reset(start)
         be: Any = ServoBackend(loop)
     elif backend == "kinematic":
@@ -241,6 +255,7 @@ def make_virtual_motion_layer(
     else:
         raise UsageError(f"backend must be 'servo' or 'kinematic', not {backend!r}")
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
+    layer.smoothing_s = smoothing  # elastic gears: no torque steps into them (trajectories averaged over their periods)
     # the next move is planned on a worker thread, over an arm model of its own (made when first needed)
     layer.ahead = PlanAhead(lambda: Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub), paced=realtime)
     if backend == "servo" and plant == "realistic" and not servo_arm:

@@ -45,6 +45,7 @@ class CompiledDrives:
         self._rnea_rows = servo.arm.inverse_dynamics_rows_function()
         self._tau_abs = np.zeros(n)
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
+        self.twist: Any = None  #: elastic gears' twist feed-forward (servo.two_mass.GearTwist), None: rigid gears
 
     def engage(self) -> None:
         """Take over from the Python law: the drives' integral from the servo's (bumpless)."""
@@ -95,6 +96,8 @@ class CompiledDrives:
         self._rnea_rows(q_ref, qd_ref, qdd_ref, rnea)  # the model's rigid-body torques, one C call for the rows
         servo.torque_ff = rnea[-1]  # a view: the servo's signals are overwritten each cycle
         ff_so_far = rnea   # the feed-forward is summed into ff from here (the same sums in the same order)
+        if self.twist is not None:  # elastic gears: the rotor leads the link by the twist (two_mass.py)
+            q_ref, qd_ref = self.twist.motor_references(q_ref, qd_ref, qdd_ref, rnea)
         if servo._coulomb is not None:
             # the speed the loop asks for, with the position error at the start of the cycle (/ smoothing)
             error = self._work

@@ -53,6 +53,14 @@ class ServoLoop:
         self.drives = CompiledDrives(self.servo, self.cell) if getattr(self.cell, "drives", None) is not None else None
         self.compiled_law = self.drives is not None  #: False: the Python law, step by step
         self.drives_on = True  #: False: no torque, the brakes hold the joints (set_drives)
+        self.twist: Any = None  #: the elastic gears' twist feed-forward (set_gear_twist), None: rigid gears
+
+    def set_gear_twist(self, twist: Any) -> None:
+        """Lead each rotor by its gear's twist (a `servo.two_mass.GearTwist`; None: rigid gears). The
+        references stay the links'; `state().q` is then the links' estimate (encoder minus the twist)."""
+        self.twist = twist
+        if self.drives is not None:
+            self.drives.twist = twist
 
     def set_drives(self, on: bool) -> None:
         """Switch the drives off (no torque, the brakes engaged) or on again (brakes released, the servo
@@ -90,6 +98,8 @@ class ServoLoop:
         if self.compiled_law:
             self.drives.run(q_ref, qd_ref, qdd_ref, self._each_step if callbacks else None)  # type: ignore[union-attr]
             return self.state()
+        if self.twist is not None:
+            return self._run_twisted(q_ref, qd_ref, qdd_ref)
         update, step = self.servo.update, self.cell.step
         q, qd = self.cell.live_state()
         # The inner loop of the whole stack: 1,000 times per simulated second (measured: the step
@@ -100,6 +110,18 @@ class ServoLoop:
             else:
                 step(update(q_r, qd_r, qdd_r, q, qd))
             for callback in callbacks:
+                callback()
+        return self.state()
+
+    def _run_twisted(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> ServoState:
+        """The Python law on elastic gears: the motor-side references (two_mass.GearTwist), step by step."""
+        servo, cell = self.servo, self.cell
+        rnea = servo._inverse_dynamics
+        tau_ff = np.array([rnea(*row) for row in zip(q_ref, qd_ref, qdd_ref)])
+        q_m, qd_m = self.twist.motor_references(q_ref, qd_ref, qdd_ref, tau_ff)
+        for i in range(len(q_m)):
+            cell.step(servo.update(q_m[i], qd_m[i], qdd_ref[i], cell.q, cell.qd))
+            for callback in self.on_step:
                 callback()
         return self.state()
 
@@ -145,7 +167,8 @@ class ServoLoop:
     def state(self) -> ServoState:
         """The measured state now."""
         cell = self.cell
-        return ServoState(cell.time_s, cell.q, cell.qd, cell.tau, self.servo.position_error.copy())
+        q = cell.q if self.twist is None else cell.q - self.twist.twist_rad
+        return ServoState(cell.time_s, q, cell.qd, cell.tau, self.servo.position_error.copy())
 
     # -- set-up ---------------------------------------------------------------
 
@@ -153,6 +176,11 @@ class ServoLoop:
         """Plant and servo back to time 0 at rest at q (home if None)."""
         if self.drives is not None:
             self.drives.release()
+        if self.twist is not None:
+            # q is the links': the rotors rest ahead of them by the twist the model's weight torques give
+            q_link, zero = np.array(self.arm.home_q if q is None else q, dtype=float), np.zeros(self._n)
+            self.twist.hold(q_link, np.array(self.servo._inverse_dynamics(q_link, zero, zero)))
+            q = q_link + self.twist.twist_rad
         self.cell.reset(q)
         self.servo.reset()
         return self.state()

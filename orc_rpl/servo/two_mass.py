@@ -15,6 +15,12 @@ GRID_POINTS = 7
 
 #: The position loop's bandwidth at most this share of the velocity loop's (the cascade stays a cascade).
 POSITION_OVER_VELOCITY = 0.25
+#: The share with the gears' twist fed forward (GearTwist): the feedback has less to do, and measured on
+#: bench_arm_control's moves 0.25, 0.4, 0.6, 0.8 gave 4.70, 3.15, 2.24, 2.07 mm, the last saturating 1.9 %.
+TWIST_POSITION_OVER_VELOCITY = 0.6
+
+#: Anti-resonance periods over which a trajectory's time scaling is averaged (the lowest modes: j1, j2).
+SMOOTHING_WINDOWS = 2
 
 
 def link_inertia_max(arm: ArmModel, motor_inertia_kg_m2: Any) -> np.ndarray:
@@ -31,22 +37,78 @@ def link_inertia_max(arm: ArmModel, motor_inertia_kg_m2: Any) -> np.ndarray:
 
 
 def two_mass_gains(arm: ArmModel, motor_inertia_kg_m2: Any, gear_stiffness_nm_rad: Any,
-                   gains: ServoGains = ServoGains()) -> ServoGains:
+                   gains: ServoGains = ServoGains(),
+                   position_over_velocity: float = POSITION_OVER_VELOCITY) -> ServoGains:
     """Gains for joints whose gear is a spring between the rotor (what the encoder sees) and the link.
 
     The velocity loop of joint j runs at most at its anti-resonance sqrt(k_j / J_link,j) (the
     link's largest inertia, rotor excluded): above it the loop would see the rotor alone and its gain
     M_ii * bandwidth, over the 1 ms step, would make the rotor ring against the gear (j1 and j2 of
     the IRB 2400 at 160 rad/s: kv * h / J_rotor of 4.5 and 3.6, unstable). The position loop is
-    capped at POSITION_OVER_VELOCITY of the velocity loop. Joints whose anti-resonance lies above
+    capped at `position_over_velocity` of the velocity loop. Joints whose anti-resonance lies above
     the default bandwidth keep the default gains.
     """
     link = link_inertia_max(arm, motor_inertia_kg_m2)
     anti_resonance = np.sqrt(np.asarray(gear_stiffness_nm_rad, dtype=float) / link)
     velocity_bw = np.minimum(anti_resonance, gains.velocity_bw_rad_s)
-    position = np.minimum(POSITION_OVER_VELOCITY * velocity_bw, gains.position_gain_1_s)
+    position = np.minimum(position_over_velocity * velocity_bw, gains.position_gain_1_s)
     position[velocity_bw >= gains.velocity_bw_rad_s] = gains.position_gain_1_s
     return dataclasses.replace(gains, joint_velocity_bw_rad_s=tuple(float(v) for v in velocity_bw),
                                joint_position_gain_1_s=tuple(float(v) for v in position),
                                gear_stiffness_nm_rad=tuple(float(v) for v in gear_stiffness_nm_rad),
                                rotor_inertia_kg_m2=tuple(float(v) for v in motor_inertia_kg_m2))
+
+
+class GearTwist:
+    """The motor-side references of joints with elastic gears: the link's reference plus the gear's twist.
+
+    A gear of stiffness k carrying the link torque tau_link twists by tau_link / k, so the rotor (what
+    the encoder and the servo see) must lead the link by that much for the link to be on its
+    reference: q_motor = q_link + tau_link / k and qd_motor = qd_link + d/dt (tau_link / k). tau_link is
+    the model's torque of the link reference (the feed-forward the servo computes anyway) without
+    the rotor's own inertia, which is on the motor side of the gear. The twist's rate is its
+    difference from one servo step to the next (the previous call's last row carried over).
+
+    The rotor's torque for the twist's acceleration (J_rotor d2/dt2 (tau_link / k)) is left out: as a
+    second difference over 1 ms steps it turns every kink of the references (a path acceleration
+    that changes from one motion cycle to the next) into torque spikes (hand runs of
+    `bench_arm_control.py`'s moves on elastic gears: 2.6 % of the cycles saturated with it, 0.8 % without).
+    """
+
+    def __init__(self, stiffness_nm_rad: Any, rotor_inertia_kg_m2: Any, period_s: float) -> None:
+        self.compliance_rad_nm = 1.0 / np.asarray(stiffness_nm_rad, dtype=float)
+        self.rotor_inertia_kg_m2 = np.asarray(rotor_inertia_kg_m2, dtype=float)
+        self.period_s = period_s
+        self.twist_rad = np.zeros(len(self.compliance_rad_nm))   #: the twist of the last row commanded (rad)
+        self._fresh = True
+
+    def reset(self) -> None:
+        """Forget the last row: the next call starts at rest (no rate from a stale row)."""
+        self._fresh = True
+
+    def motor_references(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
+                         tau_ff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Motor-side (q_ref, qd_ref) rows for link-side rows; tau_ff: the model's torque rows of the link
+        references (armature included, as the model's)."""
+        twist = (tau_ff - self.rotor_inertia_kg_m2 * qdd_ref) * self.compliance_rad_nm
+        before = twist[:1] if self._fresh else self.twist_rad[None, :]
+        rate = np.diff(twist, axis=0, prepend=before) * (1.0 / self.period_s)
+        self.twist_rad, self._fresh = twist[-1].copy(), False
+        return q_ref + twist, qd_ref + rate
+
+    def hold(self, q: np.ndarray, tau_nm: np.ndarray) -> None:
+        """At rest at q with the model's torques tau_nm (a reset): the twist the gears have, no rate."""
+        zero = np.zeros((1, len(q)))
+        self.reset()
+        self.motor_references(q[None, :], zero, zero, tau_nm[None, :])
+        self.reset()
+
+
+def smoothing_windows_s(arm: ArmModel, motor_inertia_kg_m2: Any, gear_stiffness_nm_rad: Any,
+                        count: int = SMOOTHING_WINDOWS) -> tuple[float, ...]:
+    """The periods (s) of the `count` lowest anti-resonances (at the links' largest inertia), longest first:
+    averaging a trajectory's time scaling over each in turn (motion/trajectory.py `smoothed`) does not
+    excite those modes and keeps the torques free of steps."""
+    link = link_inertia_max(arm, motor_inertia_kg_m2)
+    anti_resonance = np.sort(np.sqrt(np.asarray(gear_stiffness_nm_rad, dtype=float) / link))
+    return tuple(float(2.0 * np.pi / w) for w in anti_resonance[:count])

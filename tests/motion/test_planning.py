@@ -156,3 +156,22 @@ def test_short_move_keeps_its_speed_attribute(kinematic: MotionLayer) -> None:
     speed = np.linalg.norm(np.diff(tcp, axis=0), axis=1) / (traj.dt_s / traj.sub)
     assert speed.max() <= 0.05, f"short move TCP at {speed.max():.3f} m/s over SPEED = 50mm/s"
     kinematic.wait(h)
+
+
+def test_a_smoothed_trajectory_keeps_the_path_and_has_no_acceleration_steps(kinematic: MotionLayer) -> None:
+    from orc_rpl.motion.trajectory import smoothed
+
+    traj = _planned(kinematic, JointMotion((0.8, -0.4, 0.3, 0.5, 0.6, -0.7)), Params())
+    h = traj.dt_s / traj.sub
+    windows = (0.16, 0.13)
+    smooth = smoothed(traj, windows)
+    assert np.allclose(smooth.q_f, smooth.path(smooth.x_f)), "every reference on the path"
+    assert smooth.x_f[0] == traj.x_f[0] and smooth.x_f[-1] == pytest.approx(traj.x_f[-1])
+    assert smooth.sd_f[0] == 0.0 and smooth.sd_f[-1] == pytest.approx(0.0, abs=1e-9)
+    assert smooth.exact_duration_s == pytest.approx(traj.exact_duration_s + sum(windows), abs=2 * h)
+    assert np.all(np.diff(smooth.x_f) >= -1e-12), "never backwards"
+    sdd, sdd_smooth = np.diff(traj.sd_f) / h, np.diff(smooth.sd_f) / h
+    assert np.max(np.abs(sdd_smooth)) <= np.max(np.abs(sdd)) * 1.001, "no harder than the original"
+    # the original's acceleration jumps (bang-bang); the average's changes by little from step to step
+    assert np.max(np.abs(np.diff(sdd_smooth))) < 0.02 * np.max(np.abs(np.diff(sdd)))
+    assert len(smooth.owner) == smooth.cycles + 1 and (len(smooth.x_f) - 1) == smooth.cycles * smooth.sub

@@ -11,7 +11,8 @@ from orc_rpl.plant.realistic import RealisticCell
 from orc_rpl.robot import load_robot
 from orc_rpl.robot.plants import plant_spec
 from orc_rpl.servo.control import ServoGains
-from orc_rpl.servo.two_mass import link_inertia_max, two_mass_gains
+from orc_rpl.servo.two_mass import (POSITION_OVER_VELOCITY, GearTwist, link_inertia_max, smoothing_windows_s,
+                                     two_mass_gains)
 
 
 def test_bandwidths_sit_at_the_anti_resonance_where_it_is_below_the_default() -> None:
@@ -23,7 +24,7 @@ def test_bandwidths_sit_at_the_anti_resonance_where_it_is_below_the_default() ->
     low = anti < ServoGains().velocity_bw_rad_s
     assert low[:3].all() and not low[3:].any(), "j1..j3 of the IRB 2400 have slow gears"
     assert np.allclose(bw[low], anti[low]) and np.all(bw[~low] == 160.0)
-    assert np.allclose(kp[low], 0.25 * bw[low]) and np.all(kp[~low] == 40.0)
+    assert np.allclose(kp[low], np.minimum(POSITION_OVER_VELOCITY * bw[low], 40.0)) and np.all(kp[~low] == 40.0)
     # the rotor's loop over one 1 ms step stays below the explicit integration's limit of 2
     kv_h_over_rotor = (link_inertia_max(arm, rotor) + rotor) * bw * 1e-3 / rotor
     assert np.all(kv_h_over_rotor < 1.5)
@@ -64,3 +65,63 @@ def test_the_rigid_tuning_rings_against_elastic_gears() -> None:
 def test_elastic_gears_belong_to_the_realistic_plant() -> None:
     with pytest.raises(UsageError, match="elastic gears are part of the realistic plant"):
         make_virtual_motion_layer("irb2400", plant="ideal", elastic=True)
+    with pytest.raises(UsageError, match="gear_feedforward is for elastic gears"):
+        make_virtual_motion_layer("irb2400", plant="realistic", gear_feedforward=True)
+
+
+def test_the_links_end_on_target_when_the_rotors_lead_them_by_the_gears_twist() -> None:
+    target = (0.6, -0.3, 0.2, 0.0, 0.4, 0.0)
+    ends = {}
+    for twist in (True, False):
+        layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_feedforward=True)
+        loop = layer.backend.loop
+        if not twist:
+            loop.set_gear_twist(None)
+        loop.cell.warm_up()
+        h = layer.move(JointMotion(target), Params())
+        layer.wait(h)
+        assert h.status is MoveStatus.READY
+        ends[twist] = (np.abs(loop.cell.link_q - target).max(), np.abs(layer.backend.q() - target).max())
+    link_error, reported_error = ends[True]
+    # measured 0.11 mrad: the twist of what the model does not know (the dress pack, masses 2-5 % off)
+    assert link_error < 2e-4, "the links themselves arrive: the rotors lead them by the twist"
+    assert reported_error < 1e-4, "the controller reports the links' angles: encoders less the twist"
+    assert ends[False][0] > 1e-3, "without the twist the links hang a gear's twist short of the target"
+
+
+def test_the_gear_twist_leads_the_rotor_by_the_link_torque_over_the_stiffness() -> None:
+    k, rotor = np.array([1e5, 2e4]), np.array([2.0, 0.5])
+    twist = GearTwist(k, rotor, 0.001)
+    q, qd = np.zeros((3, 2)), np.zeros((3, 2))
+    qdd = np.array([[0.0, 0.0], [1.0, 2.0], [1.0, 2.0]])
+    tau = np.array([[100.0, 10.0], [150.0, 20.0], [150.0, 20.0]])
+    q_m, qd_m = twist.motor_references(q, qd, qdd, tau)
+    link_torque = tau - rotor * qdd   # the rotor's own inertia is on the motor side of the gear
+    assert np.allclose(q_m, link_torque / k)
+    assert np.allclose(qd_m[0], 0.0), "a fresh start has no rate"
+    assert np.allclose(qd_m[1], (link_torque[1] - link_torque[0]) / k / 0.001)
+    q_m2, qd_m2 = twist.motor_references(q[:1], qd[:1], qdd[:1], tau[:1])
+    assert np.allclose(qd_m2[0], (tau[0] - link_torque[2]) / k / 0.001), "the rate carries over from the last call"
+
+
+def test_smoothing_windows_are_the_periods_of_the_lowest_anti_resonances() -> None:
+    arm, spec = load_robot("irb2400"), plant_spec("irb2400")
+    rotor = RealisticCell("irb2400", elastic=True).motor_inertia_kg_m2
+    anti = np.sort(np.sqrt(np.array(spec.gear_stiffness_nm_rad) / link_inertia_max(arm, rotor)))
+    assert np.allclose(smoothing_windows_s(arm, rotor, spec.gear_stiffness_nm_rad), 2.0 * np.pi / anti[:2])
+
+
+def test_the_python_law_leads_the_rotors_as_the_drives_do() -> None:
+    target = (0.6, -0.3, 0.2, 0.0, 0.4, 0.0)
+    tcp: dict[bool, list[np.ndarray]] = {True: [], False: []}
+    for compiled in (True, False):
+        layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_feedforward=True)
+        loop = layer.backend.loop
+        loop.use_compiled_law(compiled)
+        loop.cell.warm_up()
+        fk, cell, rows = layer.kin.arm.fk_unchecked, loop.cell, tcp[compiled]
+        loop.on_step.append(lambda: rows.append(fk(cell.link_q)[:3, 3]))
+        layer.wait(layer.move(JointMotion(target), Params()))
+    n = min(len(tcp[True]), len(tcp[False]))
+    # the drives' law and the Python reference law on elastic gears, step for step (measured 0.024 mm)
+    assert np.max(np.linalg.norm(np.array(tcp[True][:n]) - np.array(tcp[False][:n]), axis=1)) < 5e-5
