@@ -432,4 +432,5 @@ class TreeBuilder(Transformer):
         return n.Argument(name(c[0]), expr(c[1]), span=meta_span(c))
 
     def list_expr(self, c: list[Any]) -> n.ListExpr:
-        return n.ListExpr(tuple(expr(x) for x in c if x is not None), span=meta_span(c))
+        # the brackets are kept by the grammar: an empty list `[]` has no other place to point at
+        return n.ListExpr(tuple(expr(x) for x in c[1:-1] if x is not None), span=meta_span(c))

@@ -16,6 +16,14 @@ def errors_of(source: str) -> str:
 
 GOLDEN = [
     (
+        "empty list as a statement",  # the list has no element to point at: the brackets are the place
+        "x = 1\n[]\n",
+        "prog.rpl:2:1: this expression is not a statement; assign it or call something\n"
+        "    2 | []\n"
+        "      | ^^\n"
+        "      = hint: write `x = ...` to keep a value",
+    ),
+    (
         "motion without TO",
         "MOVE grinder right_edge\n",
         "prog.rpl:1:14: unexpected name 'right_edge'; expected 'ALONG', 'TO', 'UNTIL', 'VIA' or 'WITH'\n"
