@@ -172,13 +172,21 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=5, help="interleaved pairs of fast runs (the median ratio counts)")
     parser.add_argument("--paced-rounds", type=int, default=3, help="pick-and-place rounds of the paced runs")
     parser.add_argument("--fast-rounds", type=int, default=40, help="pick-and-place rounds of the fast runs")
+    parser.add_argument("--browser-nice", type=int, default=0,
+                        help="run the browser at this nice value (a user's browser on the controller's own machine "
+                             "started with `nice -n 10`); 0: as a browser normally runs")
     args = parser.parse_args()
     run, shaded, default_slice = one_run, partial(one_run, shadows=True), partial(one_run, slice_s=None)
     from playwright.sync_api import sync_playwright
 
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
         paced, fast = _program(Path(folder), args.paced_rounds), _program(Path(folder), args.fast_rounds)
-        browser = p.chromium.launch(executable_path="/usr/bin/chromium", args=CHROMIUM_ARGS)
+        executable = "/usr/bin/chromium"
+        if args.browser_nice:  # every process the browser starts inherits the nice value
+            executable = str(Path(folder) / "chromium-niced")
+            Path(executable).write_text(f'#!/bin/sh\nexec nice -n {args.browser_nice} /usr/bin/chromium "$@"\n')
+            os.chmod(executable, 0o755)
+        browser = p.chromium.launch(executable_path=executable, args=CHROMIUM_ARGS)
         page = browser.new_page(viewport={"width": 800, "height": 600})
         page.add_init_script(COUNT_FRAMES)
         # interleaved, so a change of the machine's load between them touches every variant alike
@@ -192,6 +200,7 @@ def main() -> None:
                      for _ in range(args.repeats)]
         browser.close()
     print(f"load_average_1min={os.getloadavg()[0]:.2f}")
+    print(f"browser_nice={args.browser_nice}")
     print(f"paced_simulated_s={paced_runs[0][0]['sim_s']:.3f}")
     _paced_figures([(r[0], r[1], r[2]) for r in paced_runs], "")
     _paced_figures([(r[3], r[4], r[2]) for r in paced_runs], "_in_process")
