@@ -202,10 +202,7 @@ class MotionCompiler:
                 upcoming = predict(L)
                 if upcoming is not None and hasattr(robot, "plan_ahead"):
                     request, from_dummy = upcoming
-                    if from_dummy:
-                        robot.plan_ahead(request, from_dummy=True)
-                    else:
-                        robot.plan_ahead(request)
+                    robot.plan_ahead(request, from_dummy=from_dummy)
             while not all(t.done for t in tickets):
                 robot.tick()
                 yield TICK
