@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.errors import UsageError
+from orc_rpl.plant.compiled import AVAILABLE
 from orc_rpl.plant.sim import mj_step
 
 #: The drives' inputs (MuJoCo's input signature of a pid actuator): position, velocity and feed-forward set-points.
@@ -40,6 +41,13 @@ class PidDrives:
         self._integral_state_max = m.actuator_dynprm[:n, 0]
         self._inputs, self._forces = np.zeros((0, n, 3)), np.zeros((0, n))
         self._input_rows = self._inputs.reshape(0, 3 * n)
+        #: a motion cycle can run as one compiled kernel (`run_kernel`): numba is there
+        self.kernels_available = AVAILABLE
+        # what a kernel reads and writes of the plant, after the caller's own arguments (MuJoCo's arrays, in place)
+        self._kernel_arrays = (d.ctrl, d.act, d.actuator_force, m.actuator_gainprm, m.actuator_biasprm,
+                               m.actuator_dynprm, d.qpos, d.qvel, cell._qpos, cell._qvel, cell._count_per_rad,
+                               cell._rad_per_count, cell._q_meas, cell._qd_meas, cell._tau_sq_sum)
+        self._addresses = (m._address, d._address)
 
     def torque_mode(self) -> None:
         """Drives as torque motors: gains and integral at zero, the force is the feed-forward input."""
@@ -80,6 +88,22 @@ class PidDrives:
         state = self.integral_state
         state[:] = 0.0
         np.divide(torque_nm, self.ki, out=state, where=self.ki > 0.0)
+
+    def kernel_fits(self) -> bool:
+        """True when nothing must run between the steps (contacts to watch, process models, pacing):
+        a motion cycle may then be one compiled kernel (`run_kernel`)."""
+        cell = self.cell
+        return not (cell._watch_contacts or cell.io.processes or cell.realtime)
+
+    def run_kernel(self, cycle: Any, position_rows: np.ndarray, *args: Any) -> None:
+        """`cycle(model, data, position_rows, *args, <the plant's arrays>)`: a compiled motion cycle
+        (servo/drive_kernels.py) that steps the plant len(position_rows) times through
+        `drive_kernels.drive_rows` and measures (`drive_kernels.measure`); then the cell's bookkeeping
+        as after `drive`: the noise rows used, the thermal model's steps."""
+        cycle(*self._addresses, position_rows, *args, *self._kernel_arrays)
+        cell, n_steps = self.cell, len(position_rows)
+        cell._noise_row += n_steps
+        cell._count_steps(n_steps)
 
     def drive(self, position_rows: np.ndarray, velocity_rows: np.ndarray, ff_rows: np.ndarray,
               each_step: Any = None) -> None:

@@ -264,7 +264,11 @@ class RealisticCell(SimCell):
         THERMAL_EVERY_STEPS have passed (at the call's end: whole motion cycles)."""
         multiply(forces, forces, forces)
         add(self._tau_sq_sum, add.reduce(forces, 0), self._tau_sq_sum)  # = forces.sum(axis=0), one C call
-        self._steps += len(forces)
+        self._count_steps(len(forces))
+
+    def _count_steps(self, n_steps: int) -> None:
+        """n_steps more steps whose copper losses are summed; the slow states once THERMAL_EVERY_STEPS have passed."""
+        self._steps += n_steps
         if self._steps - self._heated_at >= THERMAL_EVERY_STEPS:
             self._heat(self._steps - self._heated_at)
 

@@ -7,6 +7,8 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S, JointServo
+from orc_rpl.servo import drive_kernels
+from orc_rpl.servo.drive_kernels import LAW_ROWS, SCRATCH_ROWS
 
 add, subtract, multiply, tanh, minimum, maximum, copyto = (np.add, np.subtract, np.multiply, np.tanh, np.minimum, np.maximum,
                                                        np.copyto)
@@ -45,6 +47,10 @@ class CompiledDrives:
         self._rnea_rows = servo.arm.inverse_dynamics_rows_function()
         self._tau_abs = np.zeros(n)
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
+        #: run a motion cycle as one compiled kernel (servo/drive_kernels.py) where it applies; False: numpy
+        self.kernels = bool(getattr(getattr(cell, "drives", None), "kernels_available", False))
+        self._law_of: Any = None   #: the (kp, friction) the law's constants below were made for
+        self._law, self._scratch = np.zeros((LAW_ROWS, n)), np.zeros((SCRATCH_ROWS, n))
         self.twist: Any = None  #: elastic gears' twist feed-forward (servo.two_mass.GearTwist), None: rigid gears
 
     def engage(self) -> None:
@@ -61,15 +67,20 @@ class CompiledDrives:
             self.servo._steps = 0  # its gains are scheduled again at the next step
             self.engaged = False
 
-    def _schedule(self, q: np.ndarray) -> None:
-        """Gains at the measured pose (the Python law's gain scheduling), written into the drives."""
+    def _constants(self) -> None:
+        """The law's constants, made again after another tuning (or at the first call)."""
         servo = self.servo
-        if servo._kp is not self._kp:  # another tuning (or the first call): the law's constants
+        if servo._kp is not self._kp:
             self._kp, self._ibw = servo._kp, servo._integral_bw_dt / servo.period_s
             self._pid_p, self._pid_i = self._kp + self._ibw, self._ibw * self._kp
             self._per_kv = np.stack([self._pid_p, self._pid_i, self._ibw])   #: one ufunc gives the three gains
             self._friction_p = self._kp * (1.0 / FRICTION_SMOOTH_RAD_S)
             self._integral_max = servo._integral_max
+
+    def _schedule(self, q: np.ndarray) -> None:
+        """Gains at the measured pose (the Python law's gain scheduling), written into the drives."""
+        servo = self.servo
+        self._constants()
         kv, pid_p, pid_i = self._kv, self._gain_p, self._gain_i
         multiply(servo.arm.mass_matrix_diagonal_unchecked(q), servo._velocity_bw, kv)
         multiply(kv, self._per_kv, self._gains)  # rows: kv (kp + ki), kv ki kp, kv ki
@@ -85,6 +96,9 @@ class CompiledDrives:
         servo, cell = self.servo, self.cell
         if not self.engaged:
             self.engage()
+        if each_step is None and self.kernels and self.twist is None and servo.tuning is None and cell.drives.kernel_fits():
+            self._run_kernel(q_ref, qd_ref, qdd_ref)
+            return
         q, _ = cell.live_state()
         self._schedule(q)
         n_steps = len(q_ref)
@@ -167,6 +181,40 @@ class CompiledDrives:
         minimum(integral, servo._integral_max, out=integral)
         maximum(integral, servo._integral_min, out=integral)
         servo.integral = integral
+
+    def _run_kernel(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
+        """`run` as one compiled kernel (rigid gears, no tuning, no per-step callbacks): the same numbers."""
+        servo, cell = self.servo, self.cell
+        self._constants()
+        n_steps = len(q_ref)
+        if self._ff.shape[0] != n_steps or self._friction_of is not servo._coulomb:
+            self._rows_for(n_steps)
+        if self._law_of is None or self._law_of[0] is not servo._kp or self._law_of[1] is not servo._coulomb:
+            self._law_rows()
+        q, _ = cell.live_state()
+        mass_diagonal = servo.arm.mass_matrix_diagonal_unchecked(q)
+        rnea = self._rnea
+        self._rnea_rows(q_ref, qd_ref, qdd_ref, rnea)  # the model's rigid-body torques, one C call for the rows
+        servo.torque_ff = rnea[-1]
+        noise = cell.noise_rows(n_steps + 1)   # the steps' rows and the measurement's after them
+        integral_before = servo.integral
+        integral = self._integral_a if integral_before is not self._integral_a else self._integral_b
+        cell.drives.run_kernel(drive_kernels.drive_cycle, q_ref, qd_ref, rnea, noise, mass_diagonal, self._law,
+                          servo._coulomb is not None, 1.0 / FRICTION_SMOOTH_RAD_S, servo.period_s, servo.torque_offset,
+                          servo.position_error, integral_before, integral, servo.torque, servo.saturated, self._kv,
+                          self._gains, self._ff, self._scratch)
+        servo._steps += n_steps
+        servo.integral = integral
+
+    def _law_rows(self) -> None:
+        """The law's constants as the rows the kernel reads (servo/drive_kernels.py)."""
+        servo, law, k = self.servo, self._law, drive_kernels
+        law[k.VELOCITY_BW], law[k.PID_P], law[k.PID_I], law[k.INTEGRAL_BW] = (servo._velocity_bw, self._pid_p,
+                                                                             self._pid_i, self._ibw)
+        law[k.KP], law[k.FRICTION_P] = self._kp, self._friction_p
+        law[k.COULOMB], law[k.VISCOUS] = ((0.0, 0.0) if servo._coulomb is None else (servo._coulomb, servo._viscous))
+        law[k.INTEGRAL_MAX], law[k.INTEGRAL_MIN], law[k.TAU_MAX] = servo._integral_max, servo._integral_min, servo._tau_max
+        self._law_of = (servo._kp, servo._coulomb)
 
     def _rows_for(self, n_steps: int) -> None:
         """Work arrays of a call of n_steps rows, and the friction's constants spread over them."""

@@ -1,0 +1,38 @@
+"""The plant room's drive call compiled: set-points in, mj_step a row, the copper losses and what the servo measures out."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from orc_rpl.plant.compiled import kernel, step
+
+
+@kernel
+def drive_rows(model_address: int, data_address: int, position_rows: np.ndarray, velocity_rows: np.ndarray,
+               ff_rows: np.ndarray, ctrl: np.ndarray, force: np.ndarray, squares: np.ndarray,
+               tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled (tests/plant/test_kernels.py)
+    """`PidDrives.drive` without its callbacks: a row of the drives' inputs a step, then mj_step, for
+    len(position_rows) steps; the squared forces of the steps summed into tau_sq_sum (the copper
+    losses, `RealisticCell._copper_rows`: the same sums in the same order). `squares`: work array."""
+    n_steps, n = position_rows.shape
+    for i in range(n_steps):
+        for j in range(n):
+            ctrl[3 * j] = position_rows[i, j]
+            ctrl[3 * j + 1] = velocity_rows[i, j]
+            ctrl[3 * j + 2] = ff_rows[i, j]
+        step(model_address, data_address)
+        for j in range(n):
+            f = force[j]
+            squares[j] = f * f if i == 0 else squares[j] + f * f
+    for j in range(n):
+        tau_sq_sum[j] = tau_sq_sum[j] + squares[j]
+
+
+@kernel
+def measure(qpos: np.ndarray, qvel: np.ndarray, qpos_address: np.ndarray, qvel_address: np.ndarray,
+            noise_row: np.ndarray, count_per_rad: float, rad_per_count: float, q_meas: np.ndarray,
+            qd_meas: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`RealisticCell._measure`: the encoder's counts (rounded half to even, as numpy's rint) and the noisy speed."""
+    for j in range(q_meas.shape[0]):
+        q_meas[j] = np.rint(qpos[qpos_address[j]] * count_per_rad) * rad_per_count
+        qd_meas[j] = qvel[qvel_address[j]] + noise_row[j]

@@ -1,0 +1,93 @@
+"""The servo room's motion cycle on the drives, compiled: `CompiledDrives.run`'s numpy work fused into one kernel.
+
+The numpy code in servo/drive.py is the reference: the kernel does the same operations in the same
+order on the same numbers (tests/servo/test_drive_kernels.py compares the two on recorded runs).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from orc_rpl.plant.compiled import kernel
+from orc_rpl.plant.drive_kernels import drive_rows, measure
+
+#: Rows of the law's constants (`CompiledDrives._law`): the kernel reads them by these indices.
+VELOCITY_BW, PID_P, PID_I, INTEGRAL_BW, KP, FRICTION_P, COULOMB, VISCOUS, INTEGRAL_MAX, INTEGRAL_MIN, TAU_MAX = range(11)
+LAW_ROWS = 11
+#: Rows of the scratch array: the start of the call's integral state, q and qd, the increment, squares.
+STATE_START, Q_BEFORE, QD_BEFORE, INCREMENT, SQUARES = range(5)
+SCRATCH_ROWS = 5
+
+
+@kernel
+def drive_cycle(model_address: int, data_address: int, q_ref: np.ndarray, qd_ref: np.ndarray, rnea: np.ndarray,
+                noise: np.ndarray, mass_diagonal: np.ndarray, law: np.ndarray, friction: bool, smooth: float,
+                period_s: float, torque_offset: np.ndarray, position_error: np.ndarray, integral_before: np.ndarray,
+                integral: np.ndarray, torque: np.ndarray, saturated: np.ndarray, kv: np.ndarray, gains: np.ndarray,
+                ff: np.ndarray, scratch: np.ndarray, ctrl: np.ndarray, act: np.ndarray, force: np.ndarray,
+                gainprm: np.ndarray, biasprm: np.ndarray, dynprm: np.ndarray, qpos: np.ndarray, qvel: np.ndarray,
+                qpos_address: np.ndarray, qvel_address: np.ndarray, count_per_rad: float, rad_per_count: float,
+                q_meas: np.ndarray, qd_meas: np.ndarray, tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
+    """One motion cycle of `CompiledDrives.run` (rigid gears, no tuning, no per-step callbacks).
+
+    Gains at the measured pose (q_meas, mass_diagonal = the model's M_ii there) written into the
+    drives, the feed-forward rows, len(q_ref) steps of mj_step, the copper losses, the measurement,
+    the servo's signals and the Python law's integral carried over (into `integral`, clipped).
+    `noise` has len(q_ref) + 1 rows: the speed noise of the steps and of the measurement after them.
+    """
+    n_steps, n = q_ref.shape
+    start, q_before, qd_before = scratch[STATE_START], scratch[Q_BEFORE], scratch[QD_BEFORE]
+    increment = scratch[INCREMENT]
+    for j in range(n):
+        # _schedule: kv at the measured pose, the PID's gains, the integral torque kept across the new kv
+        k = mass_diagonal[j] * law[VELOCITY_BW, j]
+        kv[j] = k
+        gain_p, gain_i, kv_ibw = k * law[PID_P, j], k * law[PID_I, j], k * law[INTEGRAL_BW, j]
+        gains[0, j], gains[1, j], gains[2, j] = gain_p, gain_i, kv_ibw
+        kept = integral_before[j] - kv_ibw * position_error[j]
+        # PidDrives.set_drive_gains
+        gainprm[j, 0] = gain_i
+        biasprm[j, 1] = -gain_p
+        biasprm[j, 2] = -k
+        if gain_i > 0.0:
+            act[j] = kept / gain_i
+            dynprm[j, 0] = law[INTEGRAL_MAX, j] / gain_i
+        else:
+            act[j] = 0.0
+            dynprm[j, 0] = 0.0
+        error = (q_ref[0, j] - q_meas[j]) * law[FRICTION_P, j]
+        for i in range(n_steps):
+            total = rnea[i, j]
+            if friction:
+                # the speed the loop asks for, with the position error at the start of the cycle (/ smoothing)
+                total = total + np.tanh(qd_ref[i, j] * smooth + error) * law[COULOMB, j]
+                total = total + qd_ref[i, j] * law[VISCOUS, j]
+            total = total + torque_offset[j]
+            ff[i, j] = total - noise[i, j] * k   # the velocity loop reads the noisy speed
+        start[j] = act[j]
+        q_before[j] = qpos[qpos_address[j]]
+        qd_before[j] = qvel[qvel_address[j]]
+    drive_rows(model_address, data_address, q_ref, qd_ref, ff, ctrl, force, scratch[SQUARES], tau_sq_sum)
+    measure(qpos, qvel, qpos_address, qvel_address, noise[n_steps], count_per_rad, rad_per_count, q_meas, qd_meas)
+    last = n_steps - 1
+    for j in range(n):
+        # _signals: the last step's error, measured before it; the torque and its saturation
+        position_error[j] = (qd_ref[last, j] * period_s + q_ref[last, j]) - q_meas[j]
+        tau = force[j]
+        torque[j] = tau
+        saturated[j] = abs(tau) >= law[TAU_MAX, j]
+        # the Python law's integral over the call from the drives' states (drive.py: the same sums)
+        s = qd_ref[0, j] - noise[0, j]
+        for i in range(1, n_steps):
+            s = s + (qd_ref[i, j] - noise[i, j])
+        s = s + (qvel[qvel_address[j]] - qd_before[j])
+        s = s * period_s
+        s = s - (qpos[qpos_address[j]] - q_before[j])
+        s = s + (act[j] - start[j]) * law[KP, j]
+        s = s * gains[2, j]
+        increment[j] = s
+    for j in range(n):
+        # the anti-windup, once a call: a motor that ended it saturated keeps its integral
+        value = integral_before[j] + (0.0 if saturated[j] else increment[j])
+        value = min(value, law[INTEGRAL_MAX, j])
+        integral[j] = max(value, law[INTEGRAL_MIN, j])
