@@ -79,6 +79,17 @@ _njit, step = _load()
 #: True when the kernels are compiled (numba and MuJoCo's library found, ORC_RPL_NO_JIT not set).
 AVAILABLE = _njit is not None
 
+#: The hot paths use the kernels now (read it as `compiled.ON` at each call; `use_kernels` sets it).
+ON = AVAILABLE
+
+
+def use_kernels(on: bool) -> bool:
+    """Run the compiled kernels (True, where AVAILABLE) or the numpy reference code (False) from now on,
+    in the whole process; returns the previous setting (benchmarks and tests compare the two)."""
+    global ON
+    before, ON = ON, bool(on) and AVAILABLE
+    return before
+
 
 def kernel(function: Callable[..., Any]) -> Callable[..., Any]:
     """`function` compiled (numba, cached between runs); unchanged where numba is not AVAILABLE (then the

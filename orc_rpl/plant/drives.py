@@ -7,7 +7,6 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.errors import UsageError
-from orc_rpl.plant.compiled import AVAILABLE
 from orc_rpl.plant.sim import mj_step
 
 #: The drives' inputs (MuJoCo's input signature of a pid actuator): position, velocity and feed-forward set-points.
@@ -41,8 +40,6 @@ class PidDrives:
         self._integral_state_max = m.actuator_dynprm[:n, 0]
         self._inputs, self._forces = np.zeros((0, n, 3)), np.zeros((0, n))
         self._input_rows = self._inputs.reshape(0, 3 * n)
-        #: a motion cycle can run as one compiled kernel (`run_kernel`): numba is there
-        self.kernels_available = AVAILABLE
         # what a kernel reads and writes of the plant, after the caller's own arguments (MuJoCo's arrays, in place)
         self._kernel_arrays = (d.ctrl, d.act, d.actuator_force, m.actuator_gainprm, m.actuator_biasprm,
                                m.actuator_dynprm, d.qpos, d.qvel, cell._qpos, cell._qvel, cell._count_per_rad,

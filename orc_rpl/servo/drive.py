@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.plant import compiled
 from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S, JointServo
 from orc_rpl.servo import drive_kernels
 from orc_rpl.servo.drive_kernels import LAW_ROWS, SCRATCH_ROWS
@@ -47,8 +48,6 @@ class CompiledDrives:
         self._rnea_rows = servo.arm.inverse_dynamics_rows_function()
         self._tau_abs = np.zeros(n)
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
-        #: run a motion cycle as one compiled kernel (servo/drive_kernels.py) where it applies; False: numpy
-        self.kernels = bool(getattr(getattr(cell, "drives", None), "kernels_available", False))
         self._law_of: Any = None   #: the (kp, friction) the law's constants below were made for
         self._law, self._scratch = np.zeros((LAW_ROWS, n)), np.zeros((SCRATCH_ROWS, n))
         self.twist: Any = None  #: elastic gears' twist feed-forward (servo.two_mass.GearTwist), None: rigid gears
@@ -96,7 +95,7 @@ class CompiledDrives:
         servo, cell = self.servo, self.cell
         if not self.engaged:
             self.engage()
-        if each_step is None and self.kernels and self.twist is None and servo.tuning is None and cell.drives.kernel_fits():
+        if compiled.ON and each_step is None and self.twist is None and servo.tuning is None and cell.drives.kernel_fits():
             self._run_kernel(q_ref, qd_ref, qdd_ref)
             return
         q, _ = cell.live_state()

@@ -91,3 +91,25 @@ def drive_cycle(model_address: int, data_address: int, q_ref: np.ndarray, qd_ref
         value = integral_before[j] + (0.0 if saturated[j] else increment[j])
         value = min(value, law[INTEGRAL_MAX, j])
         integral[j] = max(value, law[INTEGRAL_MIN, j])
+
+
+@kernel
+def reference_rows(q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, period_s: float, q_rows: np.ndarray,
+                   qd_rows: np.ndarray, qdd_rows: np.ndarray) -> bool:  # pragma: no cover - compiled
+    """`ServoLoop._checked_references` of one reference: False if a value is not finite, else the rows of
+    constant acceleration q + qd t + (t t / 2) qdd, qd + qdd t (t = i period) written, the same expressions."""
+    n = q_ref.shape[0]
+    for j in range(n):
+        if not (np.isfinite(q_ref[j]) and np.isfinite(qd_ref[j]) and np.isfinite(qdd_ref[j])):
+            return False
+    for i in range(q_rows.shape[0]):
+        t = i * period_s
+        half_t_t = 0.5 * t * t
+        for j in range(n):
+            if i == 0:
+                q_rows[i, j], qd_rows[i, j] = q_ref[j], qd_ref[j]
+            else:
+                q_rows[i, j] = q_ref[j] + qd_ref[j] * t + half_t_t * qdd_ref[j]
+                qd_rows[i, j] = qd_ref[j] + qdd_ref[j] * t
+            qdd_rows[i, j] = qdd_ref[j]
+    return True

@@ -10,9 +10,11 @@ import numpy as np
 
 from orc_rpl.robot.model import ArmModel, load_robot
 from orc_rpl.errors import UsageError
+from orc_rpl.plant import compiled
 from orc_rpl.plant.sim import SimCell
 from orc_rpl.servo.control import JointServo, ServoGains, ServoTuning
 from orc_rpl.servo.drive import CompiledDrives
+from orc_rpl.servo.drive_kernels import reference_rows
 from orc_rpl.signals.logger import Logger
 
 
@@ -135,6 +137,12 @@ class ServoLoop:
         shape = q_ref.shape
         if not (shape == qd_ref.shape == qdd_ref.shape and shape in ((n_steps, self._n), (self._n,))) or n_steps < 1:
             self._refuse(q_ref, qd_ref, qdd_ref, n_steps)
+        if compiled.ON and len(shape) == 1:  # the compiled rows (servo/drive_kernels.py): the same numbers
+            rows = (n_steps, self._n)
+            q_steps, qd_steps, qdd_steps = np.empty(rows), np.empty(rows), np.empty(rows)
+            if not reference_rows(q_ref, qd_ref, qdd_ref, self.period_s, q_steps, qd_steps, qdd_steps):
+                raise UsageError("servo reference contains NaN or infinity")
+            return q_steps, qd_steps, qdd_steps
         # count_nonzero: a plain C call, several times cheaper than np.all on these small arrays
         finite, size = np.isfinite, q_ref.size
         if (np.count_nonzero(finite(q_ref)) != size or np.count_nonzero(finite(qd_ref)) != size
