@@ -23,6 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from orc_rpl.errors import UsageError
+from orc_rpl.plant import compiled
+from orc_rpl.plant.compiled import kernel
 
 #: The rise is integrated every so many motion cycles (0.1 s at 4 ms) from the cycles' mean heat: its time
 #: constant is 20 minutes, and a cycle then costs three in-place sums.
@@ -30,6 +32,17 @@ UPDATE_EVERY_CYCLES = 25
 #: The share of a predicted friction change the estimate may be off by: the plant's warm friction is
 #: within about 10 % of the nominal one, and the gearbox rise is integrated with the estimated friction.
 CHANGE_SPREAD = 0.2
+
+
+@kernel
+def sums_update(tau_nm: np.ndarray, qd_rad_s: np.ndarray, speed_sum: np.ndarray, speed_sq_sum: np.ndarray,
+                tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`GearFriction.update`'s sums compiled: |qd|, qd^2 and tau^2 added in place, the same operations."""
+    for j in range(speed_sum.shape[0]):
+        speed = abs(qd_rad_s[j])
+        speed_sum[j] = speed_sum[j] + speed
+        speed_sq_sum[j] = speed_sq_sum[j] + speed * speed
+        tau_sq_sum[j] = tau_sq_sum[j] + tau_nm[j] * tau_nm[j]
 
 
 #: Speed (rad/s) over which the estimate's Coulomb friction turns from one sign to the other: the plant's is
@@ -104,13 +117,16 @@ class GearFriction:
 
         The cycle only sums |qd|, qd^2 and tau^2 in place (a few microseconds); the rise, whose time constant
         is 20 minutes, is integrated from their means every UPDATE_EVERY_CYCLES cycles."""
-        work = self._work
-        np.abs(qd_rad_s, out=work)
-        np.add(self._speed_sum, work, out=self._speed_sum)
-        np.multiply(work, work, out=work)
-        np.add(self._speed_sq_sum, work, out=self._speed_sq_sum)
-        np.multiply(tau_nm, tau_nm, out=work)
-        np.add(self._tau_sq_sum, work, out=self._tau_sq_sum)
+        if compiled.ON:
+            sums_update(tau_nm, qd_rad_s, self._speed_sum, self._speed_sq_sum, self._tau_sq_sum)
+        else:
+            work = self._work
+            np.abs(qd_rad_s, out=work)
+            np.add(self._speed_sum, work, out=self._speed_sum)
+            np.multiply(work, work, out=work)
+            np.add(self._speed_sq_sum, work, out=self._speed_sq_sum)
+            np.multiply(tau_nm, tau_nm, out=work)
+            np.add(self._tau_sq_sum, work, out=self._tau_sq_sum)
         self._cycles += 1
         if self._cycles == UPDATE_EVERY_CYCLES:
             self._integrate(winding_rise_k)

@@ -7,6 +7,8 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from orc_rpl.errors import UsageError
+from orc_rpl.plant import compiled
+from orc_rpl.plant.compiled import kernel
 
 #: Continuous (thermal) torque as a share of the peak torque tau_max: AC servo motors are rated for
 #: a peak of about three times their continuous torque. An *estimate*, the same for every joint.
@@ -19,6 +21,22 @@ CONTINUOUS_SHARE = 1.0 / 3.0
 TIME_CONSTANTS_S = (20.0, 20.0, 20.0, 10.0, 10.0, 10.0)
 
 multiply, add = np.multiply, np.add
+
+
+@kernel
+def load_update(tau_nm: np.ndarray, gain: np.ndarray, decay: np.ndarray, load: np.ndarray) -> None:  # pragma: no cover
+    """`ThermalModel.update` compiled: load = load decay + tau^2 gain, the same operations."""
+    for j in range(load.shape[0]):
+        load[j] = load[j] * decay[j] + (tau_nm[j] * tau_nm[j]) * gain[j]
+
+
+@kernel
+def rise_update(tau_nm: np.ndarray, gain: np.ndarray, gain_per_k: np.ndarray, decay: np.ndarray,
+                rise: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`WindingTemperature.update`'s model part compiled: the same operations in the same order."""
+    for j in range(rise.shape[0]):
+        heat = rise[j] * gain_per_k[j] + gain[j]
+        rise[j] = rise[j] * decay[j] + (tau_nm[j] * tau_nm[j]) * heat
 
 
 class ThermalModel:
@@ -57,6 +75,9 @@ class ThermalModel:
 
     def update(self, tau_nm: np.ndarray) -> None:
         """One period with the torque tau_nm (unchecked: the motion cycle calls this)."""
+        if compiled.ON:
+            load_update(tau_nm, self._gain, self._decay, self.load)
+            return
         work, load = self._work, self.load
         multiply(tau_nm, tau_nm, work)
         multiply(work, self._gain, work)
@@ -121,13 +142,16 @@ class WindingTemperature:
 
     def update(self, tau_nm: np.ndarray) -> None:
         """One period with the torque tau_nm (in place, no allocation but for the measurement's cycles)."""
-        work, heat, rise = self._work, self._heat, self.rise_k
-        multiply(rise, self._gain_per_k, heat)
-        add(heat, self._gain, heat)
-        multiply(tau_nm, tau_nm, work)
-        multiply(work, heat, work)
-        multiply(rise, self._decay, rise)
-        add(rise, work, rise)
+        if compiled.ON:
+            rise_update(tau_nm, self._gain, self._gain_per_k, self._decay, self.rise_k)
+        else:
+            work, heat, rise = self._work, self._heat, self.rise_k
+            multiply(rise, self._gain_per_k, heat)
+            add(heat, self._gain, heat)
+            multiply(tau_nm, tau_nm, work)
+            multiply(work, heat, work)
+            multiply(rise, self._decay, rise)
+            add(rise, work, rise)
         if self.measurement is not None:
             self._cycles += 1
             if self._cycles % SAMPLE_EVERY_CYCLES == 0:

@@ -113,3 +113,13 @@ def reference_rows(q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, p
                 qd_rows[i, j] = qd_ref[j] + qdd_ref[j] * t
             qdd_rows[i, j] = qdd_ref[j]
     return True
+
+
+@kernel
+def all_finite(q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> bool:  # pragma: no cover - compiled
+    """True when every value of the three (rows, joints) arrays of one shape is finite (any memory layout)."""
+    for i in range(q_ref.shape[0]):
+        for j in range(q_ref.shape[1]):
+            if not (np.isfinite(q_ref[i, j]) and np.isfinite(qd_ref[i, j]) and np.isfinite(qdd_ref[i, j])):
+                return False
+    return True

@@ -14,7 +14,7 @@ from orc_rpl.plant import compiled
 from orc_rpl.plant.sim import SimCell
 from orc_rpl.servo.control import JointServo, ServoGains, ServoTuning
 from orc_rpl.servo.drive import CompiledDrives
-from orc_rpl.servo.drive_kernels import reference_rows
+from orc_rpl.servo.drive_kernels import all_finite, reference_rows
 from orc_rpl.signals.logger import Logger
 
 
@@ -143,6 +143,10 @@ class ServoLoop:
             if not reference_rows(q_ref, qd_ref, qdd_ref, self.period_s, q_steps, qd_steps, qdd_steps):
                 raise UsageError("servo reference contains NaN or infinity")
             return q_steps, qd_steps, qdd_steps
+        if len(shape) == 2 and compiled.ON:
+            if not all_finite(q_ref, qd_ref, qdd_ref):
+                raise UsageError("servo reference contains NaN or infinity")
+            return q_ref, qd_ref, qdd_ref
         # count_nonzero: a plain C call, several times cheaper than np.all on these small arrays
         finite, size = np.isfinite, q_ref.size
         if (np.count_nonzero(finite(q_ref)) != size or np.count_nonzero(finite(qd_ref)) != size
