@@ -223,6 +223,34 @@ class ArmModel:
 
         return rows
 
+    def rigid_body_rows(self) -> np.ndarray | None:
+        """The chain's rigid-body parameters with the current payload, a row per joint, for a compiled RNEA
+        (servo/rnea_kernel.py): the joint's placement in its parent (rotation row-major 0:9, translation 9:12),
+        its axis (12:15), the body's mass (15), centre of mass (16:19), rotational inertia about it (19:28,
+        row-major) and the rotor's armature (28); None when the model is not a chain of revolute joints."""
+        m = self._model
+        rows = np.zeros((self.n_joints, 29))
+        for i in range(1, m.njoints):
+            name, joint = m.joints[i].shortname(), m.joints[i].extract()
+            axis = {"JointModelRX": (1.0, 0.0, 0.0), "JointModelRY": (0.0, 1.0, 0.0), "JointModelRZ": (0.0, 0.0, 1.0)}.get(name)
+            if axis is None and name == "JointModelRevoluteUnaligned":
+                axis = tuple(joint.axis)
+            if axis is None or m.parents[i] != i - 1 or joint.idx_v != i - 1 or i > self.n_joints:
+                return None
+            placement, inertia = m.jointPlacements[i], m.inertias[i]
+            rows[i - 1, 0:9], rows[i - 1, 9:12] = placement.rotation.reshape(-1), placement.translation
+            rows[i - 1, 12:15], rows[i - 1, 15] = axis, inertia.mass
+            rows[i - 1, 16:19], rows[i - 1, 19:28] = inertia.lever, inertia.inertia.reshape(-1)
+            rows[i - 1, 28] = m.armature[i - 1]
+        if m.njoints - 1 != self.n_joints or np.any(m.damping != 0.0):
+            return None
+        return rows
+
+    @property
+    def gravity_m_s2(self) -> np.ndarray:
+        """The model's gravity (m/s^2, base frame)."""
+        return np.array(self._model.gravity.linear)
+
     def set_payload(self, payload_kg: float = 0.0, payload_com: Any = None) -> None:
         """Make a payload current for the unchecked servo-loop calls."""
         self._apply_payload(payload_kg, payload_com)

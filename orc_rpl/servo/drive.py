@@ -50,6 +50,11 @@ class CompiledDrives:
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
         self._law_of: Any = None   #: the (kp, friction) the law's constants below were made for
         self._law, self._scratch = np.zeros((LAW_ROWS, n)), np.zeros((SCRATCH_ROWS, n))
+        #: the kernel's feed-forward from the compiled RNEA (servo/rnea_kernel.py; False: Pinocchio's, the reference)
+        self.compiled_rnea = True
+        self._no_body = np.zeros((0, 29))
+        self._body, self._body_of = self._no_body, None   #: the model's rows for the compiled RNEA, and their payload
+        self._gravity = servo.arm.gravity_m_s2
         self.twist: Any = None  #: elastic gears' twist feed-forward (servo.two_mass.GearTwist), None: rigid gears
 
     def engage(self) -> None:
@@ -193,12 +198,19 @@ class CompiledDrives:
         q, _ = cell.live_state()
         mass_diagonal = servo.arm.mass_matrix_diagonal_unchecked(q)
         rnea = self._rnea
-        self._rnea_rows(q_ref, qd_ref, qdd_ref, rnea)  # the model's rigid-body torques, one C call for the rows
+        if self._body_of is not servo.arm.payload:   # the payload's tuple is a new object when it changes
+            body = servo.arm.rigid_body_rows() if self.compiled_rnea else None
+            self._body = self._no_body if body is None else body
+            self._body_of = servo.arm.payload
+        if self._body is self._no_body:
+            self._rnea_rows(q_ref, qd_ref, qdd_ref, rnea)  # Pinocchio's rigid-body torques, one C call for the rows
+        if qdd_ref.strides[0] == 0:   # one acceleration broadcast over the rows: the kernel reads rows
+            qdd_ref = np.ascontiguousarray(qdd_ref)
         servo.torque_ff = rnea[-1]
         noise = cell.noise_rows(n_steps + 1)   # the steps' rows and the measurement's after them
         integral_before = servo.integral
         integral = self._integral_a if integral_before is not self._integral_a else self._integral_b
-        cell.drives.run_kernel(drive_kernels.drive_cycle, q_ref, qd_ref, rnea, noise, mass_diagonal, self._law,
+        cell.drives.run_kernel(drive_kernels.drive_cycle, q_ref, qd_ref, qdd_ref, self._body, self._gravity, rnea, noise, mass_diagonal, self._law,
                           servo._coulomb is not None, 1.0 / FRICTION_SMOOTH_RAD_S, servo.period_s, servo.torque_offset,
                           servo.position_error, integral_before, integral, servo.torque, servo.saturated, self._kv,
                           self._gains, self._ff, self._scratch)

@@ -10,6 +10,7 @@ import numpy as np
 
 from orc_rpl.plant.compiled import kernel
 from orc_rpl.plant.drive_kernels import drive_rows, measure
+from orc_rpl.servo.rnea_kernel import rnea_row
 
 #: Rows of the law's constants (`CompiledDrives._law`): the kernel reads them by these indices.
 VELOCITY_BW, PID_P, PID_I, INTEGRAL_BW, KP, FRICTION_P, COULOMB, VISCOUS, INTEGRAL_MAX, INTEGRAL_MIN, TAU_MAX = range(11)
@@ -20,8 +21,8 @@ SCRATCH_ROWS = 5
 
 
 @kernel
-def drive_cycle(model_address: int, data_address: int, q_ref: np.ndarray, qd_ref: np.ndarray, rnea: np.ndarray,
-                noise: np.ndarray, mass_diagonal: np.ndarray, law: np.ndarray, friction: bool, smooth: float,
+def drive_cycle(model_address: int, data_address: int, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
+                body: np.ndarray, gravity: np.ndarray, rnea: np.ndarray, noise: np.ndarray, mass_diagonal: np.ndarray, law: np.ndarray, friction: bool, smooth: float,
                 period_s: float, torque_offset: np.ndarray, position_error: np.ndarray, integral_before: np.ndarray,
                 integral: np.ndarray, torque: np.ndarray, saturated: np.ndarray, kv: np.ndarray, gains: np.ndarray,
                 ff: np.ndarray, scratch: np.ndarray, ctrl: np.ndarray, act: np.ndarray, force: np.ndarray,
@@ -34,8 +35,14 @@ def drive_cycle(model_address: int, data_address: int, q_ref: np.ndarray, qd_ref
     drives, the feed-forward rows, len(q_ref) steps of mj_step, the copper losses, the measurement,
     the servo's signals and the Python law's integral carried over (into `integral`, clipped).
     `noise` has len(q_ref) + 1 rows: the speed noise of the steps and of the measurement after them.
+    The feed-forward's rigid-body torques: the compiled RNEA (servo/rnea_kernel.py) of the model's rows
+    `body` into `rnea` when `body` has rows, else `rnea` as given (Pinocchio's).
     """
     n_steps, n = q_ref.shape
+    if body.shape[0] == n:
+        rnea_work = np.empty((n, 15))
+        for i in range(n_steps):
+            rnea_row(body, gravity, q_ref[i], qd_ref[i], qdd_ref[i], rnea[i], rnea_work)
     start, q_before, qd_before = scratch[STATE_START], scratch[Q_BEFORE], scratch[QD_BEFORE]
     increment = scratch[INCREMENT]
     for j in range(n):

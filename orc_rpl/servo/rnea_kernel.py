@@ -1,0 +1,117 @@
+"""The servo room's inverse dynamics compiled: the recursive Newton-Euler algorithm of a revolute chain, in numba.
+
+Pinocchio's RNEA (robot/model.py) is the reference; this one works on the rows of
+`ArmModel.rigid_body_rows` (made again when the payload changes) so that the drives' motion cycle
+(servo/drive_kernels.py) gets its feed-forward without leaving compiled code. Spatial vectors as
+Pinocchio writes them: motion (linear, angular) and force (linear, angular), in each body's frame;
+the base accelerates against gravity. Its torques differ from Pinocchio's in the last bits only
+(the order of the sums; tests/servo/test_drive_kernels.py bounds it at 1e-12 relative).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from orc_rpl.plant.compiled import kernel
+
+#: Columns of a row of `ArmModel.rigid_body_rows`.
+ROTATION, TRANSLATION, AXIS, MASS, LEVER, INERTIA, ARMATURE = 0, 9, 12, 15, 16, 19, 28
+
+
+@kernel
+def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+             tau: np.ndarray, work: np.ndarray) -> None:  # pragma: no cover - compiled
+    """tau = RNEA(q, qd, qdd) for one state; work: a (n, 15) scratch array (a body's rotation 0:9, its force 9:15)."""
+    n = q.shape[0]
+    # forward: each body's rotation from its parent, velocity and acceleration in its own frame
+    vl0 = vl1 = vl2 = vw0 = vw1 = vw2 = 0.0
+    al0, al1, al2 = -gravity[0], -gravity[1], -gravity[2]
+    aw0 = aw1 = aw2 = 0.0
+    for i in range(n):
+        b = body[i]
+        x, y, z = b[AXIS], b[AXIS + 1], b[AXIS + 2]
+        c, s = math.cos(q[i]), math.sin(q[i])
+        t = 1.0 - c
+        # joint rotation (Rodrigues) and the placement's before it: R = P Rj, rows of R map child to parent
+        j00, j01, j02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
+        j10, j11, j12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
+        j20, j21, j22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
+        R, force = work[i, 0:9], work[i, 9:15]
+        for r in range(3):
+            p0, p1, p2 = b[ROTATION + 3 * r], b[ROTATION + 3 * r + 1], b[ROTATION + 3 * r + 2]
+            R[3 * r] = p0 * j00 + p1 * j10 + p2 * j20
+            R[3 * r + 1] = p0 * j01 + p1 * j11 + p2 * j21
+            R[3 * r + 2] = p0 * j02 + p1 * j12 + p2 * j22
+        px, py, pz = b[TRANSLATION], b[TRANSLATION + 1], b[TRANSLATION + 2]
+        # actInv: w' = R^T w, v' = R^T (v - p x w)
+        ux, uy, uz = vl0 - (py * vw2 - pz * vw1), vl1 - (pz * vw0 - px * vw2), vl2 - (px * vw1 - py * vw0)
+        nvl0 = R[0] * ux + R[3] * uy + R[6] * uz
+        nvl1 = R[1] * ux + R[4] * uy + R[7] * uz
+        nvl2 = R[2] * ux + R[5] * uy + R[8] * uz
+        nvw0 = R[0] * vw0 + R[3] * vw1 + R[6] * vw2 + x * qd[i]
+        nvw1 = R[1] * vw0 + R[4] * vw1 + R[7] * vw2 + y * qd[i]
+        nvw2 = R[2] * vw0 + R[5] * vw1 + R[8] * vw2 + z * qd[i]
+        ux, uy, uz = al0 - (py * aw2 - pz * aw1), al1 - (pz * aw0 - px * aw2), al2 - (px * aw1 - py * aw0)
+        nal0 = R[0] * ux + R[3] * uy + R[6] * uz
+        nal1 = R[1] * ux + R[4] * uy + R[7] * uz
+        nal2 = R[2] * ux + R[5] * uy + R[8] * uz
+        naw0 = R[0] * aw0 + R[3] * aw1 + R[6] * aw2 + x * qdd[i]
+        naw1 = R[1] * aw0 + R[4] * aw1 + R[7] * aw2 + y * qdd[i]
+        naw2 = R[2] * aw0 + R[5] * aw1 + R[8] * aw2 + z * qdd[i]
+        # + v x (S qd): linear v_lin x w_j, angular v_ang x w_j
+        wx, wy, wz = x * qd[i], y * qd[i], z * qd[i]
+        nal0 += nvl1 * wz - nvl2 * wy
+        nal1 += nvl2 * wx - nvl0 * wz
+        nal2 += nvl0 * wy - nvl1 * wx
+        naw0 += nvw1 * wz - nvw2 * wy
+        naw1 += nvw2 * wx - nvw0 * wz
+        naw2 += nvw0 * wy - nvw1 * wx
+        vl0, vl1, vl2, vw0, vw1, vw2 = nvl0, nvl1, nvl2, nvw0, nvw1, nvw2
+        al0, al1, al2, aw0, aw1, aw2 = nal0, nal1, nal2, naw0, naw1, naw2
+        # f = I a + v x* (I v); I m = (mass (v - c x w), Ic w + c x f)
+        m, cx, cy, cz = b[MASS], b[LEVER], b[LEVER + 1], b[LEVER + 2]
+        fl0 = m * (al0 - (cy * aw2 - cz * aw1))
+        fl1 = m * (al1 - (cz * aw0 - cx * aw2))
+        fl2 = m * (al2 - (cx * aw1 - cy * aw0))
+        fa0 = b[INERTIA] * aw0 + b[INERTIA + 1] * aw1 + b[INERTIA + 2] * aw2 + (cy * fl2 - cz * fl1)
+        fa1 = b[INERTIA + 3] * aw0 + b[INERTIA + 4] * aw1 + b[INERTIA + 5] * aw2 + (cz * fl0 - cx * fl2)
+        fa2 = b[INERTIA + 6] * aw0 + b[INERTIA + 7] * aw1 + b[INERTIA + 8] * aw2 + (cx * fl1 - cy * fl0)
+        hl0 = m * (vl0 - (cy * vw2 - cz * vw1))
+        hl1 = m * (vl1 - (cz * vw0 - cx * vw2))
+        hl2 = m * (vl2 - (cx * vw1 - cy * vw0))
+        ha0 = b[INERTIA] * vw0 + b[INERTIA + 1] * vw1 + b[INERTIA + 2] * vw2 + (cy * hl2 - cz * hl1)
+        ha1 = b[INERTIA + 3] * vw0 + b[INERTIA + 4] * vw1 + b[INERTIA + 5] * vw2 + (cz * hl0 - cx * hl2)
+        ha2 = b[INERTIA + 6] * vw0 + b[INERTIA + 7] * vw1 + b[INERTIA + 8] * vw2 + (cx * hl1 - cy * hl0)
+        # v x* h = (w x h_lin, w x h_ang + v x h_lin)
+        force[0] = fl0 + (vw1 * hl2 - vw2 * hl1)
+        force[1] = fl1 + (vw2 * hl0 - vw0 * hl2)
+        force[2] = fl2 + (vw0 * hl1 - vw1 * hl0)
+        force[3] = fa0 + (vw1 * ha2 - vw2 * ha1) + (vl1 * hl2 - vl2 * hl1)
+        force[4] = fa1 + (vw2 * ha0 - vw0 * ha2) + (vl2 * hl0 - vl0 * hl2)
+        force[5] = fa2 + (vw0 * ha1 - vw1 * ha0) + (vl0 * hl1 - vl1 * hl0)
+    # backward: the joint's torque from its body's force, the force handed to the parent (act: R f, R n + p x R f)
+    for i in range(n - 1, -1, -1):
+        b, R, f = body[i], work[i, 0:9], work[i, 9:15]
+        tau[i] = b[AXIS] * f[3] + b[AXIS + 1] * f[4] + b[AXIS + 2] * f[5] + b[ARMATURE] * qdd[i]
+        if i > 0:
+            f0 = R[0] * f[0] + R[1] * f[1] + R[2] * f[2]
+            f1 = R[3] * f[0] + R[4] * f[1] + R[5] * f[2]
+            f2 = R[6] * f[0] + R[7] * f[1] + R[8] * f[2]
+            px, py, pz = b[TRANSLATION], b[TRANSLATION + 1], b[TRANSLATION + 2]
+            parent = work[i - 1, 9:15]
+            parent[0] += f0
+            parent[1] += f1
+            parent[2] += f2
+            parent[3] += R[0] * f[3] + R[1] * f[4] + R[2] * f[5] + (py * f2 - pz * f1)
+            parent[4] += R[3] * f[3] + R[4] * f[4] + R[5] * f[5] + (pz * f0 - px * f2)
+            parent[5] += R[6] * f[3] + R[7] * f[4] + R[8] * f[5] + (px * f1 - py * f0)
+
+
+@kernel
+def rnea_rows(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+              tau: np.ndarray, work: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`rnea_row` for each row of (k, n) arrays."""
+    for r in range(q.shape[0]):
+        rnea_row(body, gravity, q[r], qd[r], qdd[r], tau[r], work)
