@@ -365,8 +365,9 @@ class MotionPipeline:
 
     def _check_settled(self) -> None:
         h, since = self._settling  # type: ignore[misc]
-        err = float(np.max(np.abs(self.backend.q() - self._q_ref)))
-        vel = float(np.max(np.abs(self.backend.qd())))
+        # maximum.reduce: np.max's own Python wrapper costs more than the reduction (every cycle while settling)
+        err = float(np.maximum.reduce(np.abs(self.backend.q() - self._q_ref)))
+        vel = float(np.maximum.reduce(np.abs(self.backend.qd())))
         timed_out = self.now_s() - since > SETTLE_TIMEOUT_S
         # a backend may settle coarser than the default: bus servos see whole encoder counts
         settle_rad, settle_rad_s = getattr(self.backend, "settle_rad", SETTLE_RAD), getattr(self.backend, "settle_rad_s", SETTLE_RAD_S)

@@ -36,3 +36,19 @@ def measure(qpos: np.ndarray, qvel: np.ndarray, qpos_address: np.ndarray, qvel_a
     for j in range(q_meas.shape[0]):
         q_meas[j] = np.rint(qpos[qpos_address[j]] * count_per_rad) * rad_per_count
         qd_meas[j] = qvel[qvel_address[j]] + noise_row[j]
+
+
+@kernel
+def winding_sample(force: np.ndarray, k_amp: np.ndarray, r_ohm: np.ndarray, rise_k: np.ndarray, ambient_c: float,
+                   tempco_1_k: float, qvel: np.ndarray, qvel_address: np.ndarray, qd_meas: np.ndarray,
+                   noise: np.ndarray, voltage_noise: float, current_noise: float,
+                   out: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`RealisticCell.winding_measurement` compiled (the noise drawn by the caller): rows of `out` are the
+    terminal voltage, the current and the speed the servo reads; the same operations in the same order."""
+    for j in range(out.shape[1]):
+        current = force[j] / k_amp[j]
+        resistance = r_ohm[j] * (1.0 + tempco_1_k * ((ambient_c + rise_k[j]) - 20.0))
+        voltage = resistance * current + k_amp[j] * qvel[qvel_address[j]]
+        out[0, j] = voltage + voltage_noise * noise[0, j]
+        out[1, j] = current + current_noise * noise[1, j]
+        out[2, j] = qd_meas[j]

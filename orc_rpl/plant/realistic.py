@@ -6,7 +6,9 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.plant import compiled
 from orc_rpl.plant.cell import CellDescription
+from orc_rpl.plant.drive_kernels import winding_sample
 from orc_rpl.plant.drives import DRIVE_INPUTS, PidDrives
 from orc_rpl.plant.sim import SimCell, mj_step
 from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, PlantSpec, plant_spec
@@ -178,6 +180,12 @@ class RealisticCell(SimCell):
         electrical time constant). Voltage and current carry seeded noise (VOLTAGE_NOISE_V,
         CURRENT_NOISE_A, 1 sigma); the speed is the one the servo reads.
         """
+        if compiled.ON:
+            noise, out = self._drive_rng.standard_normal((2, self.n_joints)), np.empty((3, self.n_joints))
+            winding_sample(self.drives.force, self._k_amp, self._r_ohm, self.winding_rise_k, self.plant.ambient_c,
+                           COPPER_TEMPCO_1_K, self._data.qvel, self._qvel, self._qd_meas, noise, VOLTAGE_NOISE_V,
+                           CURRENT_NOISE_A, out)
+            return out[0], out[1], out[2]
         current = self.drives.force / self._k_amp
         resistance = self._r_ohm * (1.0 + COPPER_TEMPCO_1_K * (self.plant.ambient_c + self.winding_rise_k - 20.0))
         speed = self._qd_meas.copy()
