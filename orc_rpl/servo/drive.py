@@ -50,11 +50,12 @@ class CompiledDrives:
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
         self._law_of: Any = None   #: the (kp, friction) the law's constants below were made for
         self._law, self._scratch = np.zeros((LAW_ROWS, n)), np.zeros((SCRATCH_ROWS, n))
-        #: the kernel's feed-forward from the compiled RNEA (servo/rnea_kernel.py; False: Pinocchio's, the reference)
+        #: the kernel's feed-forward and M_ii compiled (servo/rnea_kernel.py; False: Pinocchio's, the reference)
         self.compiled_rnea = True
         self._no_body = np.zeros((0, 29))
         self._body, self._body_of = self._no_body, None   #: the model's rows for the compiled RNEA, and their payload
         self._gravity = servo.arm.gravity_m_s2
+        self._mass_diagonal = np.zeros(n)
         self.twist: Any = None  #: elastic gears' twist feed-forward (servo.two_mass.GearTwist), None: rigid gears
 
     def engage(self) -> None:
@@ -195,15 +196,15 @@ class CompiledDrives:
             self._rows_for(n_steps)
         if self._law_of is None or self._law_of[0] is not servo._kp or self._law_of[1] is not servo._coulomb:
             self._law_rows()
-        q, _ = cell.live_state()
-        mass_diagonal = servo.arm.mass_matrix_diagonal_unchecked(q)
-        rnea = self._rnea
+        rnea, mass_diagonal = self._rnea, self._mass_diagonal
         if self._body_of is not servo.arm.payload:   # the payload's tuple is a new object when it changes
             body = servo.arm.rigid_body_rows() if self.compiled_rnea else None
             self._body = self._no_body if body is None else body
             self._body_of = servo.arm.payload
-        if self._body is self._no_body:
-            self._rnea_rows(q_ref, qd_ref, qdd_ref, rnea)  # Pinocchio's rigid-body torques, one C call for the rows
+        if self._body is self._no_body:   # Pinocchio's M_ii and rigid-body torques (one C call for the rows)
+            q, _ = cell.live_state()
+            mass_diagonal = servo.arm.mass_matrix_diagonal_unchecked(q)
+            self._rnea_rows(q_ref, qd_ref, qdd_ref, rnea)
         if qdd_ref.strides[0] == 0:   # one acceleration broadcast over the rows: the kernel reads rows
             qdd_ref = np.ascontiguousarray(qdd_ref)
         servo.torque_ff = rnea[-1]

@@ -10,7 +10,7 @@ import numpy as np
 
 from orc_rpl.plant.compiled import kernel
 from orc_rpl.plant.drive_kernels import drive_rows, measure
-from orc_rpl.servo.rnea_kernel import rnea_row
+from orc_rpl.servo.rnea_kernel import mass_diagonal as mass_diagonal_at, rnea_row
 
 #: Rows of the law's constants (`CompiledDrives._law`): the kernel reads them by these indices.
 VELOCITY_BW, PID_P, PID_I, INTEGRAL_BW, KP, FRICTION_P, COULOMB, VISCOUS, INTEGRAL_MAX, INTEGRAL_MIN, TAU_MAX = range(11)
@@ -35,11 +35,12 @@ def drive_cycle(model_address: int, data_address: int, q_ref: np.ndarray, qd_ref
     drives, the feed-forward rows, len(q_ref) steps of mj_step, the copper losses, the measurement,
     the servo's signals and the Python law's integral carried over (into `integral`, clipped).
     `noise` has len(q_ref) + 1 rows: the speed noise of the steps and of the measurement after them.
-    The feed-forward's rigid-body torques: the compiled RNEA (servo/rnea_kernel.py) of the model's rows
-    `body` into `rnea` when `body` has rows, else `rnea` as given (Pinocchio's).
+    The feed-forward's rigid-body torques and M_ii: compiled (servo/rnea_kernel.py) from the model's
+    rows `body` into `rnea` and `mass_diagonal` when `body` has rows, else as given (Pinocchio's).
     """
     n_steps, n = q_ref.shape
     if body.shape[0] == n:
+        mass_diagonal_at(body, q_meas, mass_diagonal)   # the gains' M_ii at the measured pose
         rnea_work = np.empty((n, 15))
         for i in range(n_steps):
             rnea_row(body, gravity, q_ref[i], qd_ref[i], qdd_ref[i], rnea[i], rnea_work)

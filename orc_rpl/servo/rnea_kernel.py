@@ -115,3 +115,75 @@ def rnea_rows(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarr
     """`rnea_row` for each row of (k, n) arrays."""
     for r in range(q.shape[0]):
         rnea_row(body, gravity, q[r], qd[r], qdd[r], tau[r], work)
+
+
+@kernel
+def mass_diagonal(body: np.ndarray, q: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover - compiled
+    """The mass matrix's diagonal M_ii(q) (Pinocchio's `crba` diagonal, armature included): each joint's axis
+    through the rotational inertia, about the joint, of the bodies it carries (composited from the tip)."""
+    n = q.shape[0]
+    mass = 0.0
+    h0 = h1 = h2 = 0.0                                 # first moment of the carried bodies (kg m), frame i
+    j00 = j01 = j02 = j11 = j12 = j22 = 0.0            # their inertia about frame i's origin (symmetric)
+    r = np.empty(9)                                    # the child's rotation into frame i
+    for i in range(n - 1, -1, -1):
+        b = body[i]
+        if i < n - 1:
+            # the composite of the child (frame i+1) in this frame: x' = R x + p, R = placement * joint(q)
+            c = body[i + 1]
+            x, y, z = c[AXIS], c[AXIS + 1], c[AXIS + 2]
+            co, si = math.cos(q[i + 1]), math.sin(q[i + 1])
+            t = 1.0 - co
+            k00, k01, k02 = co + x * x * t, x * y * t - z * si, x * z * t + y * si
+            k10, k11, k12 = y * x * t + z * si, co + y * y * t, y * z * t - x * si
+            k20, k21, k22 = z * x * t - y * si, z * y * t + x * si, co + z * z * t
+            for row in range(3):
+                p0, p1, p2 = c[ROTATION + 3 * row], c[ROTATION + 3 * row + 1], c[ROTATION + 3 * row + 2]
+                r[3 * row] = p0 * k00 + p1 * k10 + p2 * k20
+                r[3 * row + 1] = p0 * k01 + p1 * k11 + p2 * k21
+                r[3 * row + 2] = p0 * k02 + p1 * k12 + p2 * k22
+            px, py, pz = c[TRANSLATION], c[TRANSLATION + 1], c[TRANSLATION + 2]
+            # R J R^T
+            a00 = r[0] * j00 + r[1] * j01 + r[2] * j02
+            a01 = r[0] * j01 + r[1] * j11 + r[2] * j12
+            a02 = r[0] * j02 + r[1] * j12 + r[2] * j22
+            a10 = r[3] * j00 + r[4] * j01 + r[5] * j02
+            a11 = r[3] * j01 + r[4] * j11 + r[5] * j12
+            a12 = r[3] * j02 + r[4] * j12 + r[5] * j22
+            a20 = r[6] * j00 + r[7] * j01 + r[8] * j02
+            a21 = r[6] * j01 + r[7] * j11 + r[8] * j12
+            a22 = r[6] * j02 + r[7] * j12 + r[8] * j22
+            n00 = a00 * r[0] + a01 * r[1] + a02 * r[2]
+            n01 = a00 * r[3] + a01 * r[4] + a02 * r[5]
+            n02 = a00 * r[6] + a01 * r[7] + a02 * r[8]
+            n11 = a10 * r[3] + a11 * r[4] + a12 * r[5]
+            n12 = a10 * r[6] + a11 * r[7] + a12 * r[8]
+            n22 = a20 * r[6] + a21 * r[7] + a22 * r[8]
+            g0 = r[0] * h0 + r[1] * h1 + r[2] * h2
+            g1 = r[3] * h0 + r[4] * h1 + r[5] * h2
+            g2 = r[6] * h0 + r[7] * h1 + r[8] * h2
+            # shifted by p: + 2 (g.p) I - g p^T - p g^T + mass (|p|^2 I - p p^T)
+            gp, pp = g0 * px + g1 * py + g2 * pz, px * px + py * py + pz * pz
+            j00 = n00 + 2.0 * gp - 2.0 * g0 * px + mass * (pp - px * px)
+            j11 = n11 + 2.0 * gp - 2.0 * g1 * py + mass * (pp - py * py)
+            j22 = n22 + 2.0 * gp - 2.0 * g2 * pz + mass * (pp - pz * pz)
+            j01 = n01 - g0 * py - px * g1 - mass * px * py
+            j02 = n02 - g0 * pz - px * g2 - mass * px * pz
+            j12 = n12 - g1 * pz - py * g2 - mass * py * pz
+            h0, h1, h2 = g0 + mass * px, g1 + mass * py, g2 + mass * pz
+        else:
+            mass = 0.0
+        # + this body: Ic + m (|c|^2 I - c c^T) about its frame's origin
+        m, cx, cy, cz = b[MASS], b[LEVER], b[LEVER + 1], b[LEVER + 2]
+        cc = cx * cx + cy * cy + cz * cz
+        j00 += b[INERTIA] + m * (cc - cx * cx)
+        j11 += b[INERTIA + 4] + m * (cc - cy * cy)
+        j22 += b[INERTIA + 8] + m * (cc - cz * cz)
+        j01 += b[INERTIA + 1] - m * cx * cy
+        j02 += b[INERTIA + 2] - m * cx * cz
+        j12 += b[INERTIA + 5] - m * cy * cz
+        h0, h1, h2 = h0 + m * cx, h1 + m * cy, h2 + m * cz
+        mass += m
+        x, y, z = b[AXIS], b[AXIS + 1], b[AXIS + 2]
+        out[i] = (x * (j00 * x + j01 * y + j02 * z) + y * (j01 * x + j11 * y + j12 * z)
+                  + z * (j02 * x + j12 * y + j22 * z) + b[ARMATURE])
