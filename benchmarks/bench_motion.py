@@ -6,7 +6,9 @@ sim_vs_raw_mujoco_ratio >= 0.25, time_optimality_ratio <= 1.03, vs_naive_ratio <
 lmove_path_deviation_mm <= 1). The speed is the realistic plant's (median of five runs, each
 against raw mj_step of the ideal arm); the other figures are the realistic plant's, warm, with the
 payload declared right. sim_vs_raw_mujoco_ratio_python_servo_law is the same stack with the servo
-law in Python (the reference the drives' law in C is tested against), measured alike.
+law in Python (the reference the drives' law in C is tested against), measured alike;
+sim_vs_raw_mujoco_ratio_numpy_bookkeeping is the stack with the per-cycle bookkeeping in numpy
+instead of the compiled kernels (numba, orc_rpl/plant/compiled.py), measured alike.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from orc_rpl.motion import CartesianMotion, JointMotion, MotionLayer, Params, ma
 from orc_rpl.motion.planner import TORQUE_SHARE
 from orc_rpl.motion.timing import toppra_profile
 from orc_rpl.motion.trajectory import SplinePath, segment_times
+from orc_rpl.plant.compiled import AVAILABLE, use_kernels
 from orc_rpl.world.pose import Pose
 
 FINE_GRID_POINTS = 2000  #: grid of the reference TOPP-RA solution (the planner uses 40..200)
@@ -81,11 +84,20 @@ def warm_realistic(robot: str) -> MotionLayer:
     return layer
 
 
-def bench_speed(robot: str, seconds: float, compiled: bool = True) -> tuple[float, float, float, float]:
+def bench_speed(robot: str, seconds: float, compiled: bool = True, kernels: bool = True) -> tuple[float, float, float, float]:
     """(x real time of the whole stack, x real time of raw mj_step, their ratio, share of wall time in servo+plant).
 
     `compiled`: the servo law in the drives (C, the default); False: the Python law it is written from.
+    `kernels`: the per-cycle bookkeeping compiled (the default where numba is installed); False: numpy.
     """
+    before = use_kernels(kernels)
+    try:
+        return _bench_speed(robot, seconds, compiled)
+    finally:
+        use_kernels(before)
+
+
+def _bench_speed(robot: str, seconds: float, compiled: bool) -> tuple[float, float, float, float]:
     layer = make_virtual_motion_layer(robot, backend="servo", record=True, plant="realistic")
     program_step(layer, 0)  # warm-up: imports (toppra pulls in matplotlib), caches
     layer = make_virtual_motion_layer(robot, backend="servo", record=True, plant="realistic")
@@ -212,6 +224,7 @@ def main() -> None:
     runs = sorted((bench_speed(args.robot, args.seconds / 5) for _ in range(5)), key=lambda r: r[2])
     ours, raw, ratio, servo_share = runs[2]
     python_law = sorted(bench_speed(args.robot, args.seconds / 5, compiled=False)[2] for _ in range(5))[2]
+    numpy_bookkeeping = sorted(bench_speed(args.robot, args.seconds / 5, kernels=False)[2] for _ in range(5))[2]
     worst, mean, naive, naive_short, naive_long = bench_optimality(args.robot)
     dev = bench_lmove_deviation(args.robot)
     print(f"robot={args.robot}")
@@ -221,7 +234,9 @@ def main() -> None:
     print(f"vs_naive_ratio_short_moves={naive_short:.3f}")
     print(f"vs_naive_ratio_long_moves={naive_long:.3f}")
     print(f"sim_speed_x_realtime={ours:.1f}")
+    print(f"compiled_kernels={AVAILABLE}")
     print(f"sim_vs_raw_mujoco_ratio_python_servo_law={python_law:.3f}")
+    print(f"sim_vs_raw_mujoco_ratio_numpy_bookkeeping={numpy_bookkeeping:.3f}")
     print(f"sim_vs_raw_mujoco_ratio={ratio:.3f}")
     print(f"time_optimality_ratio={worst:.4f}")
     print(f"vs_naive_ratio={naive:.3f}")

@@ -33,6 +33,9 @@ HEAVY_LIBRARIES: dict[str, str] = {
     "toppra": "motion",
     "ruckig": "motion",
     "mujoco": "plant",
+    # the compiler of the per-cycle kernels (plant/compiled.py); llvmlite is its code generator
+    "numba": "plant",
+    "llvmlite": "plant",
     "viser": "view",
     "imageio": "view",
     "imageio_ffmpeg": "view",

@@ -11,7 +11,6 @@ import numpy as np
 
 from orc_rpl.errors import UsageError
 from orc_rpl.plant import compiled
-from orc_rpl.plant.compiled import kernel
 
 #: f(x, order): the joint path (order 0), its first and second derivatives by the path parameter x.
 PathFunction = Callable[[Any, int], np.ndarray]
@@ -27,18 +26,6 @@ RESYNC_X, RESYNC_SD = 1e-7, 1e-5
 STOP_DECEL_MIN = 0.1
 #: Share of the admissible deceleration a late command plans to stop at the path's end with.
 BRAKE_SHARE = 0.8
-
-
-@kernel
-def admissible_range(b1: np.ndarray, b2: np.ndarray, limit: np.ndarray) -> tuple[float, float]:  # pragma: no cover
-    """`PathVelocityController.admissible`'s range from b1, b2 compiled (the same operations, exact)."""
-    lo, hi = -math.inf, math.inf
-    for j in range(b1.shape[0]):
-        if abs(b1[j]) >= 1e-9:   # a joint the path acceleration does not move sets no bound
-            r1, r2 = (-limit[j] - b2[j]) / b1[j], (limit[j] - b2[j]) / b1[j]
-            lo = max(lo, min(r1, r2))
-            hi = min(hi, max(r1, r2))
-    return lo, hi
 
 
 @dataclass(frozen=True, slots=True)
@@ -94,6 +81,11 @@ class PathVelocityController:
         self.done = False
         self.scaled_cycles = 0       #: cycles in which the time scale was changed (saturation avoided)
         self.cycles = 0
+        self._range: Any = None   #: the compiled range from b1, b2 (arm/pvc_kernels.py) where numba is
+        if compiled.AVAILABLE:
+            from orc_rpl.arm import pvc_kernels  # numba's import only where a controller runs
+
+            self._range = pvc_kernels.admissible_range
 
     # -- what the motion layer reads ----------------------------------------------------
 
@@ -114,8 +106,8 @@ class PathVelocityController:
             b1, b2 = self._at_cycle(cycle)
         else:
             b1, b2 = self.dynamics(self._q_rows[cycle], self._d1_rows[cycle], self._d2_rows[cycle], sd)
-        if compiled.ON:  # the compiled range (the numpy code below is its reference)
-            return admissible_range(b1, b2, self.limit)  # type: ignore[no-any-return]
+        if compiled.ON and self._range is not None:  # the compiled range (the numpy code below is its reference)
+            return self._range(b1, b2, self.limit)  # type: ignore[no-any-return]
         limit, minus_limit = self.limit, self._minus_limit
         acting = np.abs(b1) >= 1e-9  # a joint the path acceleration does not move sets no bound
         if False in acting.tolist():

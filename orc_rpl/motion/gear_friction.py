@@ -23,8 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from orc_rpl.errors import UsageError
+from orc_rpl.motion.thermal import estimate_kernels
 from orc_rpl.plant import compiled
-from orc_rpl.plant.compiled import kernel
 
 #: The rise is integrated every so many motion cycles (0.1 s at 4 ms) from the cycles' mean heat: its time
 #: constant is 20 minutes, and a cycle then costs three in-place sums.
@@ -33,16 +33,6 @@ UPDATE_EVERY_CYCLES = 25
 #: within about 10 % of the nominal one, and the gearbox rise is integrated with the estimated friction.
 CHANGE_SPREAD = 0.2
 
-
-@kernel
-def sums_update(tau_nm: np.ndarray, qd_rad_s: np.ndarray, speed_sum: np.ndarray, speed_sq_sum: np.ndarray,
-                tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`GearFriction.update`'s sums compiled: |qd|, qd^2 and tau^2 added in place, the same operations."""
-    for j in range(speed_sum.shape[0]):
-        speed = abs(qd_rad_s[j])
-        speed_sum[j] = speed_sum[j] + speed
-        speed_sq_sum[j] = speed_sq_sum[j] + speed * speed
-        tau_sq_sum[j] = tau_sq_sum[j] + tau_nm[j] * tau_nm[j]
 
 
 #: Speed (rad/s) over which the estimate's Coulomb friction turns from one sign to the other: the plant's is
@@ -90,6 +80,7 @@ class GearFriction:
         self._share, self._tempco, self._ambient_c = float(motor_heat_share), float(tempco_1_k), float(ambient_c)
         self.rise_k = np.zeros(len(k))  #: the estimate (K above ambient)
         self._work, self._speed_sum, self._speed_sq_sum, self._tau_sq_sum = (np.zeros(len(k)) for _ in range(4))
+        self._kernels = estimate_kernels()
         self._cycles = 0
 
     @property
@@ -117,8 +108,8 @@ class GearFriction:
 
         The cycle only sums |qd|, qd^2 and tau^2 in place (a few microseconds); the rise, whose time constant
         is 20 minutes, is integrated from their means every UPDATE_EVERY_CYCLES cycles."""
-        if compiled.ON:
-            sums_update(tau_nm, qd_rad_s, self._speed_sum, self._speed_sq_sum, self._tau_sq_sum)
+        if compiled.ON and self._kernels is not None:
+            self._kernels.sums_update(tau_nm, qd_rad_s, self._speed_sum, self._speed_sq_sum, self._tau_sq_sum)
         else:
             work = self._work
             np.abs(qd_rad_s, out=work)

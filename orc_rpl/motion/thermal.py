@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 
 from orc_rpl.errors import UsageError
 from orc_rpl.plant import compiled
-from orc_rpl.plant.compiled import kernel
 
 #: Continuous (thermal) torque as a share of the peak torque tau_max: AC servo motors are rated for
 #: a peak of about three times their continuous torque. An *estimate*, the same for every joint.
@@ -23,20 +23,15 @@ TIME_CONSTANTS_S = (20.0, 20.0, 20.0, 10.0, 10.0, 10.0)
 multiply, add = np.multiply, np.add
 
 
-@kernel
-def load_update(tau_nm: np.ndarray, gain: np.ndarray, decay: np.ndarray, load: np.ndarray) -> None:  # pragma: no cover
-    """`ThermalModel.update` compiled: load = load decay + tau^2 gain, the same operations."""
-    for j in range(load.shape[0]):
-        load[j] = load[j] * decay[j] + (tau_nm[j] * tau_nm[j]) * gain[j]
+def estimate_kernels() -> Any:
+    """The estimates' compiled updates (motion/estimate_kernels.py), None where numba is not there; imported
+    when an estimate is made (a simulation), so that numba's import is paid only there."""
+    if not compiled.AVAILABLE:
+        return None
+    from orc_rpl.motion import estimate_kernels
 
+    return estimate_kernels
 
-@kernel
-def rise_update(tau_nm: np.ndarray, gain: np.ndarray, gain_per_k: np.ndarray, decay: np.ndarray,
-                rise: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`WindingTemperature.update`'s model part compiled: the same operations in the same order."""
-    for j in range(rise.shape[0]):
-        heat = rise[j] * gain_per_k[j] + gain[j]
-        rise[j] = rise[j] * decay[j] + (tau_nm[j] * tau_nm[j]) * heat
 
 
 class ThermalModel:
@@ -64,6 +59,7 @@ class ThermalModel:
         self._gain = (1.0 - self._decay) / (tau_c * tau_c)           #: (1 - a) / tau_c^2
         self._work = np.zeros(len(t))
         self.load = np.zeros(len(t))  #: the estimate, 1.0 = the motor's continuous limit (updated in place)
+        self._kernels = estimate_kernels()
 
     @classmethod
     def for_arm(cls, tau_max_nm: Sequence[float], period_s: float) -> ThermalModel:
@@ -75,8 +71,8 @@ class ThermalModel:
 
     def update(self, tau_nm: np.ndarray) -> None:
         """One period with the torque tau_nm (unchecked: the motion cycle calls this)."""
-        if compiled.ON:
-            load_update(tau_nm, self._gain, self._decay, self.load)
+        if compiled.ON and self._kernels is not None:
+            self._kernels.load_update(tau_nm, self._gain, self._decay, self.load)
             return
         work, load = self._work, self.load
         multiply(tau_nm, tau_nm, work)
@@ -138,12 +134,13 @@ class WindingTemperature:
         self.rise_k = np.zeros(len(k))  #: the estimate (K above ambient)
         self._k = k
         self.measurement: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
+        self._kernels = estimate_kernels()
         self.reset()
 
     def update(self, tau_nm: np.ndarray) -> None:
         """One period with the torque tau_nm (in place, no allocation but for the measurement's cycles)."""
-        if compiled.ON:
-            rise_update(tau_nm, self._gain, self._gain_per_k, self._decay, self.rise_k)
+        if compiled.ON and self._kernels is not None:
+            self._kernels.rise_update(tau_nm, self._gain, self._gain_per_k, self._decay, self.rise_k)
         else:
             work, heat, rise = self._work, self._heat, self.rise_k
             multiply(rise, self._gain_per_k, heat)

@@ -3,17 +3,22 @@
 The per-cycle work of the drives is a few dozen operations on six numbers; in numpy each costs a
 call (0.2-0.7 us), compiled they cost nanoseconds. `kernel` compiles a function with numba
 (`@njit(cache=True)`: the machine code is kept between runs, next to the source or, when the
-installation is read-only, in numba's user cache folder; NUMBA_CACHE_DIR moves it); `step(model,
-data)` calls MuJoCo's `mj_step` from such a function (the addresses are `MjModel._address` and
-`MjData._address`). Without numba (or without MuJoCo's shared library where it is looked for),
-`AVAILABLE` is False and the callers keep their numpy code, which stays the reference the kernels
-are tested against.
+installation is read-only, in numba's user cache folder; NUMBA_CACHE_DIR moves it);
+`mj_step_intrinsic()` calls MuJoCo's `mj_step` from such a function (the addresses are
+`MjModel._address` and `MjData._address`). Without numba (or without MuJoCo's shared library where
+it is looked for), or with ORC_RPL_NO_JIT=1, `AVAILABLE` is False and the callers keep their numpy
+code, which stays the reference the kernels are tested against.
+
+numba is imported when the first module of kernels is (the objects that use kernels import their
+module when they are made: a simulation's), never by `import orc_rpl...`: commands that simulate
+nothing do not pay its import.
 """
 
 from __future__ import annotations
 
 import ctypes
 import glob
+import importlib.util
 import os
 from collections.abc import Callable
 from typing import Any
@@ -41,7 +46,7 @@ def _mujoco_library() -> ctypes.CDLL | None:
 
 def _load() -> tuple[Any, Any]:
     """(numba.njit, the mj_step intrinsic), or (None, None) when numba or MuJoCo's library is missing."""
-    if os.environ.get(DISABLE_ENV, "") not in ("", "0"):
+    if not AVAILABLE:
         return None, None
     try:
         import llvmlite.binding as llvm
@@ -74,13 +79,24 @@ def _load() -> tuple[Any, Any]:
     return numba.njit, mj_step_at
 
 
-_njit, step = _load()
-
-#: True when the kernels are compiled (numba and MuJoCo's library found, ORC_RPL_NO_JIT not set).
-AVAILABLE = _njit is not None
+#: True when the kernels can be compiled (numba is installed, ORC_RPL_NO_JIT is not set; False too once
+#: numba or MuJoCo's library failed to load).
+AVAILABLE = os.environ.get(DISABLE_ENV, "") in ("", "0") and importlib.util.find_spec("numba") is not None
 
 #: The hot paths use the kernels now (read it as `compiled.ON` at each call; `use_kernels` sets it).
 ON = AVAILABLE
+
+_loaded: list[tuple[Any, Any]] = []
+
+
+def _compiler() -> tuple[Any, Any]:
+    """(numba.njit, the mj_step intrinsic), loaded once; (None, None) where the kernels are not AVAILABLE."""
+    global AVAILABLE, ON
+    if not _loaded:
+        _loaded.append(_load())
+        if _loaded[0][0] is None:
+            AVAILABLE = ON = False
+    return _loaded[0]
 
 
 def use_kernels(on: bool) -> bool:
@@ -94,6 +110,12 @@ def use_kernels(on: bool) -> bool:
 def kernel(function: Callable[..., Any]) -> Callable[..., Any]:
     """`function` compiled (numba, cached between runs); unchanged where numba is not AVAILABLE (then the
     caller must not call it in its hot path: it is the numpy code's job there)."""
-    if _njit is None:
+    njit, _ = _compiler()
+    if njit is None:
         return function
-    return _njit(cache=True)(function)
+    return njit(cache=True)(function)  # type: ignore[no-any-return]
+
+
+def mj_step_intrinsic() -> Any:
+    """mj_step(model_address, data_address) for compiled code (None where the kernels are not AVAILABLE)."""
+    return _compiler()[1]

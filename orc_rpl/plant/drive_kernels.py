@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from orc_rpl.plant.compiled import kernel, step
+from orc_rpl.plant.compiled import kernel, mj_step_intrinsic
+
+step = mj_step_intrinsic()
 
 
 @kernel

@@ -8,7 +8,6 @@ import numpy as np
 
 from orc_rpl.plant import compiled
 from orc_rpl.plant.cell import CellDescription
-from orc_rpl.plant.drive_kernels import winding_sample
 from orc_rpl.plant.drives import DRIVE_INPUTS, PidDrives
 from orc_rpl.plant.sim import SimCell, mj_step
 from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, PlantSpec, plant_spec
@@ -124,6 +123,11 @@ class RealisticCell(SimCell):
         for view in (self._q_meas_view, self._qd_meas_view):
             view.flags.writeable = False
         self.drives = PidDrives(self)
+        self._kernels: Any = None   #: plant/drive_kernels.py where numba is
+        if compiled.AVAILABLE:
+            from orc_rpl.plant import drive_kernels
+
+            self._kernels = drive_kernels
         self.drives.torque_mode()
         self.set_payload(0.0)
 
@@ -180,9 +184,9 @@ class RealisticCell(SimCell):
         electrical time constant). Voltage and current carry seeded noise (VOLTAGE_NOISE_V,
         CURRENT_NOISE_A, 1 sigma); the speed is the one the servo reads.
         """
-        if compiled.ON:
+        if compiled.ON and self._kernels is not None:
             noise, out = self._drive_rng.standard_normal((2, self.n_joints)), np.empty((3, self.n_joints))
-            winding_sample(self.drives.force, self._k_amp, self._r_ohm, self.winding_rise_k, self.plant.ambient_c,
+            self._kernels.winding_sample(self.drives.force, self._k_amp, self._r_ohm, self.winding_rise_k, self.plant.ambient_c,
                            COPPER_TEMPCO_1_K, self._data.qvel, self._qvel, self._qd_meas, noise, VOLTAGE_NOISE_V,
                            CURRENT_NOISE_A, out)
             return out[0], out[1], out[2]

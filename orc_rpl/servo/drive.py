@@ -8,8 +8,6 @@ import numpy as np
 
 from orc_rpl.plant import compiled
 from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S, JointServo
-from orc_rpl.servo import drive_kernels
-from orc_rpl.servo.drive_kernels import LAW_ROWS, SCRATCH_ROWS
 
 add, subtract, multiply, tanh, minimum, maximum, copyto = (np.add, np.subtract, np.multiply, np.tanh, np.minimum, np.maximum,
                                                        np.copyto)
@@ -49,7 +47,12 @@ class CompiledDrives:
         self._tau_abs = np.zeros(n)
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
         self._law_of: Any = None   #: the (kp, friction) the law's constants below were made for
-        self._law, self._scratch = np.zeros((LAW_ROWS, n)), np.zeros((SCRATCH_ROWS, n))
+        self._kernels: Any = None   #: servo/drive_kernels.py where numba is (imported here: a simulation's)
+        if compiled.AVAILABLE:
+            from orc_rpl.servo import drive_kernels
+
+            self._kernels = drive_kernels
+            self._law, self._scratch = np.zeros((drive_kernels.LAW_ROWS, n)), np.zeros((drive_kernels.SCRATCH_ROWS, n))
         #: the kernel's feed-forward and M_ii compiled (servo/rnea_kernel.py; False: Pinocchio's, the reference)
         self.compiled_rnea = True
         self._no_body = np.zeros((0, 29))
@@ -101,7 +104,7 @@ class CompiledDrives:
         servo, cell = self.servo, self.cell
         if not self.engaged:
             self.engage()
-        if compiled.ON and each_step is None and self.twist is None and servo.tuning is None and cell.drives.kernel_fits():
+        if compiled.ON and self._kernels is not None and each_step is None and self.twist is None and servo.tuning is None and cell.drives.kernel_fits():
             self._run_kernel(q_ref, qd_ref, qdd_ref)
             return
         q, _ = cell.live_state()
@@ -211,7 +214,7 @@ class CompiledDrives:
         noise = cell.noise_rows(n_steps + 1)   # the steps' rows and the measurement's after them
         integral_before = servo.integral
         integral = self._integral_a if integral_before is not self._integral_a else self._integral_b
-        cell.drives.run_kernel(drive_kernels.drive_cycle, q_ref, qd_ref, qdd_ref, self._body, self._gravity, rnea, noise, mass_diagonal, self._law,
+        cell.drives.run_kernel(self._kernels.drive_cycle, q_ref, qd_ref, qdd_ref, self._body, self._gravity, rnea, noise, mass_diagonal, self._law,
                           servo._coulomb is not None, 1.0 / FRICTION_SMOOTH_RAD_S, servo.period_s, servo.torque_offset,
                           servo.position_error, integral_before, integral, servo.torque, servo.saturated, self._kv,
                           self._gains, self._ff, self._scratch)
@@ -220,7 +223,7 @@ class CompiledDrives:
 
     def _law_rows(self) -> None:
         """The law's constants as the rows the kernel reads (servo/drive_kernels.py)."""
-        servo, law, k = self.servo, self._law, drive_kernels
+        servo, law, k = self.servo, self._law, self._kernels
         law[k.VELOCITY_BW], law[k.PID_P], law[k.PID_I], law[k.INTEGRAL_BW] = (servo._velocity_bw, self._pid_p,
                                                                              self._pid_i, self._ibw)
         law[k.KP], law[k.FRICTION_P] = self._kp, self._friction_p

@@ -14,7 +14,6 @@ from orc_rpl.plant import compiled
 from orc_rpl.plant.sim import SimCell
 from orc_rpl.servo.control import JointServo, ServoGains, ServoTuning
 from orc_rpl.servo.drive import CompiledDrives
-from orc_rpl.servo.drive_kernels import all_finite, reference_rows
 from orc_rpl.signals.logger import Logger
 
 
@@ -56,6 +55,11 @@ class ServoLoop:
         self.compiled_law = self.drives is not None  #: False: the Python law, step by step
         self.drives_on = True  #: False: no torque, the brakes hold the joints (set_drives)
         self.twist: Any = None  #: the elastic gears' twist feed-forward (set_gear_twist), None: rigid gears
+        self._kernels: Any = None   #: servo/drive_kernels.py where numba is (imported here: a simulation's)
+        if compiled.AVAILABLE:
+            from orc_rpl.servo import drive_kernels
+
+            self._kernels = drive_kernels
 
     def set_gear_twist(self, twist: Any) -> None:
         """Lead each rotor by its gear's twist (a `servo.two_mass.GearTwist`; None: rigid gears). The
@@ -137,14 +141,15 @@ class ServoLoop:
         shape = q_ref.shape
         if not (shape == qd_ref.shape == qdd_ref.shape and shape in ((n_steps, self._n), (self._n,))) or n_steps < 1:
             self._refuse(q_ref, qd_ref, qdd_ref, n_steps)
-        if compiled.ON and len(shape) == 1:  # the compiled rows (servo/drive_kernels.py): the same numbers
+        kernels = self._kernels if compiled.ON else None
+        if kernels is not None and len(shape) == 1:  # the compiled rows (servo/drive_kernels.py): the same numbers
             rows = (n_steps, self._n)
             q_steps, qd_steps, qdd_steps = np.empty(rows), np.empty(rows), np.empty(rows)
-            if not reference_rows(q_ref, qd_ref, qdd_ref, self.period_s, q_steps, qd_steps, qdd_steps):
+            if not kernels.reference_rows(q_ref, qd_ref, qdd_ref, self.period_s, q_steps, qd_steps, qdd_steps):
                 raise UsageError("servo reference contains NaN or infinity")
             return q_steps, qd_steps, qdd_steps
-        if len(shape) == 2 and compiled.ON:
-            if not all_finite(q_ref, qd_ref, qdd_ref):
+        if len(shape) == 2 and kernels is not None:
+            if not kernels.all_finite(q_ref, qd_ref, qdd_ref):
                 raise UsageError("servo reference contains NaN or infinity")
             return q_ref, qd_ref, qdd_ref
         # count_nonzero: a plain C call, several times cheaper than np.all on these small arrays
