@@ -54,3 +54,31 @@ def winding_sample(force: np.ndarray, k_amp: np.ndarray, r_ohm: np.ndarray, rise
         out[0, j] = voltage + voltage_noise * noise[0, j]
         out[1, j] = current + current_noise * noise[1, j]
         out[2, j] = qd_meas[j]
+
+
+@kernel
+def heat(tau_sq_sum: np.ndarray, n_steps: int, every_steps: int, w_decay: np.ndarray, g_decay: float,
+         r_ohm: np.ndarray, k_amp: np.ndarray, w_rth: np.ndarray, g_rth: np.ndarray, tempco_1_k: float,
+         ambient_c: float, heat_share: float, cold_factor: float, warm_rise_k: float, rise_k: np.ndarray,
+         gear_rise_k: np.ndarray, coulomb_now: np.ndarray, viscous_now: np.ndarray, coulomb: np.ndarray,
+         viscous: np.ndarray, qvel: np.ndarray, qvel_address: np.ndarray, brake_nm: np.ndarray, braked: bool,
+         dof_damping: np.ndarray, dof_frictionloss: np.ndarray, new: np.ndarray) -> None:  # pragma: no cover
+    """`RealisticCell._heat` and `_apply_friction` compiled: windings and gearboxes over the last n_steps
+    steps, the friction that follows written into the model; the new winding rise, gear rise, Coulomb
+    and viscous friction into the rows of `new` (the same operations in the same order)."""
+    g = g_decay if n_steps == every_steps else g_decay ** (n_steps / every_steps)
+    for j in range(tau_sq_sum.shape[0]):
+        w = w_decay[j] if n_steps == every_steps else w_decay[j] ** (n_steps / every_steps)
+        mean_tau_sq = tau_sq_sum[j] / n_steps
+        tau_sq_sum[j] = 0.0
+        resistance = r_ohm[j] * (1.0 + tempco_1_k * ((ambient_c + rise_k[j]) - 20.0))
+        copper_w = resistance * mean_tau_sq / (k_amp[j] * k_amp[j])
+        new[0, j] = w * rise_k[j] + (1.0 - w) * w_rth[j] * copper_w
+        qd = abs(qvel[qvel_address[j]])
+        heat_w = coulomb_now[j] * qd + viscous_now[j] * qd * qd + heat_share * copper_w
+        gear = g * gear_rise_k[j] + (1.0 - g) * g_rth[j] * heat_w
+        new[1, j] = gear
+        factor = 1.0 + (cold_factor - 1.0) * np.exp(-gear / warm_rise_k)
+        new[2, j], new[3, j] = coulomb[j] * factor, viscous[j] * factor
+        dof_damping[qvel_address[j]] = new[3, j]
+        dof_frictionloss[qvel_address[j]] = new[2, j] + brake_nm[j] if braked else new[2, j]

@@ -9,7 +9,7 @@ import numpy as np
 from orc_rpl.plant import compiled
 from orc_rpl.plant.cell import CellDescription
 from orc_rpl.plant.drives import DRIVE_INPUTS, PidDrives
-from orc_rpl.plant.sim import SimCell, mj_step
+from orc_rpl.plant.sim import BRAKE_SHARE, SimCell, mj_step
 from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, PlantSpec, plant_spec
 
 #: The slow states (temperatures, friction) are updated every this many steps (50 ms) from the mean
@@ -128,6 +128,10 @@ class RealisticCell(SimCell):
             from orc_rpl.plant import drive_kernels
 
             self._kernels = drive_kernels
+            self._brake_nm = BRAKE_SHARE * self.tau_max   #: the brakes' holding torque on top of friction
+        #: `_heat` compiled: the same operations, but exp and pow from the C library, which differ from numpy's
+        #: in the last bit now and then (False: numpy's, the reference)
+        self.compiled_heat = True
         self.drives.torque_mode()
         self.set_payload(0.0)
 
@@ -309,6 +313,17 @@ class RealisticCell(SimCell):
     def _heat(self, n_steps: int = THERMAL_EVERY_STEPS) -> None:
         """Windings and gearboxes over the last n_steps steps; friction follows the gearboxes."""
         p = self.plant
+        if compiled.ON and self._kernels is not None and self.compiled_heat:   # plant/drive_kernels.py
+            new = np.empty((4, self.n_joints))   # new arrays, as below: a caller may hold the old ones
+            self._kernels.heat(self._tau_sq_sum, n_steps, THERMAL_EVERY_STEPS, self._w_decay, self._g_decay, self._r_ohm,
+                               self._k_amp, self._w_rth, self._g_rth, COPPER_TEMPCO_1_K, p.ambient_c,
+                               p.gear_motor_heat_share, p.cold_friction_factor, p.warm_rise_k, self.winding_rise_k,
+                               self.gear_rise_k, self._coulomb_now, self._viscous_now, self._coulomb, self._viscous,
+                               self._data.qvel, self._qvel, self._brake_nm, self.brakes_engaged,
+                               self._model.dof_damping, self._model.dof_frictionloss, new)
+            self.winding_rise_k, self.gear_rise_k, self._coulomb_now, self._viscous_now = new
+            self._heated_at = self._steps
+            return
         mean_tau_sq = self._tau_sq_sum / n_steps
         self._tau_sq_sum[:] = 0.0
         self._heated_at = self._steps

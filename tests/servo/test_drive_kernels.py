@@ -37,6 +37,7 @@ def _run(kernels: bool, friction: bool, compiled_rnea: bool) -> tuple[np.ndarray
     layer = make_virtual_motion_layer("irb2400", backend="servo", plant="realistic", seed=5)
     loop = layer.backend.loop
     loop.drives.compiled_rnea = compiled_rnea
+    loop.cell.compiled_heat = compiled_rnea   # exp and pow: the C library's (compiled) or numpy's, bit for bit
     cycles_in_kernel = [0]
     run_kernel = loop.cell.drives.run_kernel
 
@@ -66,8 +67,9 @@ def _run(kernels: bool, friction: bool, compiled_rnea: bool) -> tuple[np.ndarray
 
 
 def test_the_compiled_motion_cycle_is_the_numpy_cycle_bit_for_bit() -> None:
-    # without the friction feed-forward's tanh (numpy's and the C library's differ in the last bit) and
-    # with Pinocchio's RNEA, the kernels do the numpy code's operations in its order: the same bits
+    # without the friction feed-forward's tanh (numpy's and the C library's differ in the last bit), with
+    # Pinocchio's RNEA and numpy's exp and pow in the plant's thermal model, the kernels do the numpy
+    # code's operations in its order: the same bits
     compiled_run = _recorded_run(True, friction=False, compiled_rnea=False)
     reference = _recorded_run(False, friction=False, compiled_rnea=False)
     assert compiled_run.shape == reference.shape and len(reference) > 300
@@ -139,3 +141,28 @@ def test_a_reference_that_is_not_finite_is_refused_with_the_kernels_too() -> Non
         loop.run(rows, np.zeros((4, 6)), np.zeros((4, 6)), 4)
     state = loop.run(q, zero, zero, 4)   # and a good one runs
     assert np.allclose(state.q, q, atol=1e-3)
+
+
+def test_the_plants_compiled_winding_measurement_and_heating_are_numpys() -> None:
+    from orc_rpl.plant.realistic import RealisticCell
+
+    results = {}
+    for on in (True, False):
+        compiled.use_kernels(on)
+        cell = RealisticCell("irb2400", seed=2)
+        cell.reset()
+        samples = []
+        for k in range(700):
+            cell.step(np.array([100.0, 300.0, -200.0, 20.0, 10.0, 5.0]) * np.sin(k / 50.0))
+            if k == 400:
+                cell.set_brakes(True)
+            if k % 25 == 0:
+                samples.append(np.concatenate(cell.winding_measurement()))
+        state = np.concatenate([cell.winding_rise_k, cell.gear_rise_k, cell._coulomb_now, cell._viscous_now,
+                                cell._model.dof_damping, cell._model.dof_frictionloss, cell.true_q])
+        results[on] = np.array(samples), state
+    assert np.array_equal(results[True][0][:2], results[False][0][:2])   # before the first heating (step 50): bit for bit
+    samples_c, state_c = results[True]
+    samples_n, state_n = results[False]
+    assert np.max(np.abs(samples_c - samples_n) / np.maximum(1.0, np.abs(samples_n))) < 1e-12
+    assert np.max(np.abs(state_c - state_n) / np.maximum(1.0, np.abs(state_n))) < 1e-12
