@@ -30,36 +30,34 @@ def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarra
     al0, al1, al2 = -gravity[0], -gravity[1], -gravity[2]
     aw0 = aw1 = aw2 = 0.0
     for i in range(n):
-        b = body[i]
-        x, y, z = b[AXIS], b[AXIS + 1], b[AXIS + 2]
+        x, y, z = body[i, AXIS], body[i, AXIS + 1], body[i, AXIS + 2]
         c, s = math.cos(q[i]), math.sin(q[i])
         t = 1.0 - c
         # joint rotation (Rodrigues) and the placement's before it: R = P Rj, rows of R map child to parent
         j00, j01, j02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
         j10, j11, j12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
         j20, j21, j22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
-        R, force = work[i, 0:9], work[i, 9:15]
         for r in range(3):
-            p0, p1, p2 = b[ROTATION + 3 * r], b[ROTATION + 3 * r + 1], b[ROTATION + 3 * r + 2]
-            R[3 * r] = p0 * j00 + p1 * j10 + p2 * j20
-            R[3 * r + 1] = p0 * j01 + p1 * j11 + p2 * j21
-            R[3 * r + 2] = p0 * j02 + p1 * j12 + p2 * j22
-        px, py, pz = b[TRANSLATION], b[TRANSLATION + 1], b[TRANSLATION + 2]
+            p0, p1, p2 = body[i, ROTATION + 3 * r], body[i, ROTATION + 3 * r + 1], body[i, ROTATION + 3 * r + 2]
+            work[i, 3 * r] = p0 * j00 + p1 * j10 + p2 * j20
+            work[i, 3 * r + 1] = p0 * j01 + p1 * j11 + p2 * j21
+            work[i, 3 * r + 2] = p0 * j02 + p1 * j12 + p2 * j22
+        px, py, pz = body[i, TRANSLATION], body[i, TRANSLATION + 1], body[i, TRANSLATION + 2]
         # actInv: w' = R^T w, v' = R^T (v - p x w)
         ux, uy, uz = vl0 - (py * vw2 - pz * vw1), vl1 - (pz * vw0 - px * vw2), vl2 - (px * vw1 - py * vw0)
-        nvl0 = R[0] * ux + R[3] * uy + R[6] * uz
-        nvl1 = R[1] * ux + R[4] * uy + R[7] * uz
-        nvl2 = R[2] * ux + R[5] * uy + R[8] * uz
-        nvw0 = R[0] * vw0 + R[3] * vw1 + R[6] * vw2 + x * qd[i]
-        nvw1 = R[1] * vw0 + R[4] * vw1 + R[7] * vw2 + y * qd[i]
-        nvw2 = R[2] * vw0 + R[5] * vw1 + R[8] * vw2 + z * qd[i]
+        nvl0 = work[i, 0] * ux + work[i, 3] * uy + work[i, 6] * uz
+        nvl1 = work[i, 1] * ux + work[i, 4] * uy + work[i, 7] * uz
+        nvl2 = work[i, 2] * ux + work[i, 5] * uy + work[i, 8] * uz
+        nvw0 = work[i, 0] * vw0 + work[i, 3] * vw1 + work[i, 6] * vw2 + x * qd[i]
+        nvw1 = work[i, 1] * vw0 + work[i, 4] * vw1 + work[i, 7] * vw2 + y * qd[i]
+        nvw2 = work[i, 2] * vw0 + work[i, 5] * vw1 + work[i, 8] * vw2 + z * qd[i]
         ux, uy, uz = al0 - (py * aw2 - pz * aw1), al1 - (pz * aw0 - px * aw2), al2 - (px * aw1 - py * aw0)
-        nal0 = R[0] * ux + R[3] * uy + R[6] * uz
-        nal1 = R[1] * ux + R[4] * uy + R[7] * uz
-        nal2 = R[2] * ux + R[5] * uy + R[8] * uz
-        naw0 = R[0] * aw0 + R[3] * aw1 + R[6] * aw2 + x * qdd[i]
-        naw1 = R[1] * aw0 + R[4] * aw1 + R[7] * aw2 + y * qdd[i]
-        naw2 = R[2] * aw0 + R[5] * aw1 + R[8] * aw2 + z * qdd[i]
+        nal0 = work[i, 0] * ux + work[i, 3] * uy + work[i, 6] * uz
+        nal1 = work[i, 1] * ux + work[i, 4] * uy + work[i, 7] * uz
+        nal2 = work[i, 2] * ux + work[i, 5] * uy + work[i, 8] * uz
+        naw0 = work[i, 0] * aw0 + work[i, 3] * aw1 + work[i, 6] * aw2 + x * qdd[i]
+        naw1 = work[i, 1] * aw0 + work[i, 4] * aw1 + work[i, 7] * aw2 + y * qdd[i]
+        naw2 = work[i, 2] * aw0 + work[i, 5] * aw1 + work[i, 8] * aw2 + z * qdd[i]
         # + v x (S qd): linear v_lin x w_j, angular v_ang x w_j
         wx, wy, wz = x * qd[i], y * qd[i], z * qd[i]
         nal0 += nvl1 * wz - nvl2 * wy
@@ -71,42 +69,40 @@ def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarra
         vl0, vl1, vl2, vw0, vw1, vw2 = nvl0, nvl1, nvl2, nvw0, nvw1, nvw2
         al0, al1, al2, aw0, aw1, aw2 = nal0, nal1, nal2, naw0, naw1, naw2
         # f = I a + v x* (I v); I m = (mass (v - c x w), Ic w + c x f)
-        m, cx, cy, cz = b[MASS], b[LEVER], b[LEVER + 1], b[LEVER + 2]
+        m, cx, cy, cz = body[i, MASS], body[i, LEVER], body[i, LEVER + 1], body[i, LEVER + 2]
         fl0 = m * (al0 - (cy * aw2 - cz * aw1))
         fl1 = m * (al1 - (cz * aw0 - cx * aw2))
         fl2 = m * (al2 - (cx * aw1 - cy * aw0))
-        fa0 = b[INERTIA] * aw0 + b[INERTIA + 1] * aw1 + b[INERTIA + 2] * aw2 + (cy * fl2 - cz * fl1)
-        fa1 = b[INERTIA + 3] * aw0 + b[INERTIA + 4] * aw1 + b[INERTIA + 5] * aw2 + (cz * fl0 - cx * fl2)
-        fa2 = b[INERTIA + 6] * aw0 + b[INERTIA + 7] * aw1 + b[INERTIA + 8] * aw2 + (cx * fl1 - cy * fl0)
+        fa0 = body[i, INERTIA] * aw0 + body[i, INERTIA + 1] * aw1 + body[i, INERTIA + 2] * aw2 + (cy * fl2 - cz * fl1)
+        fa1 = body[i, INERTIA + 3] * aw0 + body[i, INERTIA + 4] * aw1 + body[i, INERTIA + 5] * aw2 + (cz * fl0 - cx * fl2)
+        fa2 = body[i, INERTIA + 6] * aw0 + body[i, INERTIA + 7] * aw1 + body[i, INERTIA + 8] * aw2 + (cx * fl1 - cy * fl0)
         hl0 = m * (vl0 - (cy * vw2 - cz * vw1))
         hl1 = m * (vl1 - (cz * vw0 - cx * vw2))
         hl2 = m * (vl2 - (cx * vw1 - cy * vw0))
-        ha0 = b[INERTIA] * vw0 + b[INERTIA + 1] * vw1 + b[INERTIA + 2] * vw2 + (cy * hl2 - cz * hl1)
-        ha1 = b[INERTIA + 3] * vw0 + b[INERTIA + 4] * vw1 + b[INERTIA + 5] * vw2 + (cz * hl0 - cx * hl2)
-        ha2 = b[INERTIA + 6] * vw0 + b[INERTIA + 7] * vw1 + b[INERTIA + 8] * vw2 + (cx * hl1 - cy * hl0)
+        ha0 = body[i, INERTIA] * vw0 + body[i, INERTIA + 1] * vw1 + body[i, INERTIA + 2] * vw2 + (cy * hl2 - cz * hl1)
+        ha1 = body[i, INERTIA + 3] * vw0 + body[i, INERTIA + 4] * vw1 + body[i, INERTIA + 5] * vw2 + (cz * hl0 - cx * hl2)
+        ha2 = body[i, INERTIA + 6] * vw0 + body[i, INERTIA + 7] * vw1 + body[i, INERTIA + 8] * vw2 + (cx * hl1 - cy * hl0)
         # v x* h = (w x h_lin, w x h_ang + v x h_lin)
-        force[0] = fl0 + (vw1 * hl2 - vw2 * hl1)
-        force[1] = fl1 + (vw2 * hl0 - vw0 * hl2)
-        force[2] = fl2 + (vw0 * hl1 - vw1 * hl0)
-        force[3] = fa0 + (vw1 * ha2 - vw2 * ha1) + (vl1 * hl2 - vl2 * hl1)
-        force[4] = fa1 + (vw2 * ha0 - vw0 * ha2) + (vl2 * hl0 - vl0 * hl2)
-        force[5] = fa2 + (vw0 * ha1 - vw1 * ha0) + (vl0 * hl1 - vl1 * hl0)
+        work[i, 9] = fl0 + (vw1 * hl2 - vw2 * hl1)
+        work[i, 10] = fl1 + (vw2 * hl0 - vw0 * hl2)
+        work[i, 11] = fl2 + (vw0 * hl1 - vw1 * hl0)
+        work[i, 12] = fa0 + (vw1 * ha2 - vw2 * ha1) + (vl1 * hl2 - vl2 * hl1)
+        work[i, 13] = fa1 + (vw2 * ha0 - vw0 * ha2) + (vl2 * hl0 - vl0 * hl2)
+        work[i, 14] = fa2 + (vw0 * ha1 - vw1 * ha0) + (vl0 * hl1 - vl1 * hl0)
     # backward: the joint's torque from its body's force, the force handed to the parent (act: R f, R n + p x R f)
     for i in range(n - 1, -1, -1):
-        b, R, f = body[i], work[i, 0:9], work[i, 9:15]
-        tau[i] = b[AXIS] * f[3] + b[AXIS + 1] * f[4] + b[AXIS + 2] * f[5] + b[ARMATURE] * qdd[i]
+        tau[i] = body[i, AXIS] * work[i, 12] + body[i, AXIS + 1] * work[i, 13] + body[i, AXIS + 2] * work[i, 14] + body[i, ARMATURE] * qdd[i]
         if i > 0:
-            f0 = R[0] * f[0] + R[1] * f[1] + R[2] * f[2]
-            f1 = R[3] * f[0] + R[4] * f[1] + R[5] * f[2]
-            f2 = R[6] * f[0] + R[7] * f[1] + R[8] * f[2]
-            px, py, pz = b[TRANSLATION], b[TRANSLATION + 1], b[TRANSLATION + 2]
-            parent = work[i - 1, 9:15]
-            parent[0] += f0
-            parent[1] += f1
-            parent[2] += f2
-            parent[3] += R[0] * f[3] + R[1] * f[4] + R[2] * f[5] + (py * f2 - pz * f1)
-            parent[4] += R[3] * f[3] + R[4] * f[4] + R[5] * f[5] + (pz * f0 - px * f2)
-            parent[5] += R[6] * f[3] + R[7] * f[4] + R[8] * f[5] + (px * f1 - py * f0)
+            f0 = work[i, 0] * work[i, 9] + work[i, 1] * work[i, 10] + work[i, 2] * work[i, 11]
+            f1 = work[i, 3] * work[i, 9] + work[i, 4] * work[i, 10] + work[i, 5] * work[i, 11]
+            f2 = work[i, 6] * work[i, 9] + work[i, 7] * work[i, 10] + work[i, 8] * work[i, 11]
+            px, py, pz = body[i, TRANSLATION], body[i, TRANSLATION + 1], body[i, TRANSLATION + 2]
+            work[i - 1, 9] += f0
+            work[i - 1, 10] += f1
+            work[i - 1, 11] += f2
+            work[i - 1, 12] += work[i, 0] * work[i, 12] + work[i, 1] * work[i, 13] + work[i, 2] * work[i, 14] + (py * f2 - pz * f1)
+            work[i - 1, 13] += work[i, 3] * work[i, 12] + work[i, 4] * work[i, 13] + work[i, 5] * work[i, 14] + (pz * f0 - px * f2)
+            work[i - 1, 14] += work[i, 6] * work[i, 12] + work[i, 7] * work[i, 13] + work[i, 8] * work[i, 14] + (px * f1 - py * f0)
 
 
 @kernel
@@ -127,22 +123,20 @@ def mass_diagonal(body: np.ndarray, q: np.ndarray, out: np.ndarray) -> None:  # 
     j00 = j01 = j02 = j11 = j12 = j22 = 0.0            # their inertia about frame i's origin (symmetric)
     r = np.empty(9)                                    # the child's rotation into frame i
     for i in range(n - 1, -1, -1):
-        b = body[i]
         if i < n - 1:
             # the composite of the child (frame i+1) in this frame: x' = R x + p, R = placement * joint(q)
-            c = body[i + 1]
-            x, y, z = c[AXIS], c[AXIS + 1], c[AXIS + 2]
+            x, y, z = body[i + 1, AXIS], body[i + 1, AXIS + 1], body[i + 1, AXIS + 2]
             co, si = math.cos(q[i + 1]), math.sin(q[i + 1])
             t = 1.0 - co
             k00, k01, k02 = co + x * x * t, x * y * t - z * si, x * z * t + y * si
             k10, k11, k12 = y * x * t + z * si, co + y * y * t, y * z * t - x * si
             k20, k21, k22 = z * x * t - y * si, z * y * t + x * si, co + z * z * t
             for row in range(3):
-                p0, p1, p2 = c[ROTATION + 3 * row], c[ROTATION + 3 * row + 1], c[ROTATION + 3 * row + 2]
+                p0, p1, p2 = body[i + 1, ROTATION + 3 * row], body[i + 1, ROTATION + 3 * row + 1], body[i + 1, ROTATION + 3 * row + 2]
                 r[3 * row] = p0 * k00 + p1 * k10 + p2 * k20
                 r[3 * row + 1] = p0 * k01 + p1 * k11 + p2 * k21
                 r[3 * row + 2] = p0 * k02 + p1 * k12 + p2 * k22
-            px, py, pz = c[TRANSLATION], c[TRANSLATION + 1], c[TRANSLATION + 2]
+            px, py, pz = body[i + 1, TRANSLATION], body[i + 1, TRANSLATION + 1], body[i + 1, TRANSLATION + 2]
             # R J R^T
             a00 = r[0] * j00 + r[1] * j01 + r[2] * j02
             a01 = r[0] * j01 + r[1] * j11 + r[2] * j12
@@ -174,16 +168,16 @@ def mass_diagonal(body: np.ndarray, q: np.ndarray, out: np.ndarray) -> None:  # 
         else:
             mass = 0.0
         # + this body: Ic + m (|c|^2 I - c c^T) about its frame's origin
-        m, cx, cy, cz = b[MASS], b[LEVER], b[LEVER + 1], b[LEVER + 2]
+        m, cx, cy, cz = body[i, MASS], body[i, LEVER], body[i, LEVER + 1], body[i, LEVER + 2]
         cc = cx * cx + cy * cy + cz * cz
-        j00 += b[INERTIA] + m * (cc - cx * cx)
-        j11 += b[INERTIA + 4] + m * (cc - cy * cy)
-        j22 += b[INERTIA + 8] + m * (cc - cz * cz)
-        j01 += b[INERTIA + 1] - m * cx * cy
-        j02 += b[INERTIA + 2] - m * cx * cz
-        j12 += b[INERTIA + 5] - m * cy * cz
+        j00 += body[i, INERTIA] + m * (cc - cx * cx)
+        j11 += body[i, INERTIA + 4] + m * (cc - cy * cy)
+        j22 += body[i, INERTIA + 8] + m * (cc - cz * cz)
+        j01 += body[i, INERTIA + 1] - m * cx * cy
+        j02 += body[i, INERTIA + 2] - m * cx * cz
+        j12 += body[i, INERTIA + 5] - m * cy * cz
         h0, h1, h2 = h0 + m * cx, h1 + m * cy, h2 + m * cz
         mass += m
-        x, y, z = b[AXIS], b[AXIS + 1], b[AXIS + 2]
+        x, y, z = body[i, AXIS], body[i, AXIS + 1], body[i, AXIS + 2]
         out[i] = (x * (j00 * x + j01 * y + j02 * z) + y * (j01 * x + j11 * y + j12 * z)
-                  + z * (j02 * x + j12 * y + j22 * z) + b[ARMATURE])
+                  + z * (j02 * x + j12 * y + j22 * z) + body[i, ARMATURE])
