@@ -148,6 +148,12 @@ class RealisticCell(SimCell):
         return self._qd_meas.copy()
 
     @property
+    def tau(self) -> np.ndarray:
+        """Torques the motors applied in the last step (N m, after saturation), a copy (of the drives' view:
+        the servo loop reads it every motion cycle)."""
+        return self.drives.force.copy()
+
+    @property
     def true_q(self) -> np.ndarray:
         """The plant's own joint angles (rad), which no controller can read; a copy."""
         return self._data.qpos[self._qpos]
