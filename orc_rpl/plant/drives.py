@@ -92,13 +92,17 @@ class PidDrives:
         cell = self.cell
         return not (cell._watch_contacts or cell.io.processes or cell.realtime)
 
-    def run_kernel(self, cycle: Any, position_rows: np.ndarray, *args: Any) -> None:
-        """`cycle(model, data, position_rows, *args, <the plant's arrays>)`: a compiled motion cycle
-        (servo/drive_kernels.py) that steps the plant len(position_rows) times through
-        `drive_kernels.drive_rows` and measures (`drive_kernels.measure`); then the cell's bookkeeping
-        as after `drive`: the noise rows used, the thermal model's steps."""
-        cycle(*self._addresses, position_rows, *args, *self._kernel_arrays)
-        cell, n_steps = self.cell, len(position_rows)
+    def kernel_arrays(self) -> tuple[Any, ...]:
+        """What a compiled motion cycle reads and writes of the plant, its last arguments (`run_kernel`)."""
+        return self._kernel_arrays
+
+    def run_kernel(self, cycle: Any, head: tuple[Any, ...], tail: tuple[Any, ...]) -> None:
+        """`cycle(model, data, *head, *tail)`: a compiled motion cycle (servo/drive_kernels.py) that steps
+        the plant len(head[0]) times through `drive_kernels.drive_rows` and measures
+        (`drive_kernels.measure`); `tail` ends with `kernel_arrays()`. Then the cell's bookkeeping as
+        after `drive`: the noise rows used, the thermal model's steps."""
+        cycle(*self._addresses, *head, *tail)
+        cell, n_steps = self.cell, len(head[0])
         cell._noise_row += n_steps
         cell._count_steps(n_steps)
 

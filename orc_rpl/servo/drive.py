@@ -59,6 +59,7 @@ class CompiledDrives:
         self._body, self._body_of = self._no_body, None   #: the model's rows for the compiled RNEA, and their payload
         self._gravity = servo.arm.gravity_m_s2
         self._mass_diagonal = np.zeros(n)
+        self._tail: Any = None   #: the kernel's arguments that change only with the ones checked in _run_kernel
         self.twist: Any = None  #: elastic gears' twist feed-forward (servo.two_mass.GearTwist), None: rigid gears
 
     def engage(self) -> None:
@@ -203,7 +204,7 @@ class CompiledDrives:
         if self._body_of is not servo.arm.payload:   # the payload's tuple is a new object when it changes
             body = servo.arm.rigid_body_rows() if self.compiled_rnea else None
             self._body = self._no_body if body is None else body
-            self._body_of = servo.arm.payload
+            self._body_of, self._tail = servo.arm.payload, None
         if self._body is self._no_body:   # Pinocchio's M_ii and rigid-body torques (one C call for the rows)
             q, _ = cell.live_state()
             mass_diagonal = servo.arm.mass_matrix_diagonal_unchecked(q)
@@ -214,10 +215,14 @@ class CompiledDrives:
         noise = cell.noise_rows(n_steps + 1)   # the steps' rows and the measurement's after them
         integral_before = servo.integral
         integral = self._integral_a if integral_before is not self._integral_a else self._integral_b
-        cell.drives.run_kernel(self._kernels.drive_cycle, q_ref, qd_ref, qdd_ref, self._body, self._gravity, rnea, noise, mass_diagonal, self._law,
-                          servo._coulomb is not None, 1.0 / FRICTION_SMOOTH_RAD_S, servo.period_s, servo.torque_offset,
-                          servo.position_error, integral_before, integral, servo.torque, servo.saturated, self._kv,
-                          self._gains, self._ff, self._scratch)
+        tail = self._tail
+        if tail is None or tail[3] is not mass_diagonal:   # made again after a change above (or Pinocchio's M_ii)
+            tail = self._tail = (self._body, self._gravity, rnea, mass_diagonal, self._law, servo._coulomb is not None,
+                                 1.0 / FRICTION_SMOOTH_RAD_S, servo.period_s, servo.position_error, servo.torque,
+                                 servo.saturated, self._kv, self._gains, self._ff, self._scratch,
+                                 *cell.drives.kernel_arrays())
+        cell.drives.run_kernel(self._kernels.drive_cycle, (q_ref, qd_ref, qdd_ref, noise, servo.torque_offset,
+                                                           integral_before, integral), tail)
         servo._steps += n_steps
         servo.integral = integral
 
@@ -229,14 +234,14 @@ class CompiledDrives:
         law[k.KP], law[k.FRICTION_P] = self._kp, self._friction_p
         law[k.COULOMB], law[k.VISCOUS] = ((0.0, 0.0) if servo._coulomb is None else (servo._coulomb, servo._viscous))
         law[k.INTEGRAL_MAX], law[k.INTEGRAL_MIN], law[k.TAU_MAX] = servo._integral_max, servo._integral_min, servo._tau_max
-        self._law_of = (servo._kp, servo._coulomb)
+        self._law_of, self._tail = (servo._kp, servo._coulomb), None
 
     def _rows_for(self, n_steps: int) -> None:
         """Work arrays of a call of n_steps rows, and the friction's constants spread over them."""
         servo, shape = self.servo, (n_steps, self.servo.arm.n_joints)
         self._ff, self._rows, self._rnea, self._spread = np.zeros(shape), np.zeros(shape), np.zeros(shape), np.zeros(shape)
         self._smooth_rows = np.full(shape, 1.0 / FRICTION_SMOOTH_RAD_S)
-        self._friction_of = servo._coulomb
+        self._friction_of, self._tail = servo._coulomb, None
         if servo._coulomb is not None:
             self._coulomb_rows, self._viscous_rows = np.zeros(shape), np.zeros(shape)
             self._coulomb_rows[:], self._viscous_rows[:] = servo._coulomb, servo._viscous
