@@ -21,6 +21,17 @@ ROTATION, TRANSLATION, AXIS, MASS, LEVER, INERTIA, ARMATURE = 0, 9, 12, 15, 16, 
 
 
 @kernel
+def _in_child(work: np.ndarray, i: int, px: float, py: float, pz: float, l0: float, l1: float, l2: float, w0: float,
+              w1: float, w2: float) -> tuple[float, float, float, float, float, float]:  # pragma: no cover - compiled
+    """A motion (linear l, angular w) of body i's parent in body i's frame (Pinocchio's actInv): R^T (l - p x w),
+    R^T w, with R (row-major in work[i, 0:9]) and p body i's placement in its parent at the joint's angle."""
+    ux, uy, uz = l0 - (py * w2 - pz * w1), l1 - (pz * w0 - px * w2), l2 - (px * w1 - py * w0)
+    return (work[i, 0] * ux + work[i, 3] * uy + work[i, 6] * uz, work[i, 1] * ux + work[i, 4] * uy + work[i, 7] * uz,
+            work[i, 2] * ux + work[i, 5] * uy + work[i, 8] * uz, work[i, 0] * w0 + work[i, 3] * w1 + work[i, 6] * w2,
+            work[i, 1] * w0 + work[i, 4] * w1 + work[i, 7] * w2, work[i, 2] * w0 + work[i, 5] * w1 + work[i, 8] * w2)
+
+
+@kernel
 def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
              tau: np.ndarray, work: np.ndarray) -> None:  # pragma: no cover - compiled
     """tau = RNEA(q, qd, qdd) for one state; work: a (n, 15) scratch array (a body's rotation 0:9, its force 9:15)."""
@@ -43,21 +54,11 @@ def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarra
             work[i, 3 * r + 1] = p0 * j01 + p1 * j11 + p2 * j21
             work[i, 3 * r + 2] = p0 * j02 + p1 * j12 + p2 * j22
         px, py, pz = body[i, TRANSLATION], body[i, TRANSLATION + 1], body[i, TRANSLATION + 2]
-        # actInv: w' = R^T w, v' = R^T (v - p x w)
-        ux, uy, uz = vl0 - (py * vw2 - pz * vw1), vl1 - (pz * vw0 - px * vw2), vl2 - (px * vw1 - py * vw0)
-        nvl0 = work[i, 0] * ux + work[i, 3] * uy + work[i, 6] * uz
-        nvl1 = work[i, 1] * ux + work[i, 4] * uy + work[i, 7] * uz
-        nvl2 = work[i, 2] * ux + work[i, 5] * uy + work[i, 8] * uz
-        nvw0 = work[i, 0] * vw0 + work[i, 3] * vw1 + work[i, 6] * vw2 + x * qd[i]
-        nvw1 = work[i, 1] * vw0 + work[i, 4] * vw1 + work[i, 7] * vw2 + y * qd[i]
-        nvw2 = work[i, 2] * vw0 + work[i, 5] * vw1 + work[i, 8] * vw2 + z * qd[i]
-        ux, uy, uz = al0 - (py * aw2 - pz * aw1), al1 - (pz * aw0 - px * aw2), al2 - (px * aw1 - py * aw0)
-        nal0 = work[i, 0] * ux + work[i, 3] * uy + work[i, 6] * uz
-        nal1 = work[i, 1] * ux + work[i, 4] * uy + work[i, 7] * uz
-        nal2 = work[i, 2] * ux + work[i, 5] * uy + work[i, 8] * uz
-        naw0 = work[i, 0] * aw0 + work[i, 3] * aw1 + work[i, 6] * aw2 + x * qdd[i]
-        naw1 = work[i, 1] * aw0 + work[i, 4] * aw1 + work[i, 7] * aw2 + y * qdd[i]
-        naw2 = work[i, 2] * aw0 + work[i, 5] * aw1 + work[i, 8] * aw2 + z * qdd[i]
+        # actInv: w' = R^T w, v' = R^T (v - p x w); plus the joint's S qd (velocity) and S qdd (acceleration)
+        nvl0, nvl1, nvl2, nvw0, nvw1, nvw2 = _in_child(work, i, px, py, pz, vl0, vl1, vl2, vw0, vw1, vw2)
+        nvw0, nvw1, nvw2 = nvw0 + x * qd[i], nvw1 + y * qd[i], nvw2 + z * qd[i]
+        nal0, nal1, nal2, naw0, naw1, naw2 = _in_child(work, i, px, py, pz, al0, al1, al2, aw0, aw1, aw2)
+        naw0, naw1, naw2 = naw0 + x * qdd[i], naw1 + y * qdd[i], naw2 + z * qdd[i]
         # + v x (S qd): linear v_lin x w_j, angular v_ang x w_j
         wx, wy, wz = x * qd[i], y * qd[i], z * qd[i]
         nal0 += nvl1 * wz - nvl2 * wy
