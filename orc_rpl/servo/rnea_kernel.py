@@ -32,6 +32,18 @@ def _in_child(work: np.ndarray, i: int, px: float, py: float, pz: float, l0: flo
 
 
 @kernel
+def _inertia_times(body: np.ndarray, i: int, l0: float, l1: float, l2: float, w0: float, w1: float,
+                   w2: float) -> tuple[float, float, float, float, float, float]:  # pragma: no cover - compiled
+    """Body i's spatial inertia times a motion (linear l, angular w) in its frame: (mass (l - c x w), Ic w + c x f)."""
+    m, cx, cy, cz = body[i, MASS], body[i, LEVER], body[i, LEVER + 1], body[i, LEVER + 2]
+    f0, f1, f2 = m * (l0 - (cy * w2 - cz * w1)), m * (l1 - (cz * w0 - cx * w2)), m * (l2 - (cx * w1 - cy * w0))
+    return (f0, f1, f2,
+            body[i, INERTIA] * w0 + body[i, INERTIA + 1] * w1 + body[i, INERTIA + 2] * w2 + (cy * f2 - cz * f1),
+            body[i, INERTIA + 3] * w0 + body[i, INERTIA + 4] * w1 + body[i, INERTIA + 5] * w2 + (cz * f0 - cx * f2),
+            body[i, INERTIA + 6] * w0 + body[i, INERTIA + 7] * w1 + body[i, INERTIA + 8] * w2 + (cx * f1 - cy * f0))
+
+
+@kernel
 def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
              tau: np.ndarray, work: np.ndarray) -> None:  # pragma: no cover - compiled
     """tau = RNEA(q, qd, qdd) for one state; work: a (n, 15) scratch array (a body's rotation 0:9, its force 9:15)."""
@@ -70,19 +82,8 @@ def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarra
         vl0, vl1, vl2, vw0, vw1, vw2 = nvl0, nvl1, nvl2, nvw0, nvw1, nvw2
         al0, al1, al2, aw0, aw1, aw2 = nal0, nal1, nal2, naw0, naw1, naw2
         # f = I a + v x* (I v); I m = (mass (v - c x w), Ic w + c x f)
-        m, cx, cy, cz = body[i, MASS], body[i, LEVER], body[i, LEVER + 1], body[i, LEVER + 2]
-        fl0 = m * (al0 - (cy * aw2 - cz * aw1))
-        fl1 = m * (al1 - (cz * aw0 - cx * aw2))
-        fl2 = m * (al2 - (cx * aw1 - cy * aw0))
-        fa0 = body[i, INERTIA] * aw0 + body[i, INERTIA + 1] * aw1 + body[i, INERTIA + 2] * aw2 + (cy * fl2 - cz * fl1)
-        fa1 = body[i, INERTIA + 3] * aw0 + body[i, INERTIA + 4] * aw1 + body[i, INERTIA + 5] * aw2 + (cz * fl0 - cx * fl2)
-        fa2 = body[i, INERTIA + 6] * aw0 + body[i, INERTIA + 7] * aw1 + body[i, INERTIA + 8] * aw2 + (cx * fl1 - cy * fl0)
-        hl0 = m * (vl0 - (cy * vw2 - cz * vw1))
-        hl1 = m * (vl1 - (cz * vw0 - cx * vw2))
-        hl2 = m * (vl2 - (cx * vw1 - cy * vw0))
-        ha0 = body[i, INERTIA] * vw0 + body[i, INERTIA + 1] * vw1 + body[i, INERTIA + 2] * vw2 + (cy * hl2 - cz * hl1)
-        ha1 = body[i, INERTIA + 3] * vw0 + body[i, INERTIA + 4] * vw1 + body[i, INERTIA + 5] * vw2 + (cz * hl0 - cx * hl2)
-        ha2 = body[i, INERTIA + 6] * vw0 + body[i, INERTIA + 7] * vw1 + body[i, INERTIA + 8] * vw2 + (cx * hl1 - cy * hl0)
+        fl0, fl1, fl2, fa0, fa1, fa2 = _inertia_times(body, i, al0, al1, al2, aw0, aw1, aw2)
+        hl0, hl1, hl2, ha0, ha1, ha2 = _inertia_times(body, i, vl0, vl1, vl2, vw0, vw1, vw2)
         # v x* h = (w x h_lin, w x h_ang + v x h_lin)
         work[i, 9] = fl0 + (vw1 * hl2 - vw2 * hl1)
         work[i, 10] = fl1 + (vw2 * hl0 - vw0 * hl2)
