@@ -166,3 +166,16 @@ def test_the_plants_compiled_winding_measurement_and_heating_are_numpys() -> Non
     samples_n, state_n = results[False]
     assert np.max(np.abs(samples_c - samples_n) / np.maximum(1.0, np.abs(samples_n))) < 1e-12
     assert np.max(np.abs(state_c - state_n) / np.maximum(1.0, np.abs(state_n))) < 1e-12
+
+
+def test_numba_is_imported_by_a_simulation_not_by_importing_the_package() -> None:
+    import subprocess
+    import sys
+
+    code = ("import sys, orc_rpl.cli, orc_rpl.motion, orc_rpl.arm.pvc, orc_rpl.servo.loop, orc_rpl.plant.realistic\n"
+            "print('numba' in sys.modules)\n"
+            "from orc_rpl.motion import make_virtual_motion_layer\n"
+            "make_virtual_motion_layer('irb2400', plant='realistic')\n"
+            "print('numba' in sys.modules)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["False", "True"]
