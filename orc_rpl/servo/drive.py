@@ -105,7 +105,8 @@ class CompiledDrives:
         servo, cell = self.servo, self.cell
         if not self.engaged:
             self.engage()
-        if compiled.ON and self._kernels is not None and each_step is None and self.twist is None and servo.tuning is None and cell.drives.kernel_fits():
+        if (compiled.ON and self._kernels is not None and each_step is None and self.twist is None
+                and servo.tuning is None and cell.drives.kernel_fits()):
             self._run_kernel(q_ref, qd_ref, qdd_ref)
             return
         q, _ = cell.live_state()

@@ -25,7 +25,8 @@ def drive_cycle(model_address: int, data_address: int, q_ref: np.ndarray, qd_ref
                 noise: np.ndarray, torque_offset: np.ndarray, integral_before: np.ndarray, integral: np.ndarray,
                 body: np.ndarray, gravity: np.ndarray, rnea: np.ndarray, mass_diagonal: np.ndarray, law: np.ndarray,
                 friction: bool, smooth: float, period_s: float, position_error: np.ndarray, torque: np.ndarray,
-                saturated: np.ndarray, kv: np.ndarray, gains: np.ndarray, ff: np.ndarray, scratch: np.ndarray, ctrl: np.ndarray, act: np.ndarray, force: np.ndarray,
+                saturated: np.ndarray, kv: np.ndarray, gains: np.ndarray, ff: np.ndarray, scratch: np.ndarray,
+                ctrl: np.ndarray, act: np.ndarray, force: np.ndarray,
                 gainprm: np.ndarray, biasprm: np.ndarray, dynprm: np.ndarray, qpos: np.ndarray, qvel: np.ndarray,
                 qpos_address: np.ndarray, qvel_address: np.ndarray, count_per_rad: float, rad_per_count: float,
                 q_meas: np.ndarray, qd_meas: np.ndarray, tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled

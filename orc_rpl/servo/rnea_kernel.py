@@ -93,7 +93,8 @@ def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarra
         work[i, 14] = fa2 + (vw0 * ha1 - vw1 * ha0) + (vl0 * hl1 - vl1 * hl0)
     # backward: the joint's torque from its body's force, the force handed to the parent (act: R f, R n + p x R f)
     for i in range(n - 1, -1, -1):
-        tau[i] = body[i, AXIS] * work[i, 12] + body[i, AXIS + 1] * work[i, 13] + body[i, AXIS + 2] * work[i, 14] + body[i, ARMATURE] * qdd[i]
+        tau[i] = (body[i, AXIS] * work[i, 12] + body[i, AXIS + 1] * work[i, 13] + body[i, AXIS + 2] * work[i, 14]
+                  + body[i, ARMATURE] * qdd[i])
         if i > 0:
             f0 = work[i, 0] * work[i, 9] + work[i, 1] * work[i, 10] + work[i, 2] * work[i, 11]
             f1 = work[i, 3] * work[i, 9] + work[i, 4] * work[i, 10] + work[i, 5] * work[i, 11]
@@ -134,7 +135,8 @@ def mass_diagonal(body: np.ndarray, q: np.ndarray, out: np.ndarray) -> None:  # 
             k10, k11, k12 = y * x * t + z * si, co + y * y * t, y * z * t - x * si
             k20, k21, k22 = z * x * t - y * si, z * y * t + x * si, co + z * z * t
             for row in range(3):
-                p0, p1, p2 = body[i + 1, ROTATION + 3 * row], body[i + 1, ROTATION + 3 * row + 1], body[i + 1, ROTATION + 3 * row + 2]
+                p0 = body[i + 1, ROTATION + 3 * row]
+                p1, p2 = body[i + 1, ROTATION + 3 * row + 1], body[i + 1, ROTATION + 3 * row + 2]
                 r[3 * row] = p0 * k00 + p1 * k10 + p2 * k20
                 r[3 * row + 1] = p0 * k01 + p1 * k11 + p2 * k21
                 r[3 * row + 2] = p0 * k02 + p1 * k12 + p2 * k22
