@@ -18,7 +18,7 @@ GRID_POINTS = 7
 POSITION_OVER_VELOCITY = 0.25
 #: The share with the gears' twist fed forward (GearTwist): the feedback has less to do, and measured on
 #: bench_arm_control's moves 0.25, 0.4, 0.6, 0.8 gave 4.70, 3.15, 2.24, 2.07 mm, the last saturating 1.9 %.
-TWIST_POSITION_OVER_VELOCITY = 0.6
+TWIST_POSITION_OVER_VELOCITY = 0.8
 
 #: Time constant (s) over which the servo's integral torque is averaged into the gears' twist (GearTwist.integral_of):
 #: on bench_arm_control's moves 0.05, 0.2, 1.0 s gave 2.19, 1.93, 1.90 mm at the links (with the friction estimate).
