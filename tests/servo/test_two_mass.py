@@ -125,3 +125,33 @@ def test_the_python_law_leads_the_rotors_as_the_drives_do() -> None:
     n = min(len(tcp[True]), len(tcp[False]))
     # the drives' law and the Python reference law on elastic gears, step for step (measured 0.024 mm)
     assert np.max(np.linalg.norm(np.array(tcp[True][:n]) - np.array(tcp[False][:n]), axis=1)) < 5e-5
+
+
+def test_the_gear_twist_carries_the_servos_averaged_integral() -> None:
+    k, rotor = np.array([1e5, 2e4]), np.array([2.0, 0.5])
+    twist = GearTwist(k, rotor, 0.001, integral_time_s=0.1)
+    integral = np.array([50.0, -4.0])   # torque the model lacks, held by the servo's integral
+    twist.integral_of = lambda: integral
+    rows = np.zeros((4, 2))
+    for _ in range(250):   # 1 s of 4 ms calls: ten of the averaging's time constants
+        q_m, _ = twist.motor_references(rows, rows, rows, rows)
+    assert np.allclose(q_m[-1], integral / k, rtol=1e-3), "the links' extra torque twists the gears too"
+    first = GearTwist(k, rotor, 0.001, integral_time_s=0.1)
+    first.integral_of = lambda: integral
+    q_first, _ = first.motor_references(rows, rows, rows, rows)
+    assert np.all(np.abs(q_first[-1]) < 0.05 * np.abs(integral / k)), "averaged: no step into the references"
+    twist.hold(np.zeros(2), np.array([10.0, 1.0]))
+    assert np.allclose(twist.twist_rad, np.array([10.0, 1.0]) / k), "a reset forgets the integral"
+
+
+def test_the_servo_friction_follows_the_gearbox_estimate_on_elastic_gears() -> None:
+    layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_feedforward=True)
+    servo, estimate = layer.backend.loop.servo, layer.gear_friction
+    spec = plant_spec("irb2400")
+    nominal = np.array(spec.coulomb_nm)
+    assert np.allclose(servo.friction()[0], nominal * spec.cold_friction_factor), "a cold start: cold friction"
+    estimate.warm_up(30.0)
+    assert np.allclose(servo.friction()[0], estimate.friction_nm()[0])
+    assert np.all(servo.friction()[0] < 1.01 * nominal), "a warm robot: about the warm friction"
+    plain = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True)
+    assert np.allclose(plain.backend.loop.servo.friction()[0], nominal), "without the gears' feed-forward: nominal"
