@@ -24,6 +24,12 @@ TWIST_POSITION_OVER_VELOCITY = 0.8
 #: on bench_arm_control's moves 0.05, 0.2, 1.0 s gave 2.19, 1.93, 1.90 mm at the links (with the friction estimate).
 TWIST_INTEGRAL_TIME_S = 1.0
 
+#: A joint's averaged integral follows only while its reference moves faster than this (rad/s), and is held
+#: otherwise: at rest the integral also holds what the rotor's static friction leaves over (rotor side, not
+#: through the gear). On bench_arm_control's moves 0 (always), 0.05, 0.2, 0.4, 0.8 gave 1.766, 1.680, 1.602,
+#: 1.602, 1.658 mm at the links.
+TWIST_INTEGRAL_MIN_SPEED_RAD_S = 0.2
+
 #: Anti-resonance periods over which a trajectory's time scaling is averaged (the lowest modes: j1, j2).
 SMOOTHING_WINDOWS = 2
 
@@ -94,6 +100,7 @@ class GearTwist:
         #: step per call), so the references move smoothly and the twist does not follow the loop's ripple.
         self.integral_of: Callable[[], np.ndarray] | None = None
         self.integral_time_s = float(integral_time_s)
+        self.integral_min_speed_rad_s = TWIST_INTEGRAL_MIN_SPEED_RAD_S
         self.extra_torque_nm = np.zeros(len(self.compliance_rad_nm))   #: the averaged integral in the twist (N m)
 
     def reset(self) -> None:
@@ -105,13 +112,19 @@ class GearTwist:
         self.extra_torque_nm[:] = 0.0
         self.reset()
 
+    def _moving(self, qd_ref: np.ndarray) -> np.ndarray | float:
+        """1 for joints whose reference moves faster than `integral_min_speed_rad_s`, 0 for the others."""
+        if self.integral_min_speed_rad_s <= 0.0:
+            return 1.0
+        return (np.abs(qd_ref) > self.integral_min_speed_rad_s).astype(float)
+
     def motor_references(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
                          tau_ff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Motor-side (q_ref, qd_ref) rows for link-side rows; tau_ff: the model's torque rows of the link
         references (armature included, as the model's)."""
         link_torque = tau_ff - self.rotor_inertia_kg_m2 * qdd_ref
         if self.integral_of is not None:
-            share = 1.0 - np.exp(-len(q_ref) * self.period_s / self.integral_time_s)
+            share = (1.0 - np.exp(-len(q_ref) * self.period_s / self.integral_time_s)) * self._moving(qd_ref[-1])
             self.extra_torque_nm += share * (self.integral_of() - self.extra_torque_nm)
             link_torque += self.extra_torque_nm
         twist = link_torque * self.compliance_rad_nm
