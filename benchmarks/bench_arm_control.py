@@ -15,7 +15,7 @@ really is) and, pvc_encoder_path_error_mm, from the encoders through the control
 the twist its gear model commands. --without FEATURE (repeatable) switches off one of the elastic
 gears' features to credit each: twist (the rotors' lead by the gears' twist), smoothing (trajectories
 averaged over the anti-resonance periods), gain (the position loops at 0.25 of the velocity loops'
-bandwidth instead of 0.6), friction (the servo's friction feed-forward the nominal warm one, not the
+bandwidth instead of 0.8), friction (the servo's friction feed-forward the nominal warm one, not the
 controller's gearbox estimate's), integral (the twist from the model's torque alone, without the
 servo's averaged integral). A warm plant (warm_up) is a robot known to have run a while: the
 controller's gearbox estimate is told so too (GearFriction.warm_up).

@@ -83,6 +83,7 @@ class GearFriction:
         self.listener: Callable[[np.ndarray, np.ndarray], None] | None = None
 
     def _tell(self) -> None:
+        """The listener gets the friction now (after each change of the estimate)."""
         if self.listener is not None:
             self.listener(*self.friction_nm())
 

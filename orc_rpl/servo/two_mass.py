@@ -17,7 +17,9 @@ GRID_POINTS = 7
 #: The position loop's bandwidth at most this share of the velocity loop's (the cascade stays a cascade).
 POSITION_OVER_VELOCITY = 0.25
 #: The share with the gears' twist fed forward (GearTwist): the feedback has less to do, and measured on
-#: bench_arm_control's moves 0.25, 0.4, 0.6, 0.8 gave 4.70, 3.15, 2.24, 2.07 mm, the last saturating 1.9 %.
+#: bench_arm_control's moves 0.25, 0.4, 0.6, 0.8 gave 4.70, 3.15, 2.24, 2.07 mm, the last saturating 1.9 %;
+#: with the friction estimate and the averaged integral (motion/virtual.py) 0.6, 0.8, 1.0 gave 1.90, 1.77,
+#: 1.67 mm at the links and 1.19, 1.06, 1.25 mm at the encoders, each saturating in about 0.4 %.
 TWIST_POSITION_OVER_VELOCITY = 0.8
 
 #: Time constant (s) over which the servo's integral torque is averaged into the gears' twist (GearTwist.integral_of):
