@@ -15,7 +15,10 @@ really is) and, pvc_encoder_path_error_mm, from the encoders through the control
 the twist its gear model commands. --without FEATURE (repeatable) switches off one of the elastic
 gears' features to credit each: twist (the rotors' lead by the gears' twist), smoothing (trajectories
 averaged over the anti-resonance periods), gain (the position loops at 0.25 of the velocity loops'
-bandwidth instead of 0.6).
+bandwidth instead of 0.8), friction (the servo's friction feed-forward the nominal warm one, not the
+controller's gearbox estimate's), integral (the twist from the model's torque alone, without the
+servo's averaged integral). A warm plant (warm_up) is a robot known to have run a while: the
+controller's gearbox estimate is told so too (GearFriction.warm_up).
 """
 
 from __future__ import annotations
@@ -30,7 +33,7 @@ from orc_rpl.servo import two_mass
 DECLARED_KG, CARRIED_KG = 10.0, 15.0
 ELASTIC = [False]   #: the plant's elastic gears (--elastic)
 WITHOUT: set[str] = set()   #: elastic gears' features switched off (--without)
-FEATURES = ("twist", "smoothing", "gain")
+FEATURES = ("twist", "smoothing", "gain", "friction", "integral")
 
 #: The fast motions: joint moves (MOVE) at full speed, FINE, between these configurations (deg),
 #: the first from home; the arm swings stretched out, where gravity and inertia use most of the torque.
@@ -64,7 +67,20 @@ def _layer(robot: str, seed: int) -> MotionLayer:
         layer.backend.reset(np.array(layer.reference_q()))  # the rotors at the links' angles again
     if "smoothing" in WITHOUT:
         layer.smoothing_s = ()
+    if "friction" in WITHOUT and layer.gear_friction is not None:
+        layer.gear_friction.listener = None
+        nominal = layer.gear_friction.warm_nm
+        layer.backend.loop.servo.set_friction(*nominal)
+    if "integral" in WITHOUT and layer.backend.loop.twist is not None:
+        layer.backend.loop.twist.integral_of = None
     return layer
+
+
+def _warm_up(layer: MotionLayer) -> None:
+    """A robot that has run a while: the plant's gearboxes warm, and the controller told so."""
+    layer.backend.loop.cell.warm_up()
+    if layer.gear_friction is not None:
+        layer.gear_friction.warm_up(layer.backend.loop.cell.gear_rise_k[0])
 
 
 def run_moves(robot: str, seed: int, pvc: bool, cold: bool, carried_kg: float) -> dict[str, float]:
@@ -76,7 +92,7 @@ def run_moves(robot: str, seed: int, pvc: bool, cold: bool, carried_kg: float) -
     layer = _layer(robot, seed)
     loop = layer.backend.loop
     if not cold:
-        loop.cell.warm_up()
+        _warm_up(layer)
     loop.set_payload(carried_kg, known=False)
     worst, worst_moving, worst_encoder, steps, saturated = 0.0, 0.0, 0.0, 0, 0
     segments: list[np.ndarray] = []
@@ -121,7 +137,7 @@ def nominal_equals_actual(robot: str, seed: int) -> bool:
     """On a warm plant with the payload declared right, the reference is the nominal trajectory, sample for sample."""
     layer = _layer(robot, seed)
     loop = layer.backend.loop
-    loop.cell.warm_up()
+    _warm_up(layer)
     loop.set_payload(DECLARED_KG, known=False)
     same = True
     for target in TARGETS_DEG:
@@ -151,7 +167,7 @@ def thermal_estimate(robot: str, seed: int, corrected: bool = True) -> tuple[flo
     if not corrected:
         layer.winding.measurement = None
     loop = layer.backend.loop
-    loop.cell.warm_up()
+    _warm_up(layer)
     loop.set_payload(DECLARED_KG, known=False)
     for _ in range(DUTY_CYCLES):
         for target in TARGETS_DEG:

@@ -17,7 +17,7 @@ about 10 %, so the change is known to about that share (CHANGE_SPREAD).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -82,6 +82,14 @@ class GearFriction:
         self._work, self._speed_sum, self._speed_sq_sum, self._tau_sq_sum = (np.zeros(len(k)) for _ in range(4))
         self._kernels = estimate_kernels()
         self._cycles = 0
+        #: Told the friction (Coulomb N m, viscous N m s/rad) each time the estimate changes (None: nobody):
+        #: the servo's friction feed-forward on elastic gears (motion/virtual.py)
+        self.listener: Callable[[np.ndarray, np.ndarray], None] | None = None
+
+    def _tell(self) -> None:
+        """The listener gets the friction now (after each change of the estimate)."""
+        if self.listener is not None:
+            self.listener(*self.friction_nm())
 
     @property
     def warm_nm(self) -> tuple[np.ndarray, np.ndarray]:
@@ -133,6 +141,7 @@ class GearFriction:
         self.rise_k = decay * self.rise_k + (1.0 - decay) * self._rth * heat_w
         for total in (self._speed_sum, self._speed_sq_sum, self._tau_sq_sum):
             total[:] = 0.0
+        self._tell()
 
     def state(self, time_s: float) -> FrictionState:
         """The estimate now, for comparing with a later one (`change_since`)."""
@@ -142,6 +151,7 @@ class GearFriction:
     def warm_up(self, gear_rise_k: float) -> None:
         """A robot known to have run a while: gearboxes `gear_rise_k` above ambient."""
         self.rise_k = np.full(len(self.rise_k), float(gear_rise_k))
+        self._tell()
 
     def reset(self) -> None:
         """A cold start: gearboxes at ambient."""
@@ -149,6 +159,7 @@ class GearFriction:
         self._cycles = 0
         for total in (self._speed_sum, self._speed_sq_sum, self._tau_sq_sum):
             total[:] = 0.0
+        self._tell()
 
 
 def change_since(before: FrictionState, now: FrictionState) -> FrictionChange:

@@ -195,8 +195,11 @@ def make_virtual_motion_layer(
     a world model by `plant.world_scene.cell_from_world`) replaces the default cell. `elastic`: the
     realistic plant's elastic gears (robots with a gear stiffness), the servo tuned for them
     (servo/two_mass.py); with `gear_feedforward` also the rotors leading the links by the gears'
-    twist, trajectories from rest averaged over the gears' anti-resonance periods, and the position
-    loops at TWIST_POSITION_OVER_VELOCITY of the velocity loops (docs/robots.md, "Elastic gears").
+    twist (the model's torque plus the servo's averaged integral), trajectories from rest averaged
+    over the gears' anti-resonance periods, the position loops at TWIST_POSITION_OVER_VELOCITY of
+    the velocity loops, and the servo's friction feed-forward following the controller's gearbox
+    estimate (`layer.gear_friction`: cold-start friction, falling as the gearboxes warm; docs/robots.md,
+    "Elastic gears").
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
@@ -246,7 +249,10 @@ def make_virtual_motion_layer(
             from orc_rpl.servo.two_mass import GearTwist, smoothing_windows_s
 
             k_gear, rotor = sim.plant.gear_stiffness_nm_rad, sim.motor_inertia_kg_m2
-            loop.set_gear_twist(GearTwist(k_gear, rotor, loop.period_s))
+            twist = GearTwist(k_gear, rotor, loop.period_s)
+            servo = loop.servo
+            twist.integral_of = lambda: servo.integral   # the torque the model lacks twists the gears too
+            loop.set_gear_twist(twist)
             smoothing = smoothing_windows_s(arm, rotor, k_gear)
         loop.reset(start)
         be: Any = ServoBackend(loop)
@@ -269,6 +275,9 @@ def make_virtual_motion_layer(
                                            nominal.warm_rise_k, nominal.gear_motor_heat_share,
                                            nominal.torque_per_amp_nm_a, nominal.winding_resistance_ohm,
                                            COPPER_TEMPCO_1_K, nominal.ambient_c, motion_period_s)
+        if gear_feedforward:  # elastic gears with their feed-forward: the servo's friction is the estimate's (cold: higher)
+            layer.gear_friction.listener = be.loop.servo.set_friction
+            layer.gear_friction.reset()
     # thesis 5.3: torque-limited path following is on where torques can run short of the plan
     layer.path_velocity_control = backend == "servo" and plant == "realistic" and not servo_arm
     # A robot that is set up should move at once: a paced run would start 0.4 s late otherwise.

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -16,8 +17,20 @@ GRID_POINTS = 7
 #: The position loop's bandwidth at most this share of the velocity loop's (the cascade stays a cascade).
 POSITION_OVER_VELOCITY = 0.25
 #: The share with the gears' twist fed forward (GearTwist): the feedback has less to do, and measured on
-#: bench_arm_control's moves 0.25, 0.4, 0.6, 0.8 gave 4.70, 3.15, 2.24, 2.07 mm, the last saturating 1.9 %.
-TWIST_POSITION_OVER_VELOCITY = 0.6
+#: bench_arm_control's moves 0.25, 0.4, 0.6, 0.8 gave 4.70, 3.15, 2.24, 2.07 mm, the last saturating 1.9 %;
+#: with the friction estimate and the averaged integral (motion/virtual.py) 0.6, 0.8, 1.0 gave 1.90, 1.77,
+#: 1.67 mm at the links and 1.19, 1.06, 1.25 mm at the encoders, each saturating in about 0.4 %.
+TWIST_POSITION_OVER_VELOCITY = 0.8
+
+#: Time constant (s) over which the servo's integral torque is averaged into the gears' twist (GearTwist.integral_of):
+#: on bench_arm_control's moves 0.05, 0.2, 1.0 s gave 2.19, 1.93, 1.90 mm at the links (with the friction estimate).
+TWIST_INTEGRAL_TIME_S = 1.0
+
+#: A joint's averaged integral follows only while its reference moves faster than this (rad/s), and is held
+#: otherwise: at rest the integral also holds what the rotor's static friction leaves over (rotor side, not
+#: through the gear). On bench_arm_control's moves 0 (always), 0.05, 0.2, 0.4, 0.8 gave 1.766, 1.680, 1.602,
+#: 1.602, 1.658 mm at the links.
+TWIST_INTEGRAL_MIN_SPEED_RAD_S = 0.2
 
 #: Anti-resonance periods over which a trajectory's time scaling is averaged (the lowest modes: j1, j2).
 SMOOTHING_WINDOWS = 2
@@ -75,22 +88,48 @@ class GearTwist:
     `bench_arm_control.py`'s moves on elastic gears: 2.6 % of the cycles saturated with it, 0.8 % without).
     """
 
-    def __init__(self, stiffness_nm_rad: Any, rotor_inertia_kg_m2: Any, period_s: float) -> None:
+    def __init__(self, stiffness_nm_rad: Any, rotor_inertia_kg_m2: Any, period_s: float,
+                 integral_time_s: float = TWIST_INTEGRAL_TIME_S) -> None:
         self.compliance_rad_nm = 1.0 / np.asarray(stiffness_nm_rad, dtype=float)
         self.rotor_inertia_kg_m2 = np.asarray(rotor_inertia_kg_m2, dtype=float)
         self.period_s = period_s
         self.twist_rad = np.zeros(len(self.compliance_rad_nm))   #: the twist of the last row commanded (rad)
         self._fresh = True
+        #: The servo's integral torque (a callable returning it), None: the model's torque alone. What the
+        #: integral holds beyond the friction the feed-forward knows is torque the links need and the model
+        #: lacks (an undeclared payload, masses a few percent off): it passes through the gears and twists
+        #: them as the model's torque does. Averaged over `integral_time_s` (a first-order filter, one
+        #: step per call), so the references move smoothly and the twist does not follow the loop's ripple.
+        self.integral_of: Callable[[], np.ndarray] | None = None
+        self.integral_time_s = float(integral_time_s)
+        self.integral_min_speed_rad_s = TWIST_INTEGRAL_MIN_SPEED_RAD_S
+        self.extra_torque_nm = np.zeros(len(self.compliance_rad_nm))   #: the averaged integral in the twist (N m)
 
     def reset(self) -> None:
         """Forget the last row: the next call starts at rest (no rate from a stale row)."""
         self._fresh = True
 
+    def forget(self) -> None:
+        """A new start (a reset of the plant): no averaged integral, no last row."""
+        self.extra_torque_nm[:] = 0.0
+        self.reset()
+
+    def _moving(self, qd_ref: np.ndarray) -> np.ndarray | float:
+        """1 for joints whose reference moves faster than `integral_min_speed_rad_s`, 0 for the others."""
+        if self.integral_min_speed_rad_s <= 0.0:
+            return 1.0
+        return (np.abs(qd_ref) > self.integral_min_speed_rad_s).astype(float)
+
     def motor_references(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
                          tau_ff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Motor-side (q_ref, qd_ref) rows for link-side rows; tau_ff: the model's torque rows of the link
         references (armature included, as the model's)."""
-        twist = (tau_ff - self.rotor_inertia_kg_m2 * qdd_ref) * self.compliance_rad_nm
+        link_torque = tau_ff - self.rotor_inertia_kg_m2 * qdd_ref
+        if self.integral_of is not None:
+            share = (1.0 - np.exp(-len(q_ref) * self.period_s / self.integral_time_s)) * self._moving(qd_ref[-1])
+            self.extra_torque_nm += share * (self.integral_of() - self.extra_torque_nm)
+            link_torque += self.extra_torque_nm
+        twist = link_torque * self.compliance_rad_nm
         before = twist[:1] if self._fresh else self.twist_rad[None, :]
         rate = np.diff(twist, axis=0, prepend=before) * (1.0 / self.period_s)
         self.twist_rad, self._fresh = twist[-1].copy(), False
@@ -98,9 +137,11 @@ class GearTwist:
 
     def hold(self, q: np.ndarray, tau_nm: np.ndarray) -> None:
         """At rest at q with the model's torques tau_nm (a reset): the twist the gears have, no rate."""
-        zero = np.zeros((1, len(q)))
-        self.reset()
+        zero, integral_of = np.zeros((1, len(q))), self.integral_of
+        self.forget()
+        self.integral_of = None   # a reset's servo has no integral yet
         self.motor_references(q[None, :], zero, zero, tau_nm[None, :])
+        self.integral_of = integral_of
         self.reset()
 
 
