@@ -371,10 +371,13 @@ def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, ...]]:
     sharp one)."""
     program = ROOT / "programs/online/thesis_2_1_grindmove.rpl"
     rows: list[tuple[float, ...]] = []
+    source = program.read_text(encoding="utf-8")
+    assert GRINDER in source
+    source = source.replace(GRINDER, GRINDER + FLANGE)  # the flange grinds, the contact force acts on the arm
 
     def row(robot: CellRobot, estimator: TorqueForce, castings: list[Any], loop: Any, s: float) -> None:
         rows.append((sum(c.force_n for c in castings), *estimator.estimates()))  # the casting's normal is +z
-    _grinding_run(plant, program, program.read_text(encoding="utf-8"), casting_on, row)
+    _grinding_run(plant, program, source, casting_on, row)
     return rows
 
 
@@ -384,6 +387,9 @@ def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, ...]]:
 #: same direction, speed and ends. BASELINE_WINDOW: the residual also averaged over this many motion cycles (40 ms,
 #: 4 mm at 100 mm/s, a tenth of the demo's bulge).
 BASELINE_OFFSET_MM = 5.0
+#: thesis_2_1's grinder, and the force flange these measurements give it (without one GRINDMOVE presses with the arm)
+GRINDER = "INSTALL grinder AS Grinder WITH SPINDLE = DigOut[5]"
+FLANGE = " WITH FORCE_IN = AnalogIn[8] WITH STROKE = AnalogOut[8]"
 BASELINE_WINDOW = 10
 
 
@@ -401,7 +407,7 @@ def servo_baseline(plant: str) -> dict[str, float]:
     def path(z_mm: float) -> str:
         return "[" + ", ".join(f"POSE(900mm, {y}mm, {z_mm}mm, 0, 180deg, 0)" for y in (-200, 0, 200)) + "]"
     grind = "GRINDMOVE grinder ALONG {} WITH DEBURRING = pars WITH VELOCITY = 100mm/s WITH FORCE = {}N\n"
-    source = ("TOOL grinder = POSE(0, 0, 150mm, 0, 0, 0)\nINSTALL grinder AS Grinder WITH SPINDLE = DigOut[5]\n"
+    source = (f"TOOL grinder = POSE(0, 0, 150mm, 0, 0, 0)\n{GRINDER}{FLANGE}\n"
               f"PATH free = {path(600 + BASELINE_OFFSET_MM)}\nPATH edge = {path(600)}\n"
               "VAR pars = GrindingPars(tolerance = 100mm, max_passes = 0)\n"
               + 2 * grind.format("free", 0) + 2 * grind.format("edge", 30))
@@ -507,9 +513,9 @@ def _grinding_run(plant: str, program: Path, source: str, casting_on: bool,
     estimator = TorqueForce(robot, lambda: machine.last_tool)
     sample = deburring_behaviour.ForceLoop.step
 
-    def recording_step(loop: Any, s: float) -> tuple[float, float]:  # once a grinding cycle
+    def recording_step(loop: Any, s: float, arc_m: float = 0.0) -> tuple[float, float]:  # once a grinding cycle
         row(robot, estimator, castings, loop, s)
-        return sample(loop, s)
+        return sample(loop, s, arc_m)
     deburring_behaviour.ForceLoop.step = recording_step  # type: ignore[method-assign]
     try:
         executive.run()
