@@ -316,6 +316,11 @@ def processes(plant: str) -> dict[str, float]:
     plain = demo_process(plant, "programs/online/thesis_2_1_grindmove.rpl", ("max_passes = 4", "max_passes = 0"))
     figures["deburr_plain_left_mm"] = round(1000 * max((b["left_m"] for b in plain.get("bulges", [])),
                                                        default=math.nan), 3)
+    # the same program with a force flange on the grinder (without one, the arm presses and feels the force)
+    flange = demo_process(plant, "programs/online/thesis_2_1_grindmove.rpl", (GRINDER, GRINDER + FLANGE))
+    figures["deburr_flange_left_mm"] = round(1000 * max((b["left_m"] for b in flange.get("bulges", [])),
+                                                        default=math.nan), 3)
+    figures["deburr_flange_passes"] = sum(len(b["pass_heights_m"]) for b in flange.get("bulges", []))
     weldmove_s, errors, first = spot_run(False, plant)
     naive_s, _, _ = spot_run(True, plant)
     figures["spot_saving_per_spot_s"] = round((naive_s - weldmove_s) / (len(errors) + 2), 4)
@@ -391,6 +396,50 @@ BASELINE_OFFSET_MM = 5.0
 GRINDER = "INSTALL grinder AS Grinder WITH SPINDLE = DigOut[5]"
 FLANGE = " WITH FORCE_IN = AnalogIn[8] WITH STROKE = AnalogOut[8]"
 BASELINE_WINDOW = 10
+
+
+def arm_grinding(plant: str) -> dict[str, float]:
+    """thesis_2_1_grindmove.rpl as it runs by default (no force flange: the arm presses and reads the force from
+    its motor torques against a free-air signature): every cycle of its force loop in contact moves, the casting's
+    true contact force against the command from the first cycle within 20 % of it on (deburr_arm_force_error_rms_n,
+    _max_n, over the bulge's flanks too)
+    and against the arm's estimate (deburr_arm_estimate_error_rms_n, _max_n), and the highest burr left on the
+    casting itself (deburr_arm_casting_left_mm, not CatchBulge's measurement)."""
+    from orc_rpl.application.features import deburring_arm
+    from orc_rpl.application.standard_behaviour import runtime_registry
+    from orc_rpl.executive.executive import Executive
+    from orc_rpl.executive.sim_io import load_script
+    from orc_rpl.syntax.parser import parse
+
+    program = ROOT / "programs/online/thesis_2_1_grindmove.rpl"
+    source = program.read_text(encoding="utf-8")
+    robot = CellRobot.virtual(plant=plant)
+    executive = Executive(parse(source, str(program)), robot, runtime_registry(), path=str(program),
+                          source=source, output=lambda line: None)
+    castings = load_script(program.with_suffix(".sim.yaml"), robot.io,
+                           lambda: robot.tcp_pose(executive.machine.last_tool), robot.set_plant_payload,
+                           robot.push_on_arm).castings
+    step = deburring_arm.ArmForceLoop.step
+    rows: list[tuple[float, float, float]] = []
+
+    def recording_step(loop: Any, s: float, arc_m: float) -> tuple[float, float]:
+        command, measured = step(loop, s, arc_m)
+        rows.append((sum(c.force_n for c in castings), command, measured))
+        return command, measured
+    deburring_arm.ArmForceLoop.step = recording_step  # type: ignore[method-assign]
+    try:
+        executive.run()
+    finally:
+        deburring_arm.ArmForceLoop.step = step  # type: ignore[method-assign]
+    table = np.array(rows)
+    table = table[int(np.argmax(np.abs(table[:, 0] - table[:, 1]) <= 0.2 * table[:, 1])):]  # from the first contact
+    error, estimate = table[:, 0] - table[:, 1], table[:, 2] - table[:, 0]
+    return {"deburr_arm_status_finished": int(executive.status == "finished"),
+            "deburr_arm_force_error_rms_n": round(float(np.sqrt(np.mean(error ** 2))), 1),
+            "deburr_arm_force_error_max_n": round(float(np.abs(error).max()), 1),
+            "deburr_arm_estimate_error_rms_n": round(float(np.sqrt(np.mean(estimate ** 2))), 1),
+            "deburr_arm_estimate_error_max_n": round(float(np.abs(estimate).max()), 1),
+            "deburr_arm_casting_left_mm": round(1000 * max(c.max_height_m() for c in castings), 3)}
 
 
 def servo_baseline(plant: str) -> dict[str, float]:
@@ -607,7 +656,7 @@ def main() -> None:
     args = parser.parse_args()
     for plant, prefix in (("realistic", ""), ("ideal", "ideal_")):
         figures = {**identification(args.trials, args.seed, plant), **processes(plant), **servo_force_estimate(plant),
-                   **servo_baseline(plant),
+                   **servo_baseline(plant), **arm_grinding(plant),
                    **tuning(plant)}
         for key, value in figures.items():
             print(f"{prefix}{key}={value}", flush=True)
