@@ -26,9 +26,9 @@ GRINDMOVE grinder ALONG edge WITH VELOCITY = 100mm/s WITH FORCE = {force} WITH G
 UNREAD_INPUT = 3
 
 
-def grind(bulges: list[Bulge], stiffness_n_m: float = 5e4, force: str = "30N",
-          passes: int = 4) -> tuple[Executive, CastingEdge, db.GrindLog]:
-    """thesis_2_1's edge on the realistic plant, its contact force acting on the arm."""
+def grind(bulges: list[Bulge], stiffness_n_m: float = 5e4, force: str = "30N", passes: int = 4,
+          casting: bool = True) -> tuple[Executive, CastingEdge, db.GrindLog]:
+    """thesis_2_1's edge on the realistic plant (or nothing there), its contact force acting on the arm."""
     robot = CellRobot.virtual(plant="realistic")
     source = PROGRAM.format(force=force, passes=passes)
     registry, logs = runtime_registry(), []
@@ -41,7 +41,8 @@ def grind(bulges: list[Bulge], stiffness_n_m: float = 5e4, force: str = "30N",
                           output=lambda line: None)
     edge = CastingEdge(EDGE, bulges, tcp=lambda: robot.tcp_pose(executive.machine.last_tool),
                        force_in=UNREAD_INPUT, stiffness_n_m=stiffness_n_m, push=robot.push_on_arm)
-    robot.io.add_process(edge)
+    if casting:
+        robot.io.add_process(edge)
     executive.run()
     (log,) = logs
     return executive, edge, log
@@ -94,3 +95,10 @@ def test_a_robot_without_motor_torques_to_read_needs_a_force_flange() -> None:
     executive = execute(PROGRAM.format(force="30N", passes=4))
     assert executive.status == "failed"
     assert "presses with the arm" in executive.report() and "FORCE_IN" in executive.report()
+
+
+@pytest.mark.sim
+def test_an_edge_the_arm_never_touches_is_a_warning_not_a_silent_finish() -> None:
+    executive, _, log = grind([], casting=False)
+    assert executive.status == "finished", executive.report()
+    assert log.bulges == [] and "the arm felt no contact force along the whole path" in log.warnings[0]

@@ -12,6 +12,8 @@
             }
         } while (event == BULGE);
 
+An installed Grinder without a force flange presses with the arm itself and reads the force from its motor
+torques (deburring_arm: the thesis' way, no extra sensor). With a flange (or a plain TOOL), as follows.
 The grinder sits on a compliant flange with a stroke u along the tool's z axis (normal to the path): the
 analog output AnalogOut[8] commands the stroke (m, positive toward the part), the analog input AnalogIn[8] is the
 measured normal force (N). The force loop runs every motion cycle (dt = 4 ms) in this procedure, an
@@ -421,7 +423,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
     if log.warnings:
         raise record.fault(BurrLeft("; ".join(log.warnings) + "; more passes (max_passes) or a higher FORCE needed"),
                            robot.time_s())
-    if arm and not any(sample[4] > SETTLED_FRACTION * sample[3] for sample in log.samples):
+    if arm and not settled:  # never pressed with the command for ARM_SETTLED_CYCLES in a row
         message = ("the arm felt no contact force along the whole path: nothing was ground "
                    "(no casting in the cell, or the path is not on its edge)")
         log.warnings.append(message)
