@@ -34,7 +34,9 @@ alone and the identified tuning: calibrate_vs_boost_settle_pct is what the ident
 part of the identified tuning switched off in turn (calibrate_identified_without_*); on the realistic plant with
 its elastic gears (calibrate_*) and with rigid gears (calibrate_rigid_*).
 deburr_servo_force_*: how well the arm's own motor torques tell the grinding force (no force flange), see
-servo_force_estimate.
+servo_force_estimate; deburr_servo_force_baseline_* and deburr_servo_error_*: the same against a free-air pass at
+the same s (the signature GRINDMOVE without a flange uses), see servo_baseline; deburr_arm_*: thesis_2_1 as it runs
+(the arm presses), see arm_grinding; deburr_flange_*: thesis_2_1 with a force flange on its grinder.
 """
 
 from __future__ import annotations
