@@ -30,9 +30,11 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.application.runtime import BehaviourError, MotionRequest, MotionView
+from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S  # the sharp Coulomb term of the friction estimate
 from orc_rpl.world.pose import Pose
 
-#: How far the signature pass is lifted off the edge along n (m): clear of the demo's bulges and their burr.
+#: How far the signature pass is lifted off the edge along n (m): clear of bulges up to that high (a higher one
+#: would touch the signature pass and spoil it).
 LIFT_M = 0.005
 #: Admittance gain of the arm's force loop (m of path offset per N of force error and second): the loop's
 #: time constant on the cell's 50 N/mm casting is 1 / (K k).
@@ -41,8 +43,6 @@ ADMITTANCE_M_PER_N_S = 2.5e-4
 OFFSET_LIMIT_M = 0.01
 #: The estimate is averaged over this many motion cycles (the torque noise is several newtons a cycle).
 AVERAGE_CYCLES = 5
-#: Speed (rad/s) over which the estimate's Coulomb friction turns from one sign to the other.
-SIGN_SMOOTH_RAD_S = 0.002
 #: A joint slower than this sticks (static friction: it holds any torque up to its Coulomb friction, which no
 #: model of the speed tells, and when it breaks away depends on the load): while a joint that carries the normal
 #: force (its lever at least LEVER_SHARE of the largest) sticks, now or in the signature near this arc length,
