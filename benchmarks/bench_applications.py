@@ -34,7 +34,9 @@ alone and the identified tuning: calibrate_vs_boost_settle_pct is what the ident
 part of the identified tuning switched off in turn (calibrate_identified_without_*); on the realistic plant with
 its elastic gears (calibrate_*) and with rigid gears (calibrate_rigid_*).
 deburr_servo_force_*: how well the arm's own motor torques tell the grinding force (no force flange), see
-servo_force_estimate.
+servo_force_estimate; deburr_servo_force_baseline_* and deburr_servo_error_*: the same against a free-air pass at
+the same s (the signature GRINDMOVE without a flange uses), see servo_baseline; deburr_arm_*: thesis_2_1 as it runs
+(the arm presses), see arm_grinding; deburr_flange_*: thesis_2_1 with a force flange on its grinder.
 """
 
 from __future__ import annotations
@@ -316,6 +318,11 @@ def processes(plant: str) -> dict[str, float]:
     plain = demo_process(plant, "programs/online/thesis_2_1_grindmove.rpl", ("max_passes = 4", "max_passes = 0"))
     figures["deburr_plain_left_mm"] = round(1000 * max((b["left_m"] for b in plain.get("bulges", [])),
                                                        default=math.nan), 3)
+    # the same program with a force flange on the grinder (without one, the arm presses and feels the force)
+    flange = demo_process(plant, "programs/online/thesis_2_1_grindmove.rpl", (GRINDER, GRINDER + FLANGE))
+    figures["deburr_flange_left_mm"] = round(1000 * max((b["left_m"] for b in flange.get("bulges", [])),
+                                                        default=math.nan), 3)
+    figures["deburr_flange_passes"] = sum(len(b["pass_heights_m"]) for b in flange.get("bulges", []))
     weldmove_s, errors, first = spot_run(False, plant)
     naive_s, _, _ = spot_run(True, plant)
     figures["spot_saving_per_spot_s"] = round((naive_s - weldmove_s) / (len(errors) + 2), 4)
@@ -369,7 +376,38 @@ def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, ...]]:
     """(true contact force, then the force estimated with each model of servo_force_estimate) every motion cycle of
     the grinding moves of thesis_2_1_grindmove (without a warm-up estimate, the tracked and plant columns are the
     sharp one)."""
-    from orc_rpl.application.features import deburring_behaviour
+    program = ROOT / "programs/online/thesis_2_1_grindmove.rpl"
+    rows: list[tuple[float, ...]] = []
+    source = program.read_text(encoding="utf-8")
+    assert GRINDER in source
+    source = source.replace(GRINDER, GRINDER + FLANGE)  # the flange grinds, the contact force acts on the arm
+
+    def row(robot: CellRobot, estimator: TorqueForce, castings: list[Any], loop: Any, s: float) -> None:
+        rows.append((sum(c.force_n for c in castings), *estimator.estimates()))  # the casting's normal is +z
+    _grinding_run(plant, program, source, casting_on, row)
+    return rows
+
+
+#: The baseline (signature) passes: GRINDMOVE along the thesis_2_1 edge lifted BASELINE_OFFSET_MM off the part with
+#: no force (the stroke stays at 0: free air), twice, then twice on the edge at 30 N (the flange holds the force,
+#: the arm follows the nominal path and feels the contact); no bulge is caught (tolerance 100 mm), every pass the
+#: same direction, speed and ends. BASELINE_WINDOW: the residual also averaged over this many motion cycles (40 ms,
+#: 4 mm at 100 mm/s, a tenth of the demo's bulge).
+BASELINE_OFFSET_MM = 5.0
+#: thesis_2_1's grinder, and the force flange these measurements give it (without one GRINDMOVE presses with the arm)
+GRINDER = "INSTALL grinder AS Grinder WITH SPINDLE = DigOut[5]"
+FLANGE = " WITH FORCE_IN = AnalogIn[8] WITH STROKE = AnalogOut[8]"
+BASELINE_WINDOW = 10
+
+
+def arm_grinding(plant: str) -> dict[str, float]:
+    """thesis_2_1_grindmove.rpl as it runs by default (no force flange: the arm presses and reads the force from
+    its motor torques against a free-air signature): every cycle of its force loop in contact moves, the casting's
+    true contact force against the command from the first cycle within 20 % of it on (deburr_arm_force_error_rms_n,
+    _max_n, over the bulge's flanks too)
+    and against the arm's estimate (deburr_arm_estimate_error_rms_n, _max_n), and the highest burr left on the
+    casting itself (deburr_arm_casting_left_mm, not CatchBulge's measurement)."""
+    from orc_rpl.application.features import deburring_arm
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.executive.executive import Executive
     from orc_rpl.executive.sim_io import load_script
@@ -380,49 +418,160 @@ def _torque_force_rows(plant: str, casting_on: bool) -> list[tuple[float, ...]]:
     robot = CellRobot.virtual(plant=plant)
     executive = Executive(parse(source, str(program)), robot, runtime_registry(), path=str(program),
                           source=source, output=lambda line: None)
-    machine = executive.machine
-    castings = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.tcp_pose(machine.last_tool),
-                           robot.set_plant_payload, robot.push_on_arm).castings if casting_on else []
-    rows: list[tuple[float, ...]] = []
-    sample = deburring_behaviour.ForceLoop.step
-    gears = getattr(robot.layer, "gear_friction", None)
-    servo = getattr(robot.layer.backend, "loop", None)
-    servo = getattr(servo, "servo", None)
-    nominal = (np.zeros(6), np.zeros(6)) if gears is None else gears.warm_nm
-    angles: list[tuple[float, np.ndarray]] = []  # the last three cycles' (time, q): the acceleration from the encoder
+    castings = load_script(program.with_suffix(".sim.yaml"), robot.io,
+                           lambda: robot.tcp_pose(executive.machine.last_tool), robot.set_plant_payload,
+                           robot.push_on_arm).castings
+    step = deburring_arm.ArmForceLoop.step
+    rows: list[tuple[float, float, float]] = []
 
-    def estimating_step(loop: Any, s: float) -> tuple[float, float]:  # once a grinding cycle
+    def recording_step(loop: Any, s: float, arc_m: float) -> tuple[float, float]:
+        command, measured = step(loop, s, arc_m)
+        rows.append((sum(c.force_n for c in castings), command, measured))
+        return command, measured
+    deburring_arm.ArmForceLoop.step = recording_step  # type: ignore[method-assign]
+    try:
+        executive.run()
+    finally:
+        deburring_arm.ArmForceLoop.step = step  # type: ignore[method-assign]
+    table = np.array(rows)
+    table = table[int(np.argmax(np.abs(table[:, 0] - table[:, 1]) <= 0.2 * table[:, 1])):]  # from the first contact
+    error, estimate = table[:, 0] - table[:, 1], table[:, 2] - table[:, 0]
+    return {"deburr_arm_status_finished": int(executive.status == "finished"),
+            "deburr_arm_force_error_rms_n": round(float(np.sqrt(np.mean(error ** 2))), 1),
+            "deburr_arm_force_error_max_n": round(float(np.abs(error).max()), 1),
+            "deburr_arm_estimate_error_rms_n": round(float(np.sqrt(np.mean(estimate ** 2))), 1),
+            "deburr_arm_estimate_error_max_n": round(float(np.abs(estimate).max()), 1),
+            "deburr_arm_casting_left_mm": round(1000 * max(c.max_height_m() for c in castings), 3)}
+
+
+def servo_baseline(plant: str) -> dict[str, float]:
+    """Does the arm's own signal repeat pass after pass at the same s, so that a baseline cancels it? The tracked
+    torque estimate of the normal force (servo_force_estimate's best model without the plant's truth) and the
+    servo's position error along the normal, each minus the same signal of an earlier pass interpolated at the same
+    s. Printed: the first contact pass against the second free-air pass (the force's residual against the true
+    contact force, per cycle and averaged over BASELINE_WINDOW cycles: deburr_servo_force_baseline_error_*), the
+    second free-air pass against the first (truth 0: _baseline_free_*), and the servo error's residual between the
+    free-air passes (deburr_servo_error_baseline_*_mm) against what pressing with 30 N shifts it by
+    (deburr_servo_error_contact_shift_mm, the median over the contact pass)."""
+    program = ROOT / "programs/online/thesis_2_1_grindmove.rpl"
+
+    def path(z_mm: float) -> str:
+        return "[" + ", ".join(f"POSE(900mm, {y}mm, {z_mm}mm, 0, 180deg, 0)" for y in (-200, 0, 200)) + "]"
+    grind = "GRINDMOVE grinder ALONG {} WITH DEBURRING = pars WITH VELOCITY = 100mm/s WITH FORCE = {}N\n"
+    source = (f"TOOL grinder = POSE(0, 0, 150mm, 0, 0, 0)\n{GRINDER}{FLANGE}\n"
+              f"PATH free = {path(600 + BASELINE_OFFSET_MM)}\nPATH edge = {path(600)}\n"
+              "VAR pars = GrindingPars(tolerance = 100mm, max_passes = 0)\n"
+              + 2 * grind.format("free", 0) + 2 * grind.format("edge", 30))
+    rows: list[tuple[float, ...]] = []
+    loops: list[int] = []
+
+    def row(robot: CellRobot, estimator: TorqueForce, castings: list[Any], loop: Any, s: float) -> None:
+        if not loops or loops[-1] != id(loop):  # a new GRINDMOVE: a new pass
+            loops.append(id(loop))
+        rows.append((len(loops) - 1, s, sum(c.force_n for c in castings), estimator.estimates()[2],
+                     estimator.servo_error_m()))
+    _grinding_run(plant, program, source, True, row)
+    table = np.array(rows)
+    free1, free2, contact = (table[table[:, 0] == k] for k in range(3))
+
+    def residual(a: np.ndarray, b: np.ndarray, column: int) -> np.ndarray:
+        """a's signal minus b's at a's s (b sorted by s), less the change of the true force."""
+        order = np.argsort(b[:, 1])
+        change = a[:, 2] - np.interp(a[:, 1], b[order, 1], b[order, 2]) if column == 3 else 0.0
+        return a[:, column] - np.interp(a[:, 1], b[order, 1], b[order, column]) - change
+
+    def averaged(x: np.ndarray) -> np.ndarray:
+        return np.convolve(x, np.ones(BASELINE_WINDOW) / BASELINE_WINDOW, mode="valid")
+    figures: dict[str, float] = {}
+    for name, (a, b) in (("", (contact, free2)), ("_free", (free2, free1))):
+        error = residual(a, b, 3)
+        figures[f"deburr_servo_force_baseline{name}_error_rms_n"] = round(float(np.sqrt(np.mean(error ** 2))), 1)
+        figures[f"deburr_servo_force_baseline{name}_error_max_n"] = round(float(np.abs(error).max()), 1)
+        smooth = averaged(error)
+        figures[f"deburr_servo_force_baseline{name}_error_rms_{BASELINE_WINDOW}_n"] = round(
+            float(np.sqrt(np.mean(smooth ** 2))), 1)
+        figures[f"deburr_servo_force_baseline{name}_error_max_{BASELINE_WINDOW}_n"] = round(float(np.abs(smooth).max()), 1)
+    servo = residual(free2, free1, 4)
+    figures["deburr_servo_error_baseline_rms_mm"] = round(1000 * float(np.sqrt(np.mean(servo ** 2))), 4)
+    figures["deburr_servo_error_baseline_max_mm"] = round(1000 * float(np.abs(servo).max()), 4)
+    figures["deburr_servo_error_contact_shift_mm"] = round(1000 * float(np.median(residual(contact, free2, 4))), 4)
+    return figures
+
+
+class TorqueForce:
+    """The normal (+z) force on the TCP estimated from the arm's motor torques with the models of
+    servo_force_estimate, once a motion cycle (the acceleration from the last three cycles' encoder angles)."""
+
+    def __init__(self, robot: CellRobot, tool: Any) -> None:
+        self.robot, self.tool = robot, tool
+        self.gears = getattr(robot.layer, "gear_friction", None)
+        self.servo = robot.layer.backend.loop.servo  # type: ignore[attr-defined]
+        self.nominal = (np.zeros(6), np.zeros(6)) if self.gears is None else self.gears.warm_nm
+        self.angles: list[tuple[float, np.ndarray]] = []
+
+    def estimates(self) -> list[float]:
+        """The servo model's, _sharp's, _tracked's and _plant_friction's estimate now (N)."""
+        robot, nominal = self.robot, self.nominal
         q, qd = robot.joints(), robot.joint_speeds()
         external = np.array(robot.model_torques(q, qd)) - np.array(robot.torques())
-        jacobian_t = robot.jacobian_linear(machine.last_tool).T
+        jacobian_t = robot.jacobian_linear(self.tool()).T
         force = np.linalg.lstsq(jacobian_t, external, rcond=None)[0]
-        angles[:] = [*angles[-2:], (robot.time_s(), np.array(q))]
+        self.angles[:] = [*self.angles[-2:], (robot.time_s(), np.array(q))]
         qdd = np.zeros(len(q))
-        if len(angles) == 3 and angles[2][0] - angles[0][0] > 0:
-            (t0, q0), (t1, q1), (t2, q2) = angles
+        if len(self.angles) == 3 and self.angles[2][0] - self.angles[0][0] > 0:
+            (t0, q0), (t1, q1), (t2, q2) = self.angles
             qdd = ((q2 - q1) / (t2 - t1) - (q1 - q0) / (t1 - t0)) / (0.5 * (t2 - t0))
         speed = np.array(qd)
         # the servo's own model (its payload) with the acceleration, its nominal friction feed-forward taken out
-        rigid = (servo.model_torque(np.array(q), speed, qdd) - nominal[0] * np.tanh(speed / SERVO_FRICTION_SMOOTH_RAD_S)
-                 - nominal[1] * speed - np.array(robot.torques()))
+        rigid = (self.servo.model_torque(np.array(q), speed, qdd)
+                 - nominal[0] * np.tanh(speed / SERVO_FRICTION_SMOOTH_RAD_S) - nominal[1] * speed
+                 - np.array(robot.torques()))
         sign = np.tanh(speed / SIGN_SMOOTH_RAD_S)
         estimates = [float(force[2])]
         frictions = [nominal[0] * sign + nominal[1] * speed]
-        if gears is not None:
+        if self.gears is not None:
             coulomb, viscous = robot.layer.backend.loop.cell.friction_nm()  # type: ignore[attr-defined]
-            frictions += [gears.torque_nm(speed), coulomb * sign + viscous * speed]
+            frictions += [self.gears.torque_nm(speed), coulomb * sign + viscous * speed]
         else:
             frictions += frictions * 2
         for friction in frictions:
             estimates.append(float(np.linalg.lstsq(jacobian_t, rigid + friction, rcond=None)[0][2]))
-        rows.append((sum(c.force_n for c in castings), *estimates))  # the casting's normal is +z
-        return sample(loop, s)
-    deburring_behaviour.ForceLoop.step = estimating_step  # type: ignore[method-assign]
+        return estimates
+
+    def servo_error_m(self) -> float:
+        """The servo's position error along the normal: +z of J (q_ref - q), m (commanded above measured > 0)."""
+        robot = self.robot
+        error = robot.layer.reference_q() - np.array(robot.joints())
+        return float((robot.jacobian_linear(self.tool()) @ error)[2])
+
+
+def _grinding_run(plant: str, program: Path, source: str, casting_on: bool,
+                  row: Any) -> None:
+    """Run `source` (GRINDMOVEs) on a fresh robot with the casting of `program`'s .sim.yaml (or none), calling
+    row(robot, estimator, castings, loop, s) once a grinding cycle, before the force loop's step."""
+    from orc_rpl.application.features import deburring_behaviour
+    from orc_rpl.application.standard_behaviour import runtime_registry
+    from orc_rpl.executive.executive import Executive
+    from orc_rpl.executive.sim_io import load_script
+    from orc_rpl.syntax.parser import parse
+
+    robot = CellRobot.virtual(plant=plant)
+    executive = Executive(parse(source, str(program)), robot, runtime_registry(), path=str(program),
+                          source=source, output=lambda line: None)
+    machine = executive.machine
+    castings = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.tcp_pose(machine.last_tool),
+                           robot.set_plant_payload, robot.push_on_arm).castings if casting_on else []
+    estimator = TorqueForce(robot, lambda: machine.last_tool)
+    sample = deburring_behaviour.ForceLoop.step
+
+    def recording_step(loop: Any, s: float, arc_m: float = 0.0) -> tuple[float, float]:  # once a grinding cycle
+        row(robot, estimator, castings, loop, s)
+        return sample(loop, s, arc_m)
+    deburring_behaviour.ForceLoop.step = recording_step  # type: ignore[method-assign]
     try:
         executive.run()
     finally:
         deburring_behaviour.ForceLoop.step = sample  # type: ignore[method-assign]
-    return rows
 
 
 #: The variants of the tuning comparison: the default gains, the fixed boost alone, the identified tuning, and the
@@ -509,6 +658,7 @@ def main() -> None:
     args = parser.parse_args()
     for plant, prefix in (("realistic", ""), ("ideal", "ideal_")):
         figures = {**identification(args.trials, args.seed, plant), **processes(plant), **servo_force_estimate(plant),
+                   **servo_baseline(plant), **arm_grinding(plant),
                    **tuning(plant)}
         for key, value in figures.items():
             print(f"{prefix}{key}={value}", flush=True)

@@ -282,8 +282,11 @@ class CellRobot:
             handles.append(layer.short_move(motion, _params(request, zone_m=0.0), actions))
         elif request.kind == "linear":  # a straight line (through its VIA points, blended)
             corner = _params(request, zone_m=max(request.zone_m, VIA_ZONE_M))
-            for point in request.via:
-                handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, _until_actions(request)))
+            for point in request.via:  # the path correction (GRINDMOVE's force loop) holds on every segment
+                segment = _until_actions(request)
+                if request.correction is not None:
+                    segment = _correction_action(request, layer, tool, segment)
+                handles.append(layer.move(_motion(layer, point, "linear", None, tool), corner, segment))
             handles.append(layer.move(_motion(layer, request.target, "linear", None, tool), params, actions))
         elif request.kind == "function":
             handles.append(layer.move(_function_motion(request.target, tool, request.time_s), params, actions))  # type: ignore[arg-type]

@@ -38,8 +38,15 @@ def test_spot_welds_are_in_the_summary_with_their_quality(tmp_path: Path, capsys
 @pytest.mark.sim
 def test_grinding_is_logged_plotted_and_summarised(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     log, plot = tmp_path / "run.npz", tmp_path / "run.png"
-    code, result, _, err = _run(PROGRAMS / "thesis_2_1_grindmove.rpl", tmp_path, capsys, "--log", str(log),
-                                "--plot", str(plot))
+    # the thesis program with a force flange on its grinder (without one the arm presses: test_deburring_arm.py)
+    program = tmp_path / "thesis_2_1_grindmove.rpl"
+    grinder = "INSTALL grinder AS Grinder WITH SPINDLE = DigOut[5]\n"
+    source = (PROGRAMS / program.name).read_text(encoding="utf-8")
+    assert grinder in source
+    program.write_text(source.replace(grinder, grinder[:-1] + " WITH FORCE_IN = AnalogIn[8] WITH STROKE = AnalogOut[8]\n"),
+                       encoding="utf-8")
+    shutil.copy((PROGRAMS / program.name).with_suffix(".sim.yaml"), program.with_suffix(".sim.yaml"))
+    code, result, _, err = _run(program, tmp_path, capsys, "--log", str(log), "--plot", str(plot))
     assert code == 0, err
     (bulge,) = result["process"]["bulges"]
     # the casting's 1.4 mm bulge: one force-controlled pass leaves at least 1 mm of it (the premise of GRINDMOVE)

@@ -12,6 +12,8 @@
             }
         } while (event == BULGE);
 
+An installed Grinder without a force flange presses with the arm itself and reads the force from its motor
+torques (deburring_arm: the thesis' way, no extra sensor). With a flange (or a plain TOOL), as follows.
 The grinder sits on a compliant flange with a stroke u along the tool's z axis (normal to the path): the
 analog output AnalogOut[8] commands the stroke (m, positive toward the part), the analog input AnalogIn[8] is the
 measured normal force (N). The force loop runs every motion cycle (dt = 4 ms) in this procedure, an
@@ -46,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.application.features.deburring_arm import LIFT_M, ArmForceLoop, Signature, run_to
 from orc_rpl.application.process_log import BulgeRecord, ProcessFault, ProcessLog, process_log
 from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, MotionRequest
 from orc_rpl.errors import MotionFault
@@ -75,6 +78,15 @@ SETTLED_FRACTION = 0.2
 UNSTABLE_WINDOW = 25
 UNSTABLE_FRACTION = 0.5
 UNSTABLE_SIGN_CHANGES = 8
+#: The arm's watch reads each cycle's own estimate (an oscillation faster than its average must show), whose
+#: noise and model error reach 17 N RMS over 100 ms on the realistic plant: unstable above the command itself.
+ARM_UNSTABLE_FRACTION = 1.0
+#: The arm's force loop settles over a few oscillations of its own: the contact has settled when its force has
+#: stayed within SETTLED_FRACTION of the command this many cycles in a row.
+ARM_SETTLED_CYCLES = 25
+#: The arm's force loop (deburring_arm) was measured stable on the cell up to this contact stiffness (N/m) and
+#: oscillating at five times it.
+ARM_STIFFNESS_LIMIT_N_M = 1e6
 
 
 class BurrLeft(MotionFault):
@@ -185,6 +197,34 @@ class PathGeometry:
         return [*later, self.poses[-1]]
 
 
+class ForceWatch:
+    """The force loop watching itself: its last UNSTABLE_WINDOW errors from the first contact on."""
+
+    def __init__(self, dt_s: float, stiffness_limit_n_m: float, fraction: float = UNSTABLE_FRACTION) -> None:
+        self.dt_s, self.stiffness_limit_n_m, self.fraction = dt_s, stiffness_limit_n_m, fraction
+        self._errors: deque[float] = deque(maxlen=UNSTABLE_WINDOW)
+        self._command = 0.0
+
+    def observe(self, command: float, measured: float) -> None:
+        if measured > 0.0 or self._errors:  # watched from the first contact on
+            self._errors.append(command - measured)
+        self._command = command
+
+    def unstable(self) -> str | None:
+        """Why the loop is oscillating (its error's RMS and sign changes over the window), or None."""
+        errors = self._errors
+        if len(errors) < UNSTABLE_WINDOW:
+            return None
+        rms = math.sqrt(sum(e * e for e in errors) / len(errors))
+        changes = sum(1 for a, b in zip(errors, list(errors)[1:]) if a * b < 0)
+        if rms > self.fraction * max(self._command, 1.0) and changes >= UNSTABLE_SIGN_CHANGES:
+            return (f"the force loop is unstable: its error oscillates at {rms:.1f} N RMS about the commanded "
+                    f"{self._command:.1f} N ({changes} sign changes in {1000 * UNSTABLE_WINDOW * self.dt_s:.0f} ms); "
+                    f"the contact is stiffer than its gain allows (stable below "
+                    f"{self.stiffness_limit_n_m / 1000:.0f} N/mm)")
+        return None
+
+
 class ForceLoop:
     """The admittance law on the flange's stroke, one step a motion cycle."""
 
@@ -194,8 +234,7 @@ class ForceLoop:
         self.force_in, self.stroke_out = force_in, stroke_out
         self.stroke_m = 0.0
         self._in, self._out = robot.io.bank("AnaIn"), robot.io.bank("AnaOut")
-        self._errors: deque[float] = deque(maxlen=UNSTABLE_WINDOW)
-        self._command = 0.0
+        self.watch = ForceWatch(robot.dt_s, 2 / (ADMITTANCE_M_PER_N_S * robot.dt_s))
 
     def measured_n(self) -> float:
         return float(self._in[self.force_in])
@@ -205,25 +244,12 @@ class ForceLoop:
         return self.stroke_m
 
     def unstable(self) -> str | None:
-        """Why the loop is oscillating (its error's RMS and sign changes over the window), or None."""
-        errors = self._errors
-        if len(errors) < UNSTABLE_WINDOW:
-            return None
-        rms = math.sqrt(sum(e * e for e in errors) / len(errors))
-        changes = sum(1 for a, b in zip(errors, list(errors)[1:]) if a * b < 0)
-        if rms > UNSTABLE_FRACTION * max(self._command, 1.0) and changes >= UNSTABLE_SIGN_CHANGES:
-            return (f"the force loop is unstable: its error oscillates at {rms:.1f} N RMS about the commanded "
-                    f"{self._command:.1f} N ({changes} sign changes in {1000 * UNSTABLE_WINDOW * self.robot.dt_s:.0f} ms); "
-                    f"the contact is stiffer than its gain allows (stable below "
-                    f"{2 / (ADMITTANCE_M_PER_N_S * self.robot.dt_s) / 1000:.0f} N/mm)")
-        return None
+        return self.watch.unstable()
 
-    def step(self, s: float) -> tuple[float, float]:
+    def step(self, s: float, arc_m: float = 0.0) -> tuple[float, float]:
         """Read the force, move the stroke; (commanded, measured) force."""
         command, measured = self.force(s), self.measured_n()
-        if measured > 0.0 or self._errors:  # watched from the first contact on
-            self._errors.append(command - measured)
-        self._command = command
+        self.watch.observe(command, measured)
         self.stroke_m = min(STROKE_LIMIT_M, max(-STROKE_LIMIT_M, self.stroke_m + ADMITTANCE_M_PER_N_S * self.robot.dt_s
                                                 * (command - measured)))
         self._out[self.stroke_out] = self.stroke_m
@@ -297,10 +323,27 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
                                                attributes=attributes, until=None))
     base = dataclasses.replace(base, keyword=call.keyword, zone_m=0.0)
     flange = getattr(call.equipment, "force_flange", None)  # a Grinder's own wiring, else AnalogIn/AnalogOut[8]
-    loop = ForceLoop(robot, force, *(flange or (FORCE_IN, STROKE_OUT)))
+    # an installed Grinder without a force flange: the arm presses and feels the force itself
+    arm = flange is None and hasattr(call.equipment, "force_flange")
     length = geometry.length_m
     normal = geometry.normal
+    loop: Any = (ArmForceLoop(robot, force, call.tool, normal, ForceWatch(robot.dt_s, ARM_STIFFNESS_LIMIT_N_M,
+                                                                            ARM_UNSTABLE_FRACTION))
+                 if arm else ForceLoop(robot, force, *(flange or (FORCE_IN, STROKE_OUT))))
+    signatures: dict[tuple[float, float], Signature] = {}
     record = process_log(robot)
+
+    def arc_here() -> float:
+        return geometry.project(_position(robot.tcp_pose(call.tool)))[0]
+
+    def press(start_m: float, end_m: float, via: tuple[Pose, ...] = ()) -> Iterator[Any]:
+        """Submit the grinding move from arc start_m (where the robot is) to end_m; its ticket."""
+        target = geometry.pose_at(end_m) if end_m < length - 1e-9 else poses[-1]
+        if not arm:
+            return (yield dataclasses.replace(base, target=target, via=via))
+        here = geometry.pose_at(arc_here())
+        return (yield from loop.pressed_move(base, here, geometry.pose_at(start_m), target, via, signatures,
+                                             (round(start_m, 4), round(end_m, 4)), arc_here))
 
     def sample() -> tuple[float, float]:
         """One cycle of the force loop and of CatchBulge's recording: (arc length, normal position error)."""
@@ -308,7 +351,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         x = np.array((tcp.x, tcp.y, tcp.z))
         arc, nominal = geometry.project(x)
         e = float(np.dot(x - nominal, normal)) - loop.tip_offset_m()
-        command, measured = loop.step(arc / length)
+        command, measured = loop.step(arc / length, arc)
         log.samples.append((robot.time_s(), arc / length, e, command, measured))
         record.signals.update(force_n=measured, force_cmd_n=command, stroke_m=loop.stroke_m, normal_error_m=e)
         why = loop.unstable()
@@ -328,7 +371,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
             raise ticket.error if ticket.error is not None else BehaviourError("the motion failed")
 
     if math.dist((here.x, here.y, here.z), tuple(geometry.points[0])) > 1e-3:  # to the start of the edge, not grinding
-        ticket = yield dataclasses.replace(base, target=poses[0], via=())
+        ticket = yield dataclasses.replace(base, target=loop.offset(poses[0], LIFT_M) if arm else poses[0], via=())
         while not ticket.done:
             yield None
         if ticket.outcome == "fault":
@@ -336,15 +379,18 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
     arc_now = 0.0
     handled: list[tuple[float, float]] = []
     settled = False
+    calm = 0  # cycles in a row the force has been within SETTLED_FRACTION of the command
     while True:
         rest = geometry.vertices_after(arc_now)
-        ticket = yield dataclasses.replace(base, target=rest[-1], via=tuple(rest[:-1]))  # Move(BurrPath, Par, Act)
+        ticket = yield from press(arc_now, length, tuple(rest[:-1]))  # Move(BurrPath, Par, Act)
         catch = CatchBulge(tolerance_m, settled)
         caught = None
         while not ticket.done:
             yield None
             arc, e = sample()
-            if not catch.settled and abs(loop.measured_n() - force(arc / length)) <= SETTLED_FRACTION * force(arc / length):
+            near = abs(loop.measured_n() - force(arc / length)) <= SETTLED_FRACTION * force(arc / length)
+            calm = calm + 1 if near else 0
+            if not catch.settled and calm >= (ARM_SETTLED_CYCLES if arm else 1):
                 catch.settled = settled = True
             found = catch.add(arc, e)
             if found is not None and caught is None \
@@ -359,7 +405,8 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         bulge = CaughtBulge(s0_m / length, s1_m / length, height, arc_now / length)
         log.bulges.append(bulge)
         handled.append((s0_m - PASS_MARGIN_M, s1_m + PASS_MARGIN_M))
-        yield from grind_down(bulge, s0_m, s1_m, max_passes, tolerance_m, geometry, base, sample, finish)
+        yield from grind_down(bulge, s0_m, s1_m, max_passes, tolerance_m, geometry, base, sample, finish,
+                              press if arm else None)
         left = bulge.passes[-1].measured_m if bulge.passes else height
         record.bulges.append(BulgeRecord(bulge.s0, bulge.s1, height, tuple(p.measured_m for p in bulge.passes),
                                          left, bulge.within_tolerance))
@@ -370,11 +417,18 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         if arc_now >= length - 1e-4:
             break
     loop.retract()
+    if arm:  # the path's end on the nominal edge: no force on a ground edge
+        yield from run_to(robot, base, poses[-1])
     _quiet(record)
     if log.warnings:
         raise record.fault(BurrLeft("; ".join(log.warnings) + "; more passes (max_passes) or a higher FORCE needed"),
                            robot.time_s())
-    if not any(sample[4] > 0.0 for sample in log.samples):
+    if arm and not settled:  # never pressed with the command for ARM_SETTLED_CYCLES in a row
+        message = ("the arm felt no contact force along the whole path: nothing was ground "
+                   "(no casting in the cell, or the path is not on its edge)")
+        log.warnings.append(message)
+        call.warn(message)
+    elif not arm and not any(sample[4] > 0.0 for sample in log.samples):
         message = (f"no contact force on AnalogIn[{loop.force_in}] along the whole path: nothing was ground "
                    "(no casting in the cell, or the path is not on its edge)")
         log.warnings.append(message)
@@ -388,16 +442,21 @@ def _quiet(record: ProcessLog) -> None:
 
 def grind_down(bulge: CaughtBulge, s0_m: float, s1_m: float, max_passes: int, tolerance_m: float,
                geometry: PathGeometry, base: MotionRequest, sample: Callable[[], tuple[float, float]],
-               finish: Callable[[Any], Iterator[Any]]) -> Iterator[Any]:
-    """GrindDownBulge: back and forth over [s0, s1] (10 mm beyond), each pass measuring what is left."""
+               finish: Callable[[Any], Iterator[Any]],
+               press: Callable[[float, float], Iterator[Any]] | None = None) -> Iterator[Any]:
+    """GrindDownBulge: back and forth over [s0, s1] (10 mm beyond), each pass measuring what is left. `press`
+    (the arm's own force loop) submits a pass from its start, lifting off and on as it needs."""
     low, high = max(0.0, s0_m - PASS_MARGIN_M), min(geometry.length_m, s1_m + PASS_MARGIN_M)
     here = geometry.project(_position_of_last(geometry, bulge))[0]
     forward = here < (low + high) / 2
-    if low < here < high:  # stopped on the bulge: go to its nearer end first, not grinding it yet
+    if low < here < high and press is None:  # stopped on the bulge: go to its nearer end first, not grinding it yet
         ticket = yield dataclasses.replace(base, target=geometry.pose_at(low if forward else high), via=())
         yield from finish(ticket)
     for _ in range(max_passes):
-        ticket = yield dataclasses.replace(base, target=geometry.pose_at(high if forward else low), via=())
+        if press is not None:
+            ticket = yield from press(low if forward else high, high if forward else low)
+        else:
+            ticket = yield dataclasses.replace(base, target=geometry.pose_at(high if forward else low), via=())
         outside: list[float] = []
         on: list[float] = []
         while not ticket.done:

@@ -34,7 +34,8 @@ def register(registry: Registry) -> None:
         InstallKindSpec("Grinder", "a grinding spindle driven by a digital output",
                         (AttributeSpec("SPINDLE", IO_CHANNEL, None, "digital output that runs the spindle", function_ok=False),
                          AttributeSpec("FORCE_IN", IO_CHANNEL, None, "analog input of a force flange's normal force (N); "
-                                       "with STROKE, GRINDMOVE presses through the flange", function_ok=False),
+                                       "with STROKE, GRINDMOVE presses through the flange (without them the arm "
+                                       "presses and reads the force from its motor torques)", function_ok=False),
                          AttributeSpec("STROKE", IO_CHANNEL, None, "analog output of a force flange's stroke (m, toward "
                                        "the part)", function_ok=False)),
                         (MethodSpec("On", "start the spindle"), MethodSpec("Off", "stop the spindle"),
