@@ -24,10 +24,10 @@ The paced runs are repeated `--runs` times and their medians printed. Run it alo
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import tempfile
 import time
-from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -86,8 +86,10 @@ def process_cpu_s(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def descendants_cpu_s(root: int) -> float:
-    """CPU seconds (user and system) of every process below `root` now (Linux /proc; the browser's processes)."""
+def browser_cpu_s(root: int) -> dict[str, float]:
+    """CPU seconds (user and system) of every Chromium process below `root` now, by kind (Linux /proc): "renderer" (the
+    page's JavaScript, three.js, the WebGL calls: what a browser on any machine spends), "gpu" (the GPU process: here
+    SwiftShader drawing every pixel in software, what a graphics card does elsewhere) and "browser" (the rest)."""
     parents: dict[int, int] = {}
     times: dict[int, float] = {}
     tick_s = 1.0 / os.sysconf("SC_CLK_TCK")
@@ -100,18 +102,32 @@ def descendants_cpu_s(root: int) -> float:
             continue
         parents[int(entry)] = int(fields[1])
         times[int(entry)] = (int(fields[11]) + int(fields[12])) * tick_s
-    total, frontier = 0.0, {root}
+    kinds = {"renderer": 0.0, "gpu": 0.0, "browser": 0.0}
+    frontier = {root}
     while frontier:
         frontier = {pid for pid, parent in parents.items() if parent in frontier}
-        total += sum(times[pid] for pid in frontier)
-    return total
+        for pid in frontier:
+            try:
+                command = Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0")
+            except OSError:
+                continue
+            if b"chrom" not in command[0]:
+                continue  # the view's own process: counted on its own
+            kind = ("renderer" if b"--type=renderer" in command else "gpu" if b"--type=gpu-process" in command
+                    else "browser")
+            kinds[kind] += times[pid]
+    return kinds
 
 
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False,
-            slice_s: float | None = scheduling.PACED_SLICE_S) -> dict[str, Any]:
+            slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
+            helpers: bool = True) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process), "in-process" (the
     server in the run's process, as before) or "none"; with a page, it is (re)loaded and connected before the run.
-    `slice_s`: the scheduler slice the paced motion cycle asks for (None: the system's default, as before)."""
+    `slice_s`: the scheduler slice the paced motion cycle asks for (None: the system's default, as before);
+    `realtime`: a paced run's motion cycle at real-time priority, as `orc run` asks for it (False: normal priority);
+    `helpers`: the threads the cycle waits on through the interpreter lock follow its priority (False: they stay at
+    normal priority, as before)."""
     scheduling.PACED_SLICE_S = slice_s
     source, program = load_program(path)
     robot = CellRobot.virtual(realtime=paced)
@@ -137,12 +153,19 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     executive.machine.robot = probe
     view_cpu = process_cpu_s(view_pid) if view_pid is not None else 0.0
     frames = page.evaluate("window.orcFrames || 0") if page is not None and live is not None else 0
-    others_cpu = descendants_cpu_s(os.getpid())
+    browser_before = browser_cpu_s(os.getpid())
     wall, cpu = time.perf_counter(), time.process_time()
-    status = executive.run()
+    follow = scheduling.follow_paced
+    if not helpers:
+        scheduling.follow_paced = lambda below=1: None
+    try:
+        with scheduling.PacedPriority() if paced and realtime else contextlib.nullcontext(None) as priority:
+            status = executive.run()
+    finally:
+        scheduling.follow_paced = follow
     wall_s, cpu_s = time.perf_counter() - wall, time.process_time() - cpu
     view_cpu_s = process_cpu_s(view_pid) - view_cpu if view_pid is not None else 0.0
-    browser_cpu_s = descendants_cpu_s(os.getpid()) - others_cpu - view_cpu_s
+    browser_kinds = {kind: cpu - browser_before[kind] for kind, cpu in browser_cpu_s(os.getpid()).items()}
     frames = page.evaluate("window.orcFrames || 0") - frames if page is not None and live is not None else 0
     if live is not None:
         live.finish()
@@ -151,9 +174,11 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
             page.goto("about:blank")
         server.close() if view == "process" else close_server(server)
     assert status == "finished", status
-    return {"wall_s": wall_s, "cpu_s": cpu_s, "browser_cpu_s": browser_cpu_s, "view_cpu_s": view_cpu_s, "frames": frames,
+    return {"wall_s": wall_s, "cpu_s": cpu_s, "browser_cpu_s": sum(browser_kinds.values()), "view_cpu_s": view_cpu_s,
+            "renderer_cpu_s": browser_kinds["renderer"], "gpu_cpu_s": browser_kinds["gpu"], "frames": frames,
             "sim_s": robot.time_s(), "late_s": np.array(probe.late_s),
-            "updates": live.updates if live is not None else 0}
+            "updates": live.updates if live is not None else 0,
+            "realtime": priority is not None and priority.refused is None and not priority.demoted}
 
 
 def _program(folder: Path, rounds: int) -> Path:
@@ -166,17 +191,58 @@ def p99_ms(run: dict[str, Any]) -> float:
     return 1000 * float(np.percentile(run["late_s"], 99))
 
 
+#: The paced variants, each run --runs times, interleaved: suffix of its figures -> (page, view, one_run's options).
+#: Page "small": the benchmark browser (see SMALL_PAGE); "large": the same browser at LARGE_PAGE; None: no browser.
+PACED: dict[str, tuple[str | None, str, dict[str, Any]]] = {
+    "": ("small", "process", {}),
+    "_large_page": ("large", "process", {}),
+    "_view_without_browser": (None, "process", {}),
+    "_without_view": (None, "none", {}),
+    "_in_process": ("large", "in-process", {}),
+    "_in_process_without_browser": (None, "in-process", {}),
+    "_with_shadows": ("large", "process", {"shadows": True}),
+    "_helpers_normal": ("large", "process", {"helpers": False}),
+    "_normal_priority": ("small", "process", {"realtime": False}),
+    "_normal_priority_large_page": ("large", "process", {"realtime": False}),
+    "_normal_priority_without_view": (None, "none", {"realtime": False}),
+    "_default_slice_large_page": ("large", "process", {"realtime": False, "slice_s": None}),
+    "_default_slice_without_view": (None, "none", {"realtime": False, "slice_s": None}),
+}
+#: The fast variants (the baseline "_without_view" is the run without a view), --repeats times, interleaved.
+FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
+    "": ("small", "process", {}),
+    "_large_page": ("large", "process", {}),
+    "_without_view": (None, "none", {}),
+    "_view_without_browser": (None, "process", {}),
+    "_in_process": ("large", "in-process", {}),
+    "_with_shadows": ("large", "process", {"shadows": True}),
+}
+#: The benchmark browser's page: what a user's browser costs the controller's machine is its JavaScript (the same on
+#: any machine: the renderer process); the pixels a graphics card draws, SwiftShader draws here on the CPU (the GPU
+#: process), about in proportion to their number. A small page keeps that part small; LARGE_PAGE shows it.
+SMALL_PAGE = (320, 240)
+LARGE_PAGE = (800, 600)
+
+
+def _size(text: str) -> tuple[int, int]:
+    width, _, height = text.partition("x")
+    return int(width), int(height)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=3, help="runs of each paced variant (the medians count)")
-    parser.add_argument("--repeats", type=int, default=5, help="interleaved pairs of fast runs (the median ratio counts)")
+    parser.add_argument("--repeats", type=int, default=5, help="interleaved rounds of fast runs (the median ratio counts)")
     parser.add_argument("--paced-rounds", type=int, default=3, help="pick-and-place rounds of the paced runs")
     parser.add_argument("--fast-rounds", type=int, default=40, help="pick-and-place rounds of the fast runs")
+    parser.add_argument("--small-page", type=_size, default=SMALL_PAGE, metavar="WxH",
+                        help="the benchmark browser's page (default %(default)s)")
+    parser.add_argument("--large-page", type=_size, default=LARGE_PAGE, metavar="WxH",
+                        help="the larger page measured beside it (default %(default)s)")
     parser.add_argument("--browser-nice", type=int, default=0,
                         help="run the browser at this nice value (a user's browser on the controller's own machine "
                              "started with `nice -n 10`); 0: as a browser normally runs")
     args = parser.parse_args()
-    run, shaded, default_slice = one_run, partial(one_run, shadows=True), partial(one_run, slice_s=None)
     from playwright.sync_api import sync_playwright
 
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
@@ -187,52 +253,61 @@ def main() -> None:
             Path(executable).write_text(f'#!/bin/sh\nexec nice -n {args.browser_nice} /usr/bin/chromium "$@"\n')
             os.chmod(executable, 0o755)
         browser = p.chromium.launch(executable_path=executable, args=CHROMIUM_ARGS)
-        page = browser.new_page(viewport={"width": 800, "height": 600})
-        page.add_init_script(COUNT_FRAMES)
+        pages: dict[str | None, Any] = {None: None}
+        for name, (width, height) in (("small", args.small_page), ("large", args.large_page)):
+            pages[name] = browser.new_page(viewport={"width": width, "height": height})
+            pages[name].add_init_script(COUNT_FRAMES)
         # interleaved, so a change of the machine's load between them touches every variant alike
-        paced_runs = [(run(paced, page, True, "process"), run(paced, None, True, "process"),
-                       run(paced, page, True, "none"), run(paced, page, True, "in-process"),
-                       run(paced, None, True, "in-process"), shaded(paced, page, True, "process"),
-                       default_slice(paced, page, True, "process"), default_slice(paced, page, True, "none"))
-                      for _ in range(args.runs)]
-        fast_runs = [(run(fast, page, False, "process"), run(fast, page, False, "none"),
-                      run(fast, page, False, "in-process"), shaded(fast, page, False, "process"))
-                     for _ in range(args.repeats)]
+        paced_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in PACED}
+        for _ in range(args.runs):
+            for suffix, (page, view, options) in PACED.items():
+                paced_runs[suffix].append(one_run(paced, pages[page], True, view, **options))
+        fast_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in FAST}
+        for _ in range(args.repeats):
+            for suffix, (page, view, options) in FAST.items():
+                fast_runs[suffix].append(one_run(fast, pages[page], False, view, **options))
         browser.close()
     print(f"load_average_1min={os.getloadavg()[0]:.2f}")
     print(f"browser_nice={args.browser_nice}")
-    print(f"paced_simulated_s={paced_runs[0][0]['sim_s']:.3f}")
-    _paced_figures([(r[0], r[1], r[2]) for r in paced_runs], "")
-    _paced_figures([(r[3], r[4], r[2]) for r in paced_runs], "_in_process")
-    _paced_figures([(r[5], r[1], r[2]) for r in paced_runs], "_with_shadows")
-    _paced_figures([(r[6], r[1], r[7]) for r in paced_runs], "_default_slice")
-    print(f"fast_simulated_s={fast_runs[0][0]['sim_s']:.3f}")
-    print(f"fast_wall_s_without_view={np.median([r[1]['wall_s'] for r in fast_runs]):.3f}")
-    _fast_figures([(r[0], r[1]) for r in fast_runs], "")
-    _fast_figures([(r[2], r[1]) for r in fast_runs], "_in_process")
-    _fast_figures([(r[3], r[1]) for r in fast_runs], "_with_shadows")
+    print(f"small_page={'x'.join(map(str, args.small_page))}")
+    print(f"large_page={'x'.join(map(str, args.large_page))}")
+    print(f"realtime_priority={int(all(r['realtime'] for r in paced_runs['']))}")
+    print(f"paced_simulated_s={paced_runs[''][0]['sim_s']:.3f}")
+    for suffix, runs in paced_runs.items():
+        _paced_figures(runs, suffix, PACED[suffix][0] is not None)
+    print(f"fast_simulated_s={fast_runs[''][0]['sim_s']:.3f}")
+    baseline = fast_runs.pop("_without_view")
+    print(f"fast_wall_s_without_view={np.median([r['wall_s'] for r in baseline]):.3f}")
+    for suffix, runs in fast_runs.items():
+        _fast_figures(list(zip(runs, baseline)), suffix, FAST[suffix][0] is not None)
 
 
-def _paced_figures(runs: list[tuple[dict[str, Any], dict[str, Any], dict[str, Any]]], suffix: str) -> None:
-    """The paced figures of (with the browser, the view without a browser, no view) triples."""
-    with_browser = [r[0] for r in runs]
+def _paced_figures(runs: list[dict[str, Any]], suffix: str, browser: bool) -> None:
+    """The figures of one paced variant's runs."""
     median = np.median
-    print(f"view_updates_per_s{suffix}={median([r['updates'] / r['wall_s'] for r in with_browser]):.1f}")
-    print(f"lateness_p99_ms{suffix}={median([p99_ms(r) for r in with_browser]):.3f}")
-    print(f"lateness_p99_ms_runs{suffix}={','.join(f'{p99_ms(r):.3f}' for r in with_browser)}")
-    print(f"lateness_max_ms{suffix}={median([1000 * r['late_s'].max() for r in with_browser]):.3f}")
-    if suffix in ("", "_in_process"):
-        print(f"lateness_p99_ms_view_without_browser{suffix}={median([p99_ms(r[1]) for r in runs]):.3f}")
-    if suffix in ("", "_default_slice"):
-        print(f"lateness_p99_ms_without_view{suffix}={median([p99_ms(r[2]) for r in runs]):.3f}")
-    print(f"browser_cpu_ms_per_update{suffix}={median([1000 * r['browser_cpu_s'] / r['updates'] for r in with_browser]):.2f}")
-    print(f"browser_frames_per_s{suffix}={median([r['frames'] / r['wall_s'] for r in with_browser]):.1f}")
-    print(f"browser_cpu_ms_per_frame{suffix}={median([1000 * r['browser_cpu_s'] / max(r['frames'], 1) for r in with_browser]):.1f}")
-    print(f"browser_cpu_share_paced{suffix}={median([r['browser_cpu_s'] / r['wall_s'] for r in with_browser]):.2f}")
+    print(f"lateness_p99_ms{suffix}={median([p99_ms(r) for r in runs]):.3f}")
+    print(f"lateness_p99_ms_runs{suffix}={','.join(f'{p99_ms(r):.3f}' for r in runs)}")
+    print(f"lateness_max_ms{suffix}={median([1000 * r['late_s'].max() for r in runs]):.3f}")
+    if runs[0]["updates"]:
+        print(f"view_updates_per_s{suffix}={median([r['updates'] / r['wall_s'] for r in runs]):.1f}")
+    if browser:
+        _browser_figures(runs, suffix, "paced")
 
 
-def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: str) -> None:
-    """The fast figures of (with the view and the browser, without a view) pairs."""
+def _browser_figures(runs: list[dict[str, Any]], suffix: str, kind: str) -> None:
+    """What the browser spent: per update, per frame (all its processes, then the page's renderer and the GPU
+    process apart), its frames per second and its share of the cores."""
+    median = np.median
+    print(f"browser_cpu_ms_per_update_{kind}{suffix}={median([1000 * r['browser_cpu_s'] / r['updates'] for r in runs]):.2f}")
+    print(f"browser_frames_per_s_{kind}{suffix}={median([r['frames'] / r['wall_s'] for r in runs]):.1f}")
+    for part in ("browser", "renderer", "gpu"):
+        per_frame = median([1000 * r[f"{part}_cpu_s"] / max(r["frames"], 1) for r in runs])
+        print(f"{part}_cpu_ms_per_frame_{kind}{suffix}={per_frame:.1f}")
+    print(f"browser_cpu_share_{kind}{suffix}={median([r['browser_cpu_s'] / r['wall_s'] for r in runs]):.2f}")
+
+
+def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: str, browser: bool) -> None:
+    """The fast figures of (with the view, without a view) pairs."""
     median = np.median
     print(f"fast_wall_s_with_view{suffix}={median([v['wall_s'] for v, _ in pairs]):.3f}")
     print(f"fast_updates_per_s{suffix}={median([v['updates'] / v['wall_s'] for v, _ in pairs]):.1f}")
@@ -240,11 +315,12 @@ def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: st
     print(f"view_cpu_ms_per_update{suffix}={median(extra_cpu_ms):.2f}")
     if suffix != "_in_process":
         print(f"view_process_cpu_ms_per_update{suffix}={median([1000 * v['view_cpu_s'] / v['updates'] for v, _ in pairs]):.2f}")
-    print(f"browser_cpu_share_fast{suffix}={median([v['browser_cpu_s'] / v['wall_s'] for v, _ in pairs]):.2f}")
     print(f"fast_cpu_slowdown_pct{suffix}={100 * median([v['cpu_s'] / b['cpu_s'] - 1 for v, b in pairs]):.1f}")
     slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in pairs]
     print(f"fast_slowdown_pct_runs{suffix}={','.join(f'{x:.1f}' for x in slowdowns)}")
     print(f"fast_slowdown_pct{suffix}={median(slowdowns):.1f}")
+    if browser:
+        _browser_figures([v for v, _ in pairs], suffix, "fast")
 
 
 if __name__ == "__main__":
