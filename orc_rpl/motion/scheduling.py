@@ -1,4 +1,4 @@
-"""The motion cycle's place in the operating system's scheduler: a cycle paced to the wall clock asks for short slices."""
+"""The motion cycle's place in the operating system's scheduler: a cycle paced to the wall clock runs at real-time priority."""
 
 from __future__ import annotations
 
@@ -53,9 +53,9 @@ def request_slice(slice_s: float | None) -> bool:
 PACED_PRIORITY = 10
 
 #: CPU time a real-time thread may spend without waiting before the kernel warns it (RLIMIT_RTTIME, s): a paced
-#: motion cycle sleeps every cycle, so only a runaway (an endless loop without motions) reaches it, and is then put
-#: back to normal priority instead of keeping a core from every other program.
-RUNAWAY_CPU_S = 0.5
+#: motion cycle sleeps every cycle, so only a runaway (an endless loop without motions) or a very long plan made in
+#: the cycle reaches it, and is then put back to normal priority instead of keeping a core from every other program.
+RUNAWAY_CPU_S = 1.0
 
 
 #: The paced block in force (PacedPriority), for the threads that follow it (follow_paced).

@@ -87,8 +87,8 @@ def test_a_helper_follows_the_block_just_below_and_is_put_back_when_it_ends() ->
 def test_a_thread_that_computes_without_waiting_is_put_back_to_normal_priority() -> None:
     with scheduling.PacedPriority(runaway_cpu_s=0.05) as priority:
         _granted(priority)
-        start = time.process_time()
-        while not priority.demoted and time.process_time() - start < 5.0:  # a runaway, bounded for the test
+        start = time.thread_time()  # this thread's time: other threads of the test process may be busy too
+        while not priority.demoted and time.thread_time() - start < 10.0:  # a runaway, bounded for the test
             pass
         assert priority.demoted
         assert os.sched_getscheduler(0) == os.SCHED_OTHER
