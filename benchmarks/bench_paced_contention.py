@@ -7,7 +7,8 @@ busy processes as the machine has cores at nice 0 (what a software-rendering bro
 amounts to: it takes every core it can get), and with the same processes at nice 10, with the motion cycle at normal
 priority; then alone and busy again with the motion cycle at real-time priority, as `orc run` asks for it
 (`..._realtime`), and once more with the plan-ahead worker left at normal priority, as before
-(`..._helpers_normal`: the cycle then waits for the interpreter lock a preempted worker holds). Printed per case: the motion cycle's lateness p99 against the wall clock (ms) of each run and their
+(`..._helpers_normal`: the cycle then waits for the interpreter lock a preempted worker holds). Printed per case: the
+motion cycle's lateness p99 against the wall clock (ms) of each run and their
 median. It tells whether a view's lateness figure is the view's doing or the machine's, and what the priority does.
 """
 
@@ -39,9 +40,10 @@ def lateness_runs(busy: int, nice: int, runs: int, program: Path, realtime: bool
     for spinner in spinners:
         spinner.start()
     try:
-        results = [bench_view.one_run(program, None, True, "none", realtime=realtime, helpers=helpers) for _ in range(runs)]
+        results = [bench_view.one_run(program, None, True, "none", realtime=realtime, helpers=helpers)
+                   for _ in range(runs)]
         if realtime and not all(r["realtime"] for r in results):
-            print("realtime_refused=1  (the system did not grant real-time priority: these runs are at normal priority)")
+            print("realtime_refused=1  (the system refused real-time priority: these runs are at normal priority)")
         return [round(bench_view.p99_ms(r), 3) for r in results]
     finally:
         for spinner in spinners:

@@ -56,7 +56,7 @@ class Sender:
     def _loop(self) -> None:
         while not self._closed:
             time.sleep(self.poll_s)
-            scheduling.follow_paced(2)  # holding the interpreter lock, it must not be preempted while a paced cycle waits for it
+            scheduling.follow_paced(2)  # holding the interpreter lock, it must not be preempted while a paced cycle waits
             try:
                 while self._jobs and self.error is None:
                     self._jobs.popleft()()
