@@ -3,31 +3,39 @@
 * `view_updates_per_s`: updates the view sent per wall-clock second during a `--view` run (paced to real time);
   target at least 30.
 * `lateness_p99_ms`: how late each motion cycle ends against the real-time schedule it is paced to (wall clock minus
-  the simulated clock, from the pacing's own start), 99th percentile, with the view and, as the baseline, without.
-  Target at most 2 ms.
+  the simulated clock, from the pacing's own start), 99th percentile; target at most 2 ms. The paced motion cycle runs
+  at real-time priority, as `orc run` asks for it (`realtime_priority=1` when the system granted it).
 * `fast_slowdown_pct`: wall time of a `--view --fast` run against the same run without a view (the median of the
-  ratios of N interleaved pairs); target at most 10 %.
+  ratios of N interleaved rounds); target at most 10 %.
+* The benchmark browser: headless Chromium drawing WebGL with SwiftShader, whose GPU process (SwiftShader: the
+  pixels a user's graphics card draws) runs at SCHED_IDLE, on the CPU time nothing else wants; the page's JavaScript
+  (the renderer process, what a browser costs any machine) and the browser's own process run as usual and count.
+  Every figure is printed for a small page (320x240, no suffix) and a large one (800x600, `_large_page`), and for the
+  same Chromium as it runs by itself (`_plain_browser`, `_plain_browser_small_page`): what the view costs a machine
+  without a graphics card.
 * What the figures are made of, steadier than wall time on a shared machine: the CPU time the view adds to the run's
-  process per update (`view_cpu_ms_per_update`), the CPU time of the view's own server process per update
-  (`view_process_cpu_ms_per_update`), and the CPU time the browser spends per update it draws
-  (`browser_cpu_ms_per_update`, all of Chromium's processes) and per frame it renders (`browser_cpu_ms_per_frame`;
-  the page renders frames back to back while updates arrive, up to the display's rate: `browser_frames_per_s`).
-* The same figures with the view's server inside the run's process, as it was before it got a process of its own
-  (`..._in_process`), with the default light casting shadows, as it did before they were turned off
-  (`..._with_shadows`), and with the paced motion cycle in the system's default scheduler slice rather than the short
-  one it asks for (`..._default_slice`, with and without the view): the baselines of those three changes.
+  process per update (`view_cpu_ms_per_update`, `fast_cpu_slowdown_pct`), the CPU time of the view's own server
+  process per update (`view_process_cpu_ms_per_update`), and the browser's: its share of the cores, its frames per
+  second, its CPU per frame, and its parts: the page's JavaScript (`renderer_cpu_share`, `renderer_cpu_ms_per_update`)
+  and the drawing (`gpu_cpu_share`, `gpu_cpu_ms_per_frame`).
+* Baselines in the same run: no view (`_without_view`), the view's server with no browser
+  (`_view_without_browser`), the server inside the run's process as it was before it got a process of its own
+  (`_in_process`), the default light casting shadows (`_with_shadows`), and the paced motion cycle at normal
+  priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority with the threads it waits on
+  through the interpreter lock left at normal priority (`_helpers_normal`), as before those changes.
 
 The paced runs are repeated `--runs` times and their medians printed. Run it alone:
-`python benchmarks/bench_view.py [--runs 3] [--repeats 5]` (needs chromium and the [view] extra; a few minutes).
+`python benchmarks/bench_view.py [--runs 3] [--repeats 5]` (needs chromium and the [view] extra; about ten minutes;
+as root, or with an RLIMIT_RTPRIO of at least 10, for the real-time priority).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import tempfile
 import time
-from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -86,8 +94,10 @@ def process_cpu_s(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def descendants_cpu_s(root: int) -> float:
-    """CPU seconds (user and system) of every process below `root` now (Linux /proc; the browser's processes)."""
+def browser_cpu_s(root: int) -> dict[str, float]:
+    """CPU seconds (user and system) of every Chromium process below `root` now, by kind (Linux /proc): "renderer" (the
+    page's JavaScript, three.js, the WebGL calls: what a browser on any machine spends), "gpu" (the GPU process: here
+    SwiftShader drawing every pixel in software, what a graphics card does elsewhere) and "browser" (the rest)."""
     parents: dict[int, int] = {}
     times: dict[int, float] = {}
     tick_s = 1.0 / os.sysconf("SC_CLK_TCK")
@@ -100,18 +110,32 @@ def descendants_cpu_s(root: int) -> float:
             continue
         parents[int(entry)] = int(fields[1])
         times[int(entry)] = (int(fields[11]) + int(fields[12])) * tick_s
-    total, frontier = 0.0, {root}
+    kinds = {"renderer": 0.0, "gpu": 0.0, "browser": 0.0}
+    frontier = {root}
     while frontier:
         frontier = {pid for pid, parent in parents.items() if parent in frontier}
-        total += sum(times[pid] for pid in frontier)
-    return total
+        for pid in frontier:
+            try:
+                command = Path(f"/proc/{pid}/cmdline").read_bytes()  # Chromium rewrites it: one string or many
+            except OSError:
+                continue
+            if b"chrom" not in command.split(b"\0")[0].split(b" ")[0]:
+                continue  # the view's own process: counted on its own
+            kind = ("renderer" if b"--type=renderer" in command else "gpu" if b"--type=gpu-process" in command
+                    else "browser")
+            kinds[kind] += times[pid]
+    return kinds
 
 
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False,
-            slice_s: float | None = scheduling.PACED_SLICE_S) -> dict[str, Any]:
+            slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
+            helpers: bool = True, before_run: Any = None) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process), "in-process" (the
     server in the run's process, as before) or "none"; with a page, it is (re)loaded and connected before the run.
-    `slice_s`: the scheduler slice the paced motion cycle asks for (None: the system's default, as before)."""
+    `slice_s`: the scheduler slice the paced motion cycle asks for (None: the system's default, as before);
+    `realtime`: a paced run's motion cycle at real-time priority, as `orc run` asks for it (False: normal priority);
+    `helpers`: the threads the cycle waits on through the interpreter lock follow its priority (False: they stay at
+    normal priority, as before)."""
     scheduling.PACED_SLICE_S = slice_s
     source, program = load_program(path)
     robot = CellRobot.virtual(realtime=paced)
@@ -133,16 +157,25 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
             page.goto(url)
             page.get_by_text("t = ").first.wait_for(timeout=120_000)
         driven = live.monitor(robot)
+    if before_run is not None:
+        before_run()
     probe = Lateness(driven)
     executive.machine.robot = probe
     view_cpu = process_cpu_s(view_pid) if view_pid is not None else 0.0
     frames = page.evaluate("window.orcFrames || 0") if page is not None and live is not None else 0
-    others_cpu = descendants_cpu_s(os.getpid())
+    browser_before = browser_cpu_s(os.getpid())
     wall, cpu = time.perf_counter(), time.process_time()
-    status = executive.run()
+    follow = scheduling.follow_paced
+    if not helpers:
+        scheduling.follow_paced = lambda below=1: None
+    try:
+        with scheduling.PacedPriority() if paced and realtime else contextlib.nullcontext(None) as priority:
+            status = executive.run()
+    finally:
+        scheduling.follow_paced = follow
     wall_s, cpu_s = time.perf_counter() - wall, time.process_time() - cpu
     view_cpu_s = process_cpu_s(view_pid) - view_cpu if view_pid is not None else 0.0
-    browser_cpu_s = descendants_cpu_s(os.getpid()) - others_cpu - view_cpu_s
+    browser_kinds = {kind: cpu - browser_before[kind] for kind, cpu in browser_cpu_s(os.getpid()).items()}
     frames = page.evaluate("window.orcFrames || 0") - frames if page is not None and live is not None else 0
     if live is not None:
         live.finish()
@@ -151,9 +184,11 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
             page.goto("about:blank")
         server.close() if view == "process" else close_server(server)
     assert status == "finished", status
-    return {"wall_s": wall_s, "cpu_s": cpu_s, "browser_cpu_s": browser_cpu_s, "view_cpu_s": view_cpu_s, "frames": frames,
+    return {"wall_s": wall_s, "cpu_s": cpu_s, "browser_cpu_s": sum(browser_kinds.values()), "view_cpu_s": view_cpu_s,
+            "renderer_cpu_s": browser_kinds["renderer"], "gpu_cpu_s": browser_kinds["gpu"], "frames": frames,
             "sim_s": robot.time_s(), "late_s": np.array(probe.late_s),
-            "updates": live.updates if live is not None else 0}
+            "updates": live.updates if live is not None else 0,
+            "realtime": priority is not None and priority.refused is None and not priority.demoted}
 
 
 def _program(folder: Path, rounds: int) -> Path:
@@ -166,17 +201,102 @@ def p99_ms(run: dict[str, Any]) -> float:
     return 1000 * float(np.percentile(run["late_s"], 99))
 
 
+#: The paced variants, each run --runs times, interleaved: suffix of its figures -> (page, view, one_run's options).
+#: Pages: "small" and "large" in the benchmark browser (its GPU process idle, see main), "plain_small" and
+#: "plain_large" in the same Chromium as it runs by itself; None: no browser.
+PACED: dict[str, tuple[str | None, str, dict[str, Any]]] = {
+    "": ("small", "process", {}),
+    "_large_page": ("large", "process", {}),
+    "_plain_browser_small_page": ("plain_small", "process", {}),
+    "_plain_browser": ("plain_large", "process", {}),
+    "_view_without_browser": (None, "process", {}),
+    "_without_view": (None, "none", {}),
+    "_helpers_normal": ("plain_large", "process", {"helpers": False}),
+    "_normal_priority": ("plain_large", "process", {"realtime": False}),
+    "_normal_priority_without_view": (None, "none", {"realtime": False}),
+}
+#: The fast variants (the baseline "_without_view" is the run without a view), --repeats times, interleaved.
+FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
+    "": ("small", "process", {}),
+    "_large_page": ("large", "process", {}),
+    "_plain_browser_small_page": ("plain_small", "process", {}),
+    "_plain_browser": ("plain_large", "process", {}),
+    "_without_view": (None, "none", {}),
+    "_view_without_browser": (None, "process", {}),
+    "_in_process": ("small", "in-process", {}),
+    "_with_shadows": ("small", "process", {"shadows": True}),
+}
+#: The pages' sizes (CSS pixels). SwiftShader's cost per frame grows with the pixels, but far less than in proportion.
+SMALL_PAGE = (320, 240)
+LARGE_PAGE = (800, 600)
+
+
+def chromium_processes() -> dict[int, tuple[int, bytes]]:
+    """Every Chromium process now: pid -> (parent pid, command line)."""
+    found = {}
+    for entry in os.listdir("/proc"):
+        try:
+            if entry.isdigit():
+                command = Path(f"/proc/{entry}/cmdline").read_bytes()
+                if b"chrom" in command.split(b"\0")[0].split(b" ")[0]:
+                    parent = int(Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()[1])
+                    found[int(entry)] = (parent, command)
+        except OSError:
+            continue
+    return found
+
+
+def main_processes() -> set[int]:
+    """The pids of Chromium's browser processes (one per browser launched), not their children."""
+    return {pid for pid, (_, command) in chromium_processes().items() if b"--type=" not in command}
+
+
+def gpu_processes(browsers: set[int]) -> set[int]:
+    """The GPU processes of these browsers now (started by a zygote of the browser; again if one fails)."""
+    processes = chromium_processes()
+
+    def ours(pid: int) -> bool:
+        while pid in processes and pid not in browsers:
+            pid = processes[pid][0]
+        return pid in browsers
+
+    return {pid for pid, (_, command) in processes.items() if b"--type=gpu-process" in command and ours(pid)}
+
+
+def idle_threads(pids: set[int]) -> None:
+    """Every thread of these processes at SCHED_IDLE: they run only on CPU time nothing else wants. Threads they start
+    later inherit it; it is applied again before each run all the same."""
+    for pid in pids:
+        try:
+            tasks = os.listdir(f"/proc/{pid}/task")
+        except OSError:
+            continue
+        for task in tasks:
+            try:
+                os.sched_setscheduler(int(task), os.SCHED_IDLE, os.sched_param(0))
+            except OSError:  # the thread has ended
+                pass
+
+
+def _size(text: str) -> tuple[int, int]:
+    width, _, height = text.partition("x")
+    return int(width), int(height)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=3, help="runs of each paced variant (the medians count)")
-    parser.add_argument("--repeats", type=int, default=5, help="interleaved pairs of fast runs (the median ratio counts)")
+    parser.add_argument("--repeats", type=int, default=5, help="interleaved rounds of fast runs (the median ratio counts)")
     parser.add_argument("--paced-rounds", type=int, default=3, help="pick-and-place rounds of the paced runs")
     parser.add_argument("--fast-rounds", type=int, default=40, help="pick-and-place rounds of the fast runs")
+    parser.add_argument("--small-page", type=_size, default=SMALL_PAGE, metavar="WxH",
+                        help="the small page's size (default 320x240)")
+    parser.add_argument("--large-page", type=_size, default=LARGE_PAGE, metavar="WxH",
+                        help="the large page's size (default 800x600)")
     parser.add_argument("--browser-nice", type=int, default=0,
                         help="run the browser at this nice value (a user's browser on the controller's own machine "
                              "started with `nice -n 10`); 0: as a browser normally runs")
     args = parser.parse_args()
-    run, shaded, default_slice = one_run, partial(one_run, shadows=True), partial(one_run, slice_s=None)
     from playwright.sync_api import sync_playwright
 
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
@@ -186,53 +306,82 @@ def main() -> None:
             executable = str(Path(folder) / "chromium-niced")
             Path(executable).write_text(f'#!/bin/sh\nexec nice -n {args.browser_nice} /usr/bin/chromium "$@"\n')
             os.chmod(executable, 0o755)
-        browser = p.chromium.launch(executable_path=executable, args=CHROMIUM_ARGS)
-        page = browser.new_page(viewport={"width": 800, "height": 600})
-        page.add_init_script(COUNT_FRAMES)
+        # the benchmark browser: a user's browser draws the page's pixels on a graphics card, not on the cores the
+        # run uses; here SwiftShader draws them in the GPU process, which therefore gets only CPU time nothing else
+        # wants. The page's JavaScript (the renderer process) and the browser's own process run as usual: counted.
+        before = main_processes()
+        benchmark = p.chromium.launch(executable_path=executable, args=CHROMIUM_ARGS)
+        pages: dict[str | None, Any] = {None: None}
+        for name, (width, height) in (("small", args.small_page), ("large", args.large_page)):
+            pages[name] = benchmark.new_page(viewport={"width": width, "height": height})
+        drawing = main_processes() - before
+        plain = p.chromium.launch(executable_path=executable, args=CHROMIUM_ARGS)
+        for name, (width, height) in (("plain_small", args.small_page), ("plain_large", args.large_page)):
+            pages[name] = plain.new_page(viewport={"width": width, "height": height})
+        for name, page in pages.items():
+            if page is not None:
+                page.add_init_script(COUNT_FRAMES)
+
+        def run(path: Path, page: str | None, paced: bool, view: str, options: dict[str, Any]) -> dict[str, Any]:
+            return one_run(path, pages[page], paced, view, **options,
+                           before_run=lambda: idle_threads(gpu_processes(drawing)))  # once the page drew
+
         # interleaved, so a change of the machine's load between them touches every variant alike
-        paced_runs = [(run(paced, page, True, "process"), run(paced, None, True, "process"),
-                       run(paced, page, True, "none"), run(paced, page, True, "in-process"),
-                       run(paced, None, True, "in-process"), shaded(paced, page, True, "process"),
-                       default_slice(paced, page, True, "process"), default_slice(paced, page, True, "none"))
-                      for _ in range(args.runs)]
-        fast_runs = [(run(fast, page, False, "process"), run(fast, page, False, "none"),
-                      run(fast, page, False, "in-process"), shaded(fast, page, False, "process"))
-                     for _ in range(args.repeats)]
-        browser.close()
+        paced_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in PACED}
+        for _ in range(args.runs):
+            for suffix, (page, view, options) in PACED.items():
+                paced_runs[suffix].append(run(paced, page, True, view, options))
+        fast_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in FAST}
+        for _ in range(args.repeats):
+            for suffix, (page, view, options) in FAST.items():
+                fast_runs[suffix].append(run(fast, page, False, view, options))
+        benchmark.close()
+        plain.close()
     print(f"load_average_1min={os.getloadavg()[0]:.2f}")
     print(f"browser_nice={args.browser_nice}")
-    print(f"paced_simulated_s={paced_runs[0][0]['sim_s']:.3f}")
-    _paced_figures([(r[0], r[1], r[2]) for r in paced_runs], "")
-    _paced_figures([(r[3], r[4], r[2]) for r in paced_runs], "_in_process")
-    _paced_figures([(r[5], r[1], r[2]) for r in paced_runs], "_with_shadows")
-    _paced_figures([(r[6], r[1], r[7]) for r in paced_runs], "_default_slice")
-    print(f"fast_simulated_s={fast_runs[0][0]['sim_s']:.3f}")
-    print(f"fast_wall_s_without_view={np.median([r[1]['wall_s'] for r in fast_runs]):.3f}")
-    _fast_figures([(r[0], r[1]) for r in fast_runs], "")
-    _fast_figures([(r[2], r[1]) for r in fast_runs], "_in_process")
-    _fast_figures([(r[3], r[1]) for r in fast_runs], "_with_shadows")
+    print(f"small_page={'x'.join(map(str, args.small_page))}")
+    print(f"large_page={'x'.join(map(str, args.large_page))}")
+    print(f"realtime_priority={int(all(r['realtime'] for r in paced_runs['']))}")
+    print(f"paced_simulated_s={paced_runs[''][0]['sim_s']:.3f}")
+    for suffix, runs in paced_runs.items():
+        _paced_figures(runs, suffix, PACED[suffix][0] is not None)
+    print(f"fast_simulated_s={fast_runs[''][0]['sim_s']:.3f}")
+    baseline = fast_runs.pop("_without_view")
+    print(f"fast_wall_s_without_view={np.median([r['wall_s'] for r in baseline]):.3f}")
+    for suffix, runs in fast_runs.items():
+        _fast_figures(list(zip(runs, baseline)), suffix, FAST[suffix][0] is not None)
 
 
-def _paced_figures(runs: list[tuple[dict[str, Any], dict[str, Any], dict[str, Any]]], suffix: str) -> None:
-    """The paced figures of (with the browser, the view without a browser, no view) triples."""
-    with_browser = [r[0] for r in runs]
+def _paced_figures(runs: list[dict[str, Any]], suffix: str, browser: bool) -> None:
+    """The figures of one paced variant's runs."""
     median = np.median
-    print(f"view_updates_per_s{suffix}={median([r['updates'] / r['wall_s'] for r in with_browser]):.1f}")
-    print(f"lateness_p99_ms{suffix}={median([p99_ms(r) for r in with_browser]):.3f}")
-    print(f"lateness_p99_ms_runs{suffix}={','.join(f'{p99_ms(r):.3f}' for r in with_browser)}")
-    print(f"lateness_max_ms{suffix}={median([1000 * r['late_s'].max() for r in with_browser]):.3f}")
-    if suffix in ("", "_in_process"):
-        print(f"lateness_p99_ms_view_without_browser{suffix}={median([p99_ms(r[1]) for r in runs]):.3f}")
-    if suffix in ("", "_default_slice"):
-        print(f"lateness_p99_ms_without_view{suffix}={median([p99_ms(r[2]) for r in runs]):.3f}")
-    print(f"browser_cpu_ms_per_update{suffix}={median([1000 * r['browser_cpu_s'] / r['updates'] for r in with_browser]):.2f}")
-    print(f"browser_frames_per_s{suffix}={median([r['frames'] / r['wall_s'] for r in with_browser]):.1f}")
-    print(f"browser_cpu_ms_per_frame{suffix}={median([1000 * r['browser_cpu_s'] / max(r['frames'], 1) for r in with_browser]):.1f}")
-    print(f"browser_cpu_share_paced{suffix}={median([r['browser_cpu_s'] / r['wall_s'] for r in with_browser]):.2f}")
+    print(f"lateness_p99_ms{suffix}={median([p99_ms(r) for r in runs]):.3f}")
+    print(f"lateness_p99_ms_runs{suffix}={','.join(f'{p99_ms(r):.3f}' for r in runs)}")
+    print(f"lateness_max_ms{suffix}={median([1000 * r['late_s'].max() for r in runs]):.3f}")
+    if runs[0]["updates"]:
+        print(f"view_updates_per_s{suffix}={median([r['updates'] / r['wall_s'] for r in runs]):.1f}")
+    if browser:
+        _browser_figures(runs, suffix, "paced")
 
 
-def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: str) -> None:
-    """The fast figures of (with the view and the browser, without a view) pairs."""
+def _browser_figures(runs: list[dict[str, Any]], suffix: str, kind: str) -> None:
+    """What the browser spent: per update, per frame (all its processes, then the page's renderer and the GPU
+    process apart), its frames per second and its share of the cores."""
+    median = np.median
+    print(f"browser_cpu_ms_per_update_{kind}{suffix}={median([1000 * r['browser_cpu_s'] / r['updates'] for r in runs]):.2f}")
+    print(f"browser_frames_per_s_{kind}{suffix}={median([r['frames'] / r['wall_s'] for r in runs]):.1f}")
+    for part in ("browser", "gpu"):
+        per_frame = median([1000 * r[f"{part}_cpu_s"] / max(r["frames"], 1) for r in runs])
+        print(f"{part}_cpu_ms_per_frame_{kind}{suffix}={per_frame:.1f}")
+    # the page's JavaScript works per update (decoding, the scene tree) and per frame (three.js): not per frame alone
+    print(f"renderer_cpu_ms_per_update_{kind}{suffix}={median([1000 * r['renderer_cpu_s'] / r['updates'] for r in runs]):.2f}")
+    print(f"browser_cpu_share_{kind}{suffix}={median([r['browser_cpu_s'] / r['wall_s'] for r in runs]):.2f}")
+    for part in ("renderer", "gpu"):
+        print(f"{part}_cpu_share_{kind}{suffix}={median([r[f'{part}_cpu_s'] / r['wall_s'] for r in runs]):.2f}")
+
+
+def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: str, browser: bool) -> None:
+    """The fast figures of (with the view, without a view) pairs."""
     median = np.median
     print(f"fast_wall_s_with_view{suffix}={median([v['wall_s'] for v, _ in pairs]):.3f}")
     print(f"fast_updates_per_s{suffix}={median([v['updates'] / v['wall_s'] for v, _ in pairs]):.1f}")
@@ -240,11 +389,12 @@ def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: st
     print(f"view_cpu_ms_per_update{suffix}={median(extra_cpu_ms):.2f}")
     if suffix != "_in_process":
         print(f"view_process_cpu_ms_per_update{suffix}={median([1000 * v['view_cpu_s'] / v['updates'] for v, _ in pairs]):.2f}")
-    print(f"browser_cpu_share_fast{suffix}={median([v['browser_cpu_s'] / v['wall_s'] for v, _ in pairs]):.2f}")
     print(f"fast_cpu_slowdown_pct{suffix}={100 * median([v['cpu_s'] / b['cpu_s'] - 1 for v, b in pairs]):.1f}")
     slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in pairs]
     print(f"fast_slowdown_pct_runs{suffix}={','.join(f'{x:.1f}' for x in slowdowns)}")
     print(f"fast_slowdown_pct{suffix}={median(slowdowns):.1f}")
+    if browser:
+        _browser_figures([v for v, _ in pairs], suffix, "fast")
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ import json
 import math
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -16,6 +17,7 @@ from orc_rpl.commands import bus_robot
 from orc_rpl.commands.interrupt import TimeLimit, positive_seconds, statement_budget, stop_on_path
 from orc_rpl.commands.outputs import check_outputs, quiet_stdout
 from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError, capped
+from orc_rpl.motion import scheduling
 
 #: The progress display is refreshed every this many motion cycles.
 PROGRESS_EVERY_TICKS = 125
@@ -269,7 +271,11 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         watched = progress.monitor(margins or robot)
         machine.robot = watchers.monitor(watched) if watchers is not None else watched
         wall_start = time.perf_counter()  # after the view's page connected
-        interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
+        with _paced_priority(paced) as priority:
+            interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
+        if priority.demoted:
+            sys.stderr.write(f"orc run: the motion cycle computed {scheduling.RUNAWAY_CPU_S:g} s without waiting at "
+                             "real-time priority; it went on at normal priority\n")
     machine.robot = robot
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
@@ -306,6 +312,20 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     if interrupted == "Ctrl-C":
         return 130
     return 1 if executive.status == "failed" or interrupted else 0
+
+
+@contextlib.contextmanager
+def _paced_priority(paced: bool) -> Iterator[scheduling.PacedPriority]:
+    """A run paced to the wall clock runs its motion cycle at real-time priority, or says why it cannot."""
+    priority = scheduling.PacedPriority()
+    if not paced:
+        yield priority  # never entered: nothing changes
+        return
+    with priority:
+        if priority.refused is not None:
+            sys.stderr.write(f"orc run: the motion cycle runs at normal priority: {priority.refused}; other busy "
+                             "programs on this machine (a browser drawing the view) can make it late\n")
+        yield priority
 
 
 def _run_until_done(executive: Any, timeout_s: float | None, simulated: bool = True) -> str:

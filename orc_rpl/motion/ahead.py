@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from orc_rpl.errors import OrcError
+from orc_rpl.motion import scheduling
 from orc_rpl.motion.planner import Plan, Planner
 from orc_rpl.motion.specs import Known, Motion, Params
 
@@ -84,6 +85,7 @@ class PlanAhead:
         if self._planner is None:
             self._planner = self._make_planner()
             _lower_priority()
+        scheduling.follow_paced()  # a paced cycle at real-time priority must not wait on a preempted worker's lock
         planner = self._planner
         planner.tcp_speed_cap_m_s, planner.friction_reserve_nm = cap, reserve
         plan = planner.plan(0, motion, params, start_q)

@@ -1,11 +1,15 @@
-"""The motion cycle's place in the operating system's scheduler: a cycle paced to the wall clock asks for short slices."""
+"""The motion cycle's place in the operating system's scheduler: a cycle paced to the wall clock runs at real-time priority."""
 
 from __future__ import annotations
 
 import ctypes
 import os
 import platform
+import resource
+import signal
 import sys
+import threading
+from typing import Any
 
 #: The time slice a paced motion thread asks Linux for. Linux's EEVDF scheduler (6.12 and later) lets a waking
 #: thread whose slice is shorter preempt the one running; with the default slice a paced cycle that woke while
@@ -42,3 +46,123 @@ def request_slice(slice_s: float | None) -> bool:
         return libc.syscall(number, 0, ctypes.byref(attr), 0) == 0
     except (OSError, AttributeError):
         return False
+
+
+#: The real-time priority (SCHED_FIFO, 1 to 99) a paced motion cycle asks for: above every ordinary program (a
+#: browser drawing the view in software takes both cores otherwise), below the kernel's interrupt threads (50).
+PACED_PRIORITY = 10
+
+#: CPU time a real-time thread may spend without waiting before the kernel warns it (RLIMIT_RTTIME, s): a paced
+#: motion cycle sleeps every cycle, so only a runaway (an endless loop without motions) or a very long plan made in
+#: the cycle reaches it, and is then put back to normal priority instead of keeping a core from every other program.
+RUNAWAY_CPU_S = 1.0
+
+
+#: The paced block in force (PacedPriority), for the threads that follow it (follow_paced).
+_paced: PacedPriority | None = None
+
+
+class PacedPriority:
+    """`with PacedPriority() as priority:` runs the calling thread at real-time priority (SCHED_FIFO) until the block
+    ends, where it gets its policy back.
+
+    Safe by construction: threads and processes it starts run at normal priority (SCHED_RESET_ON_FORK: an earlier try
+    without it forked busy test processes that inherited the real-time policy and starved the run); a thread that
+    computes RUNAWAY_CPU_S without waiting is put back to normal priority by the kernel's SIGXCPU (RLIMIT_RTTIME).
+    Where it is not permitted (an ordinary user without CAP_SYS_NICE or an RLIMIT_RTPRIO) or not possible (not Linux,
+    not the main thread), nothing changes and `refused` says why; `demoted` is true when the runaway guard fired.
+    """
+
+    def __init__(self, priority: int = PACED_PRIORITY, runaway_cpu_s: float = RUNAWAY_CPU_S) -> None:
+        self.priority, self.runaway_cpu_s = priority, runaway_cpu_s
+        self.refused: str | None = None
+        self.demoted = False
+        self._saved: tuple[int, os.sched_param, Any, tuple[int, int]] | None = None
+        self._tid = 0
+        self._helpers: dict[int, tuple[int, os.sched_param]] = {}   #: threads that follow the block (follow_paced)
+
+    def __enter__(self) -> PacedPriority:
+        if not sys.platform.startswith("linux") or not hasattr(os, "SCHED_RESET_ON_FORK"):
+            self.refused = "real-time scheduling is a Linux feature"
+            return self
+        if threading.current_thread() is not threading.main_thread():
+            self.refused = "only the main thread can guard a real-time thread against running away"
+            return self
+        policy, param = os.sched_getscheduler(0), os.sched_getparam(0)
+        if policy & ~os.SCHED_RESET_ON_FORK not in (os.SCHED_OTHER, os.SCHED_BATCH):
+            self.refused = "the thread already has a real-time policy (chrt): it is kept"
+            return self
+        limit = resource.getrlimit(resource.RLIMIT_RTTIME)
+        runaway_us = int(self.runaway_cpu_s * 1e6)
+        if limit[1] != resource.RLIM_INFINITY:
+            runaway_us = min(runaway_us, limit[1])
+        handler = signal.signal(signal.SIGXCPU, self._runaway)
+        try:
+            resource.setrlimit(resource.RLIMIT_RTTIME, (runaway_us, limit[1]))
+            os.sched_setscheduler(0, os.SCHED_FIFO | os.SCHED_RESET_ON_FORK, os.sched_param(self.priority))
+        except OSError as error:  # EPERM: no CAP_SYS_NICE and RLIMIT_RTPRIO below the priority
+            resource.setrlimit(resource.RLIMIT_RTTIME, limit)
+            signal.signal(signal.SIGXCPU, handler)
+            self.refused = f"real-time priority not permitted ({error.strerror or error})"
+            return self
+        self._saved, self._tid = (policy, param, handler, limit), threading.get_native_id()
+        global _paced
+        _paced = self
+        return self
+
+    @property
+    def active(self) -> bool:
+        """The thread runs at real-time priority now."""
+        return self._saved is not None and not self.demoted
+
+    def _runaway(self, signum: int, frame: Any) -> None:
+        """SIGXCPU: a real-time thread spent RUNAWAY_CPU_S without waiting; every thread of the block goes on at
+        normal priority."""
+        if self._saved is not None and not self.demoted:
+            self.demoted = True
+            os.sched_setscheduler(self._tid, self._saved[0], self._saved[1])
+            self._restore_helpers()
+
+    def _restore_helpers(self) -> None:
+        for tid, (policy, param) in list(self._helpers.items()):
+            self._helpers.pop(tid, None)
+            try:
+                os.sched_setscheduler(tid, policy, param)
+            except OSError:  # the thread has ended
+                pass
+
+    def __exit__(self, *exc: object) -> None:
+        if self._saved is None:
+            return
+        global _paced
+        _paced = None  # before the helpers are restored: one that follows from now on sees it (follow_paced)
+        policy, param, handler, limit = self._saved
+        self._saved = None
+        os.sched_setscheduler(0, policy, param)
+        self._restore_helpers()
+        resource.setrlimit(resource.RLIMIT_RTTIME, limit)
+        signal.signal(signal.SIGXCPU, handler)
+
+
+def follow_paced(below: int = 1) -> None:
+    """Called by a thread the paced motion cycle can wait on through Python's interpreter lock (the plan-ahead worker,
+    the view's sender): while a PacedPriority block is in force, the calling thread runs at real-time priority `below`
+    under the cycle's, until the block ends. At normal priority, such a thread holding the interpreter lock when a
+    busy program preempted it kept the cycle waiting however high the cycle's own priority (bench_paced_contention:
+    `lateness_p99_ms_busy_realtime` against `..._helpers_normal`). The thread must wait between its jobs (a queue, a
+    sleep), as the cycle does; the same runaway guard covers it. Elsewhere (no block, not permitted) nothing changes."""
+    paced = _paced
+    if paced is None or not paced.active:
+        return
+    tid = threading.get_native_id()
+    if tid in paced._helpers or tid == paced._tid:
+        return
+    saved = (os.sched_getscheduler(0), os.sched_getparam(0))
+    try:
+        os.sched_setscheduler(0, os.SCHED_FIFO | os.SCHED_RESET_ON_FORK, os.sched_param(max(1, paced.priority - below)))
+    except OSError:
+        return
+    paced._helpers[tid] = saved
+    if _paced is not paced or not paced.active:  # the block ended meanwhile: it may not have seen this thread
+        paced._helpers.pop(tid, None)
+        os.sched_setscheduler(0, *saved)

@@ -7,6 +7,8 @@ import time
 from collections import deque
 from collections.abc import Callable
 
+from orc_rpl.motion import scheduling
+
 Job = Callable[[], None]
 
 #: How often the sending thread looks for work. The motion cycle never wakes it: waking a thread costs the waker
@@ -54,6 +56,7 @@ class Sender:
     def _loop(self) -> None:
         while not self._closed:
             time.sleep(self.poll_s)
+            scheduling.follow_paced(2)  # holding the interpreter lock, it must not be preempted while a paced cycle waits
             try:
                 while self._jobs and self.error is None:
                     self._jobs.popleft()()

@@ -1,0 +1,122 @@
+"""A paced motion cycle at real-time priority: granted or refused with a reason, never passed on, never left behind."""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import shutil
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from orc_rpl.motion import scheduling
+
+ROOT = Path(__file__).resolve().parents[2]
+LINUX = sys.platform.startswith("linux")
+
+
+def _granted(priority: scheduling.PacedPriority) -> None:
+    if priority.refused is not None:
+        pytest.skip(f"this machine refuses real-time priority ({priority.refused}): the refusal is tested instead")
+
+
+def _policy_of_child(queue: multiprocessing.Queue) -> None:
+    queue.put(os.sched_getscheduler(0))
+
+
+@pytest.mark.skipif(not LINUX, reason="real-time scheduling is a Linux feature")
+def test_the_block_runs_the_thread_real_time_and_gives_the_policy_back() -> None:
+    before = (os.sched_getscheduler(0), os.sched_getparam(0).sched_priority)
+    with scheduling.PacedPriority() as priority:
+        _granted(priority)
+        assert priority.active
+        assert os.sched_getscheduler(0) & ~os.SCHED_RESET_ON_FORK == os.SCHED_FIFO
+        assert os.sched_getparam(0).sched_priority == scheduling.PACED_PRIORITY
+    assert not priority.active
+    assert (os.sched_getscheduler(0), os.sched_getparam(0).sched_priority) == before
+
+
+@pytest.mark.skipif(not LINUX, reason="real-time scheduling is a Linux feature")
+def test_threads_and_processes_started_inside_run_at_normal_priority() -> None:
+    """A busy process forked from a real-time thread inherited its policy and starved the machine: no longer."""
+    seen: list[int] = []
+    context = multiprocessing.get_context("fork")
+    queue = context.Queue()
+    with scheduling.PacedPriority() as priority:
+        _granted(priority)
+        thread = threading.Thread(target=lambda: seen.append(os.sched_getscheduler(0)))
+        thread.start()
+        thread.join()
+        child = context.Process(target=_policy_of_child, args=(queue,))
+        child.start()
+        child.join(timeout=60)
+    assert seen == [os.SCHED_OTHER]
+    assert queue.get(timeout=10) == os.SCHED_OTHER
+
+
+@pytest.mark.skipif(not LINUX, reason="real-time scheduling is a Linux feature")
+def test_a_helper_follows_the_block_just_below_and_is_put_back_when_it_ends() -> None:
+    inside: list[tuple[int, int]] = []
+    go_on = threading.Event()
+    checked = threading.Event()
+
+    def helper() -> None:
+        scheduling.follow_paced()
+        inside.append((os.sched_getscheduler(0) & ~os.SCHED_RESET_ON_FORK, os.sched_getparam(0).sched_priority))
+        checked.set()
+        go_on.wait(timeout=60)  # a helper waits between its jobs
+
+    with scheduling.PacedPriority() as priority:
+        _granted(priority)
+        thread = threading.Thread(target=helper)
+        thread.start()
+        assert checked.wait(timeout=60)
+        tid = thread.native_id
+    after = os.sched_getscheduler(tid)
+    go_on.set()
+    thread.join()
+    assert inside == [(os.SCHED_FIFO, scheduling.PACED_PRIORITY - 1)]
+    assert after == os.SCHED_OTHER
+
+
+@pytest.mark.skipif(not LINUX, reason="real-time scheduling is a Linux feature")
+def test_a_thread_that_computes_without_waiting_is_put_back_to_normal_priority() -> None:
+    with scheduling.PacedPriority(runaway_cpu_s=0.05) as priority:
+        _granted(priority)
+        start = time.thread_time()  # this thread's time: other threads of the test process may be busy too
+        while not priority.demoted and time.thread_time() - start < 10.0:  # a runaway, bounded for the test
+            pass
+        assert priority.demoted
+        assert os.sched_getscheduler(0) == os.SCHED_OTHER
+    assert os.sched_getscheduler(0) == os.SCHED_OTHER
+
+
+def test_a_thread_other_than_the_main_one_is_refused_with_a_reason() -> None:
+    results: list[scheduling.PacedPriority] = []
+
+    def enter() -> None:
+        with scheduling.PacedPriority() as priority:
+            results.append(priority)
+
+    thread = threading.Thread(target=enter)
+    thread.start()
+    thread.join()
+    assert results[0].refused is not None and not results[0].active
+
+
+@pytest.mark.skipif(not LINUX or shutil.which("setpriv") is None, reason="needs Linux and setpriv (util-linux)")
+def test_orc_run_says_when_real_time_priority_is_refused(tmp_path: Path) -> None:
+    """Without CAP_SYS_NICE (an ordinary user) the paced run goes on at normal priority and says so."""
+    program = tmp_path / "wait.rpl"
+    program.write_text("WAIT 0.05s\n", encoding="utf-8")
+    command = ["setpriv", "--inh-caps", "-sys_nice", "--bounding-set", "-sys_nice",
+               sys.executable, "-m", "orc_rpl", "run", str(program), "--realtime"]
+    proc = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=300)
+    if proc.returncode != 0 and "setpriv" in proc.stderr:
+        pytest.skip(f"setpriv cannot drop the capability here: {proc.stderr.strip()}")
+    assert proc.returncode == 0, proc.stderr
+    assert "orc run: the motion cycle runs at normal priority: real-time priority not permitted" in proc.stderr
