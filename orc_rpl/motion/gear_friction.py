@@ -33,8 +33,6 @@ UPDATE_EVERY_CYCLES = 25
 #: within about 10 % of the nominal one, and the gearbox rise is integrated with the estimated friction.
 CHANGE_SPREAD = 0.2
 
-
-
 #: Speed (rad/s) over which the estimate's Coulomb friction turns from one sign to the other: the plant's is
 #: sharp (full at a few mrad/s), the measured speed's noise is 0.2 mrad/s. (The servo's feed-forward smooths
 #: over 0.05 rad/s for its stability; an estimate of the torque the joint needs must not.)

@@ -45,26 +45,24 @@ def test_along_a_func_follows_it_as_a_path(motion: str, end: str, tmp_path: Path
     assert along["cycle_time_s"] == to["cycle_time_s"] and along["final_tcp"] == to["final_tcp"]
 
 
-def test_along_a_func_of_time_needs_the_motions_duration(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+#: Programs ALONG a FUNC that `orc check` refuses: the program's tail after WAVE, and the error at its line and column.
+ALONG_ERRORS = [
+    ("LMOVE ARM ALONG conveyor\n",
+     "9:17: FUNC conveyor(t) is a function of time: the motion needs its duration"),
+    ("FRAME table = POSE(0.8, 0, 0.5, 0, 0, 0)\nFRAME table\n    LMOVE ARM ALONG wave\nENDFRAME\n",
+     "11:21: FUNC wave gives poses relative to world (line 3), but this motion is inside FRAME table"),
+    ("FUNC speed(s)\n    RETURN 20mm\nENDFUNC\nLMOVE ARM ALONG speed\n",
+     "12:17: FUNC speed given as a path must give poses; line 10 gives"),
+]
+
+
+@pytest.mark.parametrize("tail, error", ALONG_ERRORS, ids=["duration", "frame", "no poses"])
+def test_along_a_func_that_cannot_be_a_path_is_a_check_error(tail: str, error: str, tmp_path: Path,
+                                                              capsys: pytest.CaptureFixture[str]) -> None:
     program = tmp_path / "prog.rpl"
-    program.write_text(WAVE + "LMOVE ARM ALONG conveyor\n")
+    program.write_text(WAVE + tail)
     assert main(["check", str(program)]) == 2
-    assert f"{program}:9:17: FUNC conveyor(t) is a function of time: the motion needs its duration" in capsys.readouterr().out
-
-
-def test_along_a_func_is_frame_checked(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    program = tmp_path / "prog.rpl"
-    program.write_text(WAVE + "FRAME table = POSE(0.8, 0, 0.5, 0, 0, 0)\nFRAME table\n    LMOVE ARM ALONG wave\nENDFRAME\n")
-    assert main(["check", str(program)]) == 2
-    out = capsys.readouterr().out
-    assert f"{program}:11:21: FUNC wave gives poses relative to world (line 3), but this motion is inside FRAME table" in out
-
-
-def test_along_a_func_that_gives_no_poses_is_a_check_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    program = tmp_path / "prog.rpl"
-    program.write_text(WAVE + "FUNC speed(s)\n    RETURN 20mm\nENDFUNC\nLMOVE ARM ALONG speed\n")
-    assert main(["check", str(program)]) == 2
-    assert f"{program}:12:17: FUNC speed given as a path must give poses; line 10 gives" in capsys.readouterr().out
+    assert f"{program}:{error}" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize("function, motion, gives", [
