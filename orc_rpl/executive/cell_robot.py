@@ -162,10 +162,14 @@ class CellRobot:
         """Measured joint speeds (rad/s)."""
         return tuple(float(v) for v in self.layer.backend.qd())
 
+    def _servo(self) -> Any:
+        """Our joint servo under the motion layer, or None (a kinematic robot, bus servos)."""
+        return getattr(getattr(self.layer.backend, "loop", None), "servo", None)
+
     def model_torques(self, q: tuple[float, ...], qd: tuple[float, ...]) -> tuple[float, ...]:
         """The controller's own model of the torques for a steady motion state (qdd = 0): rigid-body dynamics with
         the declared payload plus the NOMINAL joint friction (not the plant's), what the servo feeds forward."""
-        servo = getattr(getattr(self.layer.backend, "loop", None), "servo", None)
+        servo = self._servo()
         q_a, qd_a = np.array(q, dtype=float), np.array(qd, dtype=float)
         if servo is not None:
             return tuple(float(t) for t in servo.model_torque(q_a, qd_a, np.zeros_like(q_a)))
@@ -183,12 +187,12 @@ class CellRobot:
     def servo_gains(self) -> Any:
         """The joint servo's default gains (`ServoGains`: per-joint caps and the elastic gears they were placed
         for), or None on a robot without a servo of ours (kinematic, bus servos)."""
-        servo = getattr(getattr(self.layer.backend, "loop", None), "servo", None)
+        servo = self._servo()
         return None if servo is None else servo.gains
 
     def servo_friction(self) -> Any:
         """The joint friction the servo's model feeds forward (Coulomb N m, viscous N m s/rad per joint), or None."""
-        servo = getattr(getattr(self.layer.backend, "loop", None), "servo", None)
+        servo = self._servo()
         return None if servo is None else servo.friction()
 
     def inverse_dynamics(self, q: tuple[float, ...], qd: tuple[float, ...], qdd: tuple[float, ...],

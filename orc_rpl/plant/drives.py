@@ -122,7 +122,7 @@ class PidDrives:
             self._input_rows = inputs.reshape(n_steps, -1)  # a view: one row of ctrl a step
         inputs[:, :, 0], inputs[:, :, 1], inputs[:, :, 2] = position_rows, velocity_rows, ff_rows
         model, data, flat, force = cell._model, cell._data, self._inputs_flat, self.force
-        after = cell._after_step if (cell._watch_contacts or cell.io.processes or cell.realtime) else None
+        after = None if self.kernel_fits() else cell._after_step
         for row, applied in zip(self._input_rows, forces):
             flat[:] = row
             mj_step(model, data)

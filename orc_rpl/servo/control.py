@@ -126,6 +126,7 @@ class JointServo:
         self._kv = np.diag(arm.mass_matrix(arm.home_q)) * velocity_bw
         self._ki_dt = self._kv * (gains.integral_bw_rad_s * period_s)
         self._inverse_dynamics = arm.inverse_dynamics_function()
+        self._inverse_dynamics_rows = arm.inverse_dynamics_rows_function()
         self._steps = 0
         self._inertia_every = gains.inertia_every_steps
         # Scalar gains as arrays: numpy multiplies two arrays faster than an array and a Python float,
@@ -248,7 +249,7 @@ class JointServo:
     def model_torque_rows(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
         """`model_torque` of k motion states at once ((k, n) arrays, unchecked): the same numbers, batched."""
         tau = np.empty(q.shape)
-        self.arm.inverse_dynamics_rows_function()(q, qd, qdd, tau)
+        self._inverse_dynamics_rows(q, qd, qdd, tau)
         if self._coulomb is not None:
             tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
         return tau

@@ -109,14 +109,6 @@ def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarra
 
 
 @kernel
-def rnea_rows(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-              tau: np.ndarray, work: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`rnea_row` for each row of (k, n) arrays."""
-    for r in range(q.shape[0]):
-        rnea_row(body, gravity, q[r], qd[r], qdd[r], tau[r], work)
-
-
-@kernel
 def mass_diagonal(body: np.ndarray, q: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover - compiled
     """The mass matrix's diagonal M_ii(q) (Pinocchio's `crba` diagonal, armature included): each joint's axis
     through the rotational inertia, about the joint, of the bodies it carries (composited from the tip)."""

@@ -137,12 +137,8 @@ class GearTwist:
 
     def hold(self, q: np.ndarray, tau_nm: np.ndarray) -> None:
         """At rest at q with the model's torques tau_nm (a reset): the twist the gears have, no rate."""
-        zero, integral_of = np.zeros((1, len(q))), self.integral_of
         self.forget()
-        self.integral_of = None   # a reset's servo has no integral yet
-        self.motor_references(q[None, :], zero, zero, tau_nm[None, :])
-        self.integral_of = integral_of
-        self.reset()
+        self.twist_rad = tau_nm * self.compliance_rad_nm   # at rest the link torque is the model's, all of it
 
 
 def smoothing_windows_s(arm: ArmModel, motor_inertia_kg_m2: Any, gear_stiffness_nm_rad: Any,

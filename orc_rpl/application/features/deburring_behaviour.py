@@ -401,7 +401,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         if caught is None:
             break
         s0_m, s1_m, height = caught
-        arc_now = geometry.project(_position(robot.tcp_pose(call.tool)))[0]
+        arc_now = arc_here()
         bulge = CaughtBulge(s0_m / length, s1_m / length, height, arc_now / length)
         log.bulges.append(bulge)
         handled.append((s0_m - PASS_MARGIN_M, s1_m + PASS_MARGIN_M))
@@ -413,7 +413,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         if not bulge.within_tolerance:
             log.warnings.append(f"a bulge at s = {bulge.s0:.3f}..{bulge.s1:.3f} still measures {1000 * left:.2f} mm "
                                 f"after {max_passes} passes (tolerance {1000 * tolerance_m:.2f} mm)")
-        arc_now = geometry.project(_position(robot.tcp_pose(call.tool)))[0]  # BurrPath = PathLeft(BurrPath, s2)
+        arc_now = arc_here()  # BurrPath = PathLeft(BurrPath, s2)
         if arc_now >= length - 1e-4:
             break
     loop.retract()
