@@ -190,8 +190,8 @@ class ArmForceLoop:
 
     def offset(self, pose: Pose, lift_m: float) -> Pose:
         """`pose` moved along n by lift_m (out of the part)."""
-        x, y, z = np.array((pose.x, pose.y, pose.z)) + lift_m * self.normal
-        return Pose(float(x), float(y), float(z), pose.a, pose.b, pose.c)
+        dx, dy, dz = (float(d) for d in lift_m * self.normal)
+        return pose.offset(dx, dy, dz)
 
     def pressed_move(self, base: MotionRequest, here: Pose, start: Pose, target: Pose, via: tuple[Pose, ...],
                      signatures: dict[tuple[float, float], Signature], key: tuple[float, float],
