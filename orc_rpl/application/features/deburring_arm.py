@@ -31,6 +31,7 @@ import numpy as np
 
 from orc_rpl.application.runtime import BehaviourError, MotionRequest, MotionView
 from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S  # the sharp Coulomb term of the friction estimate
+from orc_rpl.robot.friction import friction_torque_nm
 from orc_rpl.world.pose import Pose
 
 #: How far the signature pass is lifted off the edge along n (m): clear of bulges up to that high (a higher one
@@ -77,13 +78,13 @@ class ArmForce:
         """The friction the joints need now: the controller's warm-up estimate, else the servo's nominal one."""
         state = getattr(self.robot, "friction_state", lambda: None)()
         if state is not None:
-            coulomb, viscous = np.array(state.coulomb_nm), np.array(state.viscous_nm_s)
+            coulomb, viscous = state.coulomb_nm, state.viscous_nm_s
         else:
             nominal = getattr(self.robot, "servo_friction", lambda: None)()
             if nominal is None:
                 return np.zeros_like(speed)
-            coulomb, viscous = (np.asarray(x, dtype=float) for x in nominal)
-        return coulomb * np.tanh(speed / SIGN_SMOOTH_RAD_S) + viscous * speed
+            coulomb, viscous = nominal
+        return friction_torque_nm(coulomb, viscous, speed, SIGN_SMOOTH_RAD_S)
 
     def update(self) -> float:
         robot = self.robot
