@@ -362,8 +362,9 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         target = geometry.pose_at(end_m) if end_m < length - 1e-9 else poses[-1]
         return (yield from loop.pressed_move(base, start_m, end_m, target, via))
 
-    def sample() -> tuple[float, float]:
-        """One cycle of the force loop and of CatchBulge's recording: (arc length, normal position error)."""
+    def sample() -> tuple[float, float, float]:
+        """One cycle of the force loop and of CatchBulge's recording: (arc length, normal position error, commanded
+        force), the user's FORCE evaluated once (in the loop's step)."""
         tcp = robot.tcp_pose(call.tool)
         x = np.array((tcp.x, tcp.y, tcp.z))
         arc, nominal = geometry.project(x)
@@ -377,7 +378,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
             loop.retract()
             _quiet(record)
             raise record.fault(ProcessFault(f"{why}; the robot stopped at s = {arc / length:.3f}"), robot.time_s())
-        return arc, e
+        return arc, e, command
 
     def finish(ticket: Any) -> Iterator[Any]:
         while not ticket.done:
@@ -404,8 +405,8 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         caught = None
         while not ticket.done:
             yield None
-            arc, e = sample()
-            near = abs(loop.measured_n() - force(arc / length)) <= SETTLED_FRACTION * force(arc / length)
+            arc, e, command = sample()
+            near = abs(loop.measured_n() - command) <= SETTLED_FRACTION * command
             calm = calm + 1 if near else 0
             if not catch.settled and calm >= loop.settle_cycles:
                 catch.settled = settled = True
@@ -462,7 +463,7 @@ def _quiet(record: ProcessLog) -> None:
 
 
 def grind_down(bulge: CaughtBulge, s0_m: float, s1_m: float, max_passes: int, tolerance_m: float,
-               geometry: PathGeometry, base: MotionRequest, sample: Callable[[], tuple[float, float]],
+               geometry: PathGeometry, base: MotionRequest, sample: Callable[[], tuple[float, float, float]],
                finish: Callable[[Any], Iterator[Any]], press: Callable[[float, float], Iterator[Any]],
                stays_on_edge: bool) -> Iterator[Any]:
     """GrindDownBulge: back and forth over [s0, s1] (10 mm beyond), each pass measuring what is left. `press`
@@ -479,7 +480,7 @@ def grind_down(bulge: CaughtBulge, s0_m: float, s1_m: float, max_passes: int, to
         on: list[float] = []
         while not ticket.done:
             yield None
-            arc, e = sample()
+            arc, e, _ = sample()
             (on if s0_m <= arc <= s1_m else outside).append(e)
         yield from finish(ticket)
         reference = statistics.median(outside) if outside else 0.0
