@@ -3,9 +3,9 @@
 Lark's own loop spends most of its time in bookkeeping that a valid program never needs (a method call, eight
 attribute lookups and a Rule hash per token and per reduction, a Token built through two class methods). This loop
 runs on the same parse table, with each state's actions turned into one dict (an int: shift to that state; a tuple:
-reduce by that many values with that callback), and lexes as `fast_lexer` does. Anything it does not handle itself,
-a syntax error above all, is handed to Lark, which parses the text again from the start: errors and their messages
-come from Lark, exactly as before.
+reduce by that many values with that callback), and lexes with `fast_lexer`'s loop on its own stack of states.
+Anything it does not handle itself, a syntax error above all, is handed to Lark, which parses the text again from
+the start: errors and their messages come from Lark, exactly as before.
 """
 
 from __future__ import annotations
