@@ -463,11 +463,11 @@ def servo_baseline(plant: str) -> dict[str, float]:
               "VAR pars = GrindingPars(tolerance = 100mm, max_passes = 0)\n"
               + 2 * grind.format("free", 0) + 2 * grind.format("edge", 30))
     rows: list[tuple[float, ...]] = []
-    loops: list[int] = []
+    loops: list[Any] = []  # the loops themselves, kept alive: a finished loop's id() may be a later loop's
 
     def row(robot: CellRobot, estimator: TorqueForce, castings: list[Any], loop: Any, s: float) -> None:
-        if not loops or loops[-1] != id(loop):  # a new GRINDMOVE: a new pass
-            loops.append(id(loop))
+        if not loops or loops[-1] is not loop:  # a new GRINDMOVE: a new pass
+            loops.append(loop)
         rows.append((len(loops) - 1, s, sum(c.force_n for c in castings), estimator.estimates()[2],
                      estimator.servo_error_m()))
     _grinding_run(plant, program, source, True, row)

@@ -106,7 +106,8 @@ class FunctionSpec:
 
     @property
     def pure(self) -> bool:
-        """Free of side effects, so a parameter function may call it: every function that does not move the robot."""
+        """Free of side effects, so a parameter function may call it and a motion computed early (planned ahead)
+        may: every function that does not move the robot."""
         return not self.moves
 
 

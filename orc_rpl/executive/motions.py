@@ -23,11 +23,6 @@ TIME_PARAMETER = "t"
 #: Keywords whose requests can be computed early: the standard motions (an application feature's behaviour may act).
 PREDICTABLE = frozenset({"MOVE", "JMOVE", "LMOVE", "CMOVE"})
 
-#: Functions a motion computed early may call: the standard functions of positions and numbers, which have no
-#: side effects (AXES is not among them: external axes are never planned ahead).
-PURE_FUNCTIONS = frozenset({"POSE", "JOINTS", "TRANSL", "INV", "OFFS", "RELTOOL", "ABS", "ROUND", "SQRT", "SIN",
-                            "COS", "ATAN2", "MIN", "MAX", "LEN"})
-
 
 class MotionCompiler:
     """Turns a motion statement into a generator that submits it and waits as its zone requires."""
@@ -51,16 +46,16 @@ class MotionCompiler:
 
     def predictor(self, stmt: n.Motion, scope: Scope) -> Callable[[Locals], Any] | None:
         """The request the motion statement `stmt` will make, computed early without side effects, and whether it
-        read sensors (None when it may have side effects: a call of anything but a standard function, a keyword of
-        an application feature, a motion not known well enough).
+        read sensors (None when it may have side effects: a call of anything but a pure function of the registry
+        (FunctionSpec.pure), a keyword of an application feature, a motion not known well enough; None too for
+        external axes, which are never planned ahead).
 
         Sensors are read from their dummies (thesis 5.2: dummy sampling for the precomputation of almost known
         motions): the real sensor is not asked until the statement runs. A motion that needs a sensor's value is
         computed early only when the program declares it KNOWN "almost" (its plan keeps a reserve for the
         correction when the real value comes)."""
         if stmt.keyword not in PREDICTABLE or any(
-                isinstance(node, n.Call) and not (isinstance(node.function, n.Name) and node.function.id in PURE_FUNCTIONS)
-                for node in stmt.walk()):
+                isinstance(node, n.Call) and not self._calls_pure(node) for node in stmt.walk()):
             return None
         if any(isinstance(c, n.With) and c.name.id == "KNOWN" and c.value in (n.String("partly"), n.String("not"))
                for c in stmt.clauses):
@@ -95,6 +90,13 @@ class MotionCompiler:
                 return None  # a completely known motion that reads a sensor: the program's knowledge is wrong
             return requests, from_dummy
         return predict
+
+    def _calls_pure(self, call: n.Call) -> bool:
+        """The call is of a function of the registry without side effects (a FUNC of the program is not)."""
+        if not isinstance(call.function, n.Name):
+            return False
+        spec = self.m.registry.functions.get(call.function.id)
+        return spec is not None and spec.pure
 
     def compile(self, stmt: n.Motion, scope: Scope, following: n.Motion | None = None) -> Callable[[Locals], Iterator[object]]:
         m, keyword, frame = self.m, stmt.keyword, scope.frame

@@ -3,9 +3,9 @@
 Lark's own loop spends most of its time in bookkeeping that a valid program never needs (a method call, eight
 attribute lookups and a Rule hash per token and per reduction, a Token built through two class methods). This loop
 runs on the same parse table, with each state's actions turned into one dict (an int: shift to that state; a tuple:
-reduce by that many values with that callback), and lexes as `fast_lexer` does. Anything it does not handle itself,
-a syntax error above all, is handed to Lark, which parses the text again from the start: errors and their messages
-come from Lark, exactly as before.
+reduce by that many values with that callback), and lexes with `fast_lexer`'s loop on its own stack of states.
+Anything it does not handle itself, a syntax error above all, is handed to Lark, which parses the text again from
+the start: errors and their messages come from Lark, exactly as before.
 """
 
 from __future__ import annotations
@@ -84,8 +84,6 @@ class FastLalr:
                     for symbol, (action, arg) in row.items()}
             for state, row in table.states.items()
         }
-        self.keywords = {str(kind): {str(word): str(name) for word, name in spelled.items()}
-                         for kind, spelled in lexer.keywords.items()}
 
     def parse(self, text: str) -> Any:
         """The callbacks' result for the whole text; Lark's exception (or result) when this loop cannot go on."""
@@ -131,55 +129,16 @@ class FastLalr:
 
     def _lex(self, text: str, states: list[int]) -> Iterator[Token]:
         """The tokens of `text` as Lark's contextual lexer gives them, each for the parser state it is lexed in."""
-        lexer = self.lexer
-        match, keywords = lexer.regex.match, self.keywords
-        newline_types, ignore_types = lexer.newline_types, lexer.ignore_types
-        actions = self.actions
-        make = str.__new__
-        pos, end, line, line_start = 0, len(text), 1, 0
-        while pos < end:
-            found = match(text, pos, end)
-            kind = found.lastgroup if found is not None else None
-            row = actions[states[-1]]
-            if kind is not None and kind not in ignore_types:
-                start, stop = found.span(kind)
-                value = text[start:stop]
-                spelled = keywords.get(kind)
-                if spelled is not None:
-                    kind = spelled.get(value, kind)
-            if kind is None or kind in ignore_types or kind not in row:
-                token = self._one_lark_token(text, pos, line, line_start, states[-1])
-                if token is None:
-                    return
-                pos, line = token.end_pos, token.end_line
-                line_start = pos - token.end_column + 1
-                yield token
-                continue
-            token = make(Token, value)
-            token.type, token.value, token.start_pos = kind, value, start
-            token.line, token.column = line, start - line_start + 1
-            pos = stop
-            if kind in newline_types and "\n" in value:
-                line += value.count("\n")
-                line_start = start + value.rindex("\n") + 1
-            token.end_line, token.end_column, token.end_pos = line, pos - line_start + 1, pos
-            yield token
+        return self.lexer.tokens(text, 0, len(text), 1, 0, states, self.actions,
+                                 lambda pos, line, line_start: self._one_lark_token(text, pos, line, line_start, states[-1]))
 
     def _one_lark_token(self, text: str, pos: int, line: int, line_start: int, state: int) -> Token | None:
         """The next token as Lark's lexer for this parser state makes it (None at the end of the text)."""
-        counter = LineCounter("\n")
-        counter.char_pos, counter.line, counter.line_start_pos = pos, line, line_start
-        counter.column = pos - line_start + 1
-        lexer_state = LexerState(TextSlice(text, 0, len(text)), counter)
+        lexer_state = LexerState(TextSlice(text, 0, len(text)), LineCounter("\n"))
         try:
-            token = self.lexer.inner.lexers[state].next_token(lexer_state, _ParserPosition(state))
-        except EOFError:
-            return None
+            return self.lexer.lark_token_at(lexer_state, _ParserPosition(state), pos, line, line_start)
         except LarkError:
             raise _Unusual from None
-        if token.end_pos is None:
-            token.end_pos, token.end_line, token.end_column = counter.char_pos, counter.line, counter.column
-        return token
 
 
 def fast_parse(lark: Lark) -> Callable[[str], Any]:

@@ -104,6 +104,29 @@ def test_a_force_function_of_s_is_followed() -> None:
     assert log.bulges == [] and edge.max_height_m() == 0.0
 
 
+def test_a_force_function_is_evaluated_once_a_motion_cycle() -> None:
+    robot = RecordingRobot()
+    robot.io.add_process(CastingEdge(EDGE, [Bulge(0.18, 0.22, 0.001)], tcp=lambda: robot.tcp_pose(TOOL),
+                                      stiffness_n_m=5e4))
+    registry, log, arguments = runtime_registry(), db.GrindLog(), []
+
+    def counted(call: Any) -> Any:
+        force = call.attributes["FORCE"]
+
+        def fn(s: float) -> Any:
+            arguments.append(s)
+            return force.fn(s)
+        call.attributes["FORCE"] = dataclasses.replace(force, fn=fn)
+        return db.grindmove(call, log)
+    registry.motions["GRINDMOVE"] = dataclasses.replace(registry.motions["GRINDMOVE"], execute=counted)
+    program = PROGRAM.format(declarations="FUNC ramp(s)\n    RETURN 20N + 20N * s\nENDFUNC",
+                             attributes="WITH FORCE = ramp")
+    executive = execute(program, robot, registry=registry)
+    assert executive.status == "finished", executive.report()
+    assert len(log.bulges) == 1 and len(log.samples) > 100
+    assert len(arguments) == 1 + len(log.samples)  # checked once before the motion, then once a cycle
+
+
 def test_grindmove_to_a_target_after_a_blended_move() -> None:
     robot = RecordingRobot()
     edge = CastingEdge(EDGE, [Bulge(0.18, 0.22, 0.001)], tcp=lambda: robot.tcp_pose(TOOL))

@@ -31,6 +31,7 @@ import numpy as np
 
 from orc_rpl.application.runtime import BehaviourError, MotionRequest, MotionView
 from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S  # the sharp Coulomb term of the friction estimate
+from orc_rpl.robot.friction import friction_torque_nm
 from orc_rpl.world.pose import Pose
 
 #: How far the signature pass is lifted off the edge along n (m): clear of bulges up to that high (a higher one
@@ -55,6 +56,9 @@ PRESSING_CYCLES = 100
 PRESSING_FRACTION = 0.1
 #: How near (m of arc length) a sticking sample of the signature holds the loop.
 STICK_NEAR_M = 0.004
+#: The arm's force loop settles over a few oscillations of its own: the contact has settled when its force has
+#: stayed within GRINDMOVE's settled fraction of the command this many cycles in a row.
+SETTLED_CYCLES = 25
 
 
 class ArmForce:
@@ -74,13 +78,13 @@ class ArmForce:
         """The friction the joints need now: the controller's warm-up estimate, else the servo's nominal one."""
         state = getattr(self.robot, "friction_state", lambda: None)()
         if state is not None:
-            coulomb, viscous = np.array(state.coulomb_nm), np.array(state.viscous_nm_s)
+            coulomb, viscous = state.coulomb_nm, state.viscous_nm_s
         else:
             nominal = getattr(self.robot, "servo_friction", lambda: None)()
             if nominal is None:
                 return np.zeros_like(speed)
-            coulomb, viscous = (np.asarray(x, dtype=float) for x in nominal)
-        return coulomb * np.tanh(speed / SIGN_SMOOTH_RAD_S) + viscous * speed
+            coulomb, viscous = nominal
+        return friction_torque_nm(coulomb, viscous, speed, SIGN_SMOOTH_RAD_S)
 
     def update(self) -> float:
         robot = self.robot
@@ -128,15 +132,24 @@ class Signature:
 
 
 class ArmForceLoop:
-    """The admittance law on the arm's path offset along -n, one step a motion cycle (ForceLoop's interface)."""
+    """The admittance law on the arm's path offset along -n, one step a motion cycle (the flange's ForceLoop's
+    interface): it lifts off the edge between moves, and runs each grinding move in free air first."""
 
-    def __init__(self, robot: Any, force: Callable[[float], float], tool: Pose, normal: np.ndarray,
-                 watch: Any) -> None:
-        self.robot, self.force, self.normal = robot, force, normal
-        self.estimate = ArmForce(robot, tool, normal)
+    settle_cycles = SETTLED_CYCLES
+    #: A pass over a bulge starts at its end, reached lifted off the edge (pressed_move).
+    stays_on_edge = False
+
+    def __init__(self, robot: Any, force: Callable[[float], float], tool: Pose, watch: Any, geometry: Any,
+                 arc_of: Callable[[], float]) -> None:
+        """`geometry`: the nominal path (its outward `normal`, `pose_at(arc_m)`); `arc_of()`: the TCP's arc length
+        on it now."""
+        self.robot, self.force, self.normal = robot, force, geometry.normal
+        self.geometry, self.arc_of = geometry, arc_of
+        self.estimate = ArmForce(robot, tool, self.normal)
         self.stroke_m = 0.0                     #: the path offset u toward the part (m)
         self.planned_m = 0.0                    #: the offset the running move was planned at
         self.signature: Signature | None = None  #: the running move's (None: recording one in free air)
+        self.signatures: dict[tuple[float, float], Signature] = {}  #: by the moves' (start, end) arc lengths
         self._recent: deque[float] = deque(maxlen=AVERAGE_CYCLES)
         self._measured = 0.0
         self._pressing: deque[float] = deque(maxlen=PRESSING_CYCLES)  #: offsets that pressed with the command
@@ -193,12 +206,32 @@ class ArmForceLoop:
         dx, dy, dz = (float(d) for d in lift_m * self.normal)
         return pose.offset(dx, dy, dz)
 
-    def pressed_move(self, base: MotionRequest, here: Pose, start: Pose, target: Pose, via: tuple[Pose, ...],
-                     signatures: dict[tuple[float, float], Signature], key: tuple[float, float],
-                     arc_of: Callable[[], float]) -> Iterator[Any]:
-        """A grinding move start -> target: lifted off the edge where it is (`here`, on the nominal path), its
-        signature in free air (once per key), then lowered onto the start to the offset the loop holds and the
-        move in contact with the correction; returns the contact move's ticket."""
+    def approach(self, start: Pose) -> Pose:
+        """Where the move to the path's start goes: lifted off it (pressed_move lowers the arm)."""
+        return self.offset(start, LIFT_M)
+
+    def leave(self, base: MotionRequest, end: Pose) -> Iterator[Any]:
+        """The path is done: the offset back to 0 and the path's end on the nominal edge (no force on a ground
+        edge)."""
+        self.retract()
+        yield from run_to(self.robot, base, end)
+
+    def nothing_ground(self, settled: bool) -> str | None:
+        """Why nothing was ground (the contact never `settled`: never pressed with the command for
+        SETTLED_CYCLES in a row), or None."""
+        if settled:
+            return None
+        return ("the arm felt no contact force along the whole path: nothing was ground "
+                "(no casting in the cell, or the path is not on its edge)")
+
+    def pressed_move(self, base: MotionRequest, start_m: float, end_m: float, target: Pose,
+                     via: tuple[Pose, ...]) -> Iterator[Any]:
+        """A grinding move from arc length start_m to `target` (at end_m): lifted off the edge where it is (on
+        the nominal path), its signature in free air (once per start and end), then lowered onto the start to the
+        offset the loop holds and the move in contact with the correction; returns the contact move's ticket."""
+        here = self.geometry.pose_at(self.arc_of())
+        start = self.geometry.pose_at(start_m)
+        key, signatures, arc_of = (round(start_m, 4), round(end_m, 4)), self.signatures, self.arc_of
         yield from run_to(self.robot, base, self.offset(here, LIFT_M), ())
         if key not in signatures:
             yield from run_to(self.robot, base, self.offset(start, LIFT_M), ())

@@ -48,7 +48,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.application.features.deburring_arm import LIFT_M, ArmForceLoop, Signature, run_to
+from orc_rpl.application.features.deburring_arm import ArmForceLoop
 from orc_rpl.application.process_log import BulgeRecord, ProcessFault, ProcessLog, process_log
 from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, MotionRequest
 from orc_rpl.errors import MotionFault
@@ -81,9 +81,6 @@ UNSTABLE_SIGN_CHANGES = 8
 #: The arm's watch reads each cycle's own estimate (an oscillation faster than its average must show), whose
 #: noise and model error reach 17 N RMS over 100 ms on the realistic plant: unstable above the command itself.
 ARM_UNSTABLE_FRACTION = 1.0
-#: The arm's force loop settles over a few oscillations of its own: the contact has settled when its force has
-#: stayed within SETTLED_FRACTION of the command this many cycles in a row.
-ARM_SETTLED_CYCLES = 25
 #: The arm's force loop (deburring_arm) was measured stable on the cell up to this contact stiffness (N/m) and
 #: oscillating at five times it.
 ARM_STIFFNESS_LIMIT_N_M = 1e6
@@ -226,13 +223,20 @@ class ForceWatch:
 
 
 class ForceLoop:
-    """The admittance law on the flange's stroke, one step a motion cycle."""
+    """The admittance law on the flange's stroke, one step a motion cycle. GRINDMOVE drives it and the arm's own
+    loop (deburring_arm.ArmForceLoop) through the same methods; the flange stays on the edge between moves."""
+
+    #: The contact has settled the first cycle the force is within SETTLED_FRACTION of the command.
+    settle_cycles = 1
+    #: A pass over a bulge starts where the robot stopped (no lifting off: the stroke keeps the force).
+    stays_on_edge = True
 
     def __init__(self, robot: Any, force: Callable[[float], float], force_in: int = FORCE_IN,
                  stroke_out: int = STROKE_OUT) -> None:
         self.robot, self.force = robot, force
         self.force_in, self.stroke_out = force_in, stroke_out
         self.stroke_m = 0.0
+        self.touched = False  #: the sensor has read a contact force
         self._in, self._out = robot.io.bank("AnaIn"), robot.io.bank("AnaOut")
         self.watch = ForceWatch(robot.dt_s, 2 / (ADMITTANCE_M_PER_N_S * robot.dt_s))
 
@@ -249,6 +253,7 @@ class ForceLoop:
     def step(self, s: float, arc_m: float = 0.0) -> tuple[float, float]:
         """Read the force, move the stroke; (commanded, measured) force."""
         command, measured = self.force(s), self.measured_n()
+        self.touched = self.touched or measured > 0.0
         self.watch.observe(command, measured)
         self.stroke_m = min(STROKE_LIMIT_M, max(-STROKE_LIMIT_M, self.stroke_m + ADMITTANCE_M_PER_N_S * self.robot.dt_s
                                                 * (command - measured)))
@@ -258,6 +263,27 @@ class ForceLoop:
     def retract(self) -> None:
         self.stroke_m = 0.0
         self._out[self.stroke_out] = 0.0
+
+    def approach(self, start: Pose) -> Pose:
+        """Where the move to the path's start goes: onto it."""
+        return start
+
+    def pressed_move(self, base: MotionRequest, start_m: float, end_m: float, target: Pose,
+                     via: tuple[Pose, ...]) -> Iterator[Any]:
+        """A grinding move from where the robot is to `target`; its ticket."""
+        return (yield dataclasses.replace(base, target=target, via=via))
+
+    def leave(self, base: MotionRequest, end: Pose) -> Iterator[Any]:
+        """The path is done: the stroke back to 0."""
+        self.retract()
+        yield from ()
+
+    def nothing_ground(self, settled: bool) -> str | None:
+        """Why nothing was ground (the sensor never read a contact force), or None."""
+        if self.touched:
+            return None
+        return (f"no contact force on AnalogIn[{self.force_in}] along the whole path: nothing was ground "
+                "(no casting in the cell, or the path is not on its edge)")
 
 
 class CatchBulge:
@@ -322,31 +348,23 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
     base = standard_motion(dataclasses.replace(call, keyword="LMOVE", target=poses[-1], path=None, via=(),
                                                attributes=attributes, until=None))
     base = dataclasses.replace(base, keyword=call.keyword, zone_m=0.0)
-    flange = getattr(call.equipment, "force_flange", None)  # a Grinder's own wiring, else AnalogIn/AnalogOut[8]
-    # an installed Grinder without a force flange: the arm presses and feels the force itself
-    arm = flange is None and hasattr(call.equipment, "force_flange")
     length = geometry.length_m
     normal = geometry.normal
-    loop: Any = (ArmForceLoop(robot, force, call.tool, normal, ForceWatch(robot.dt_s, ARM_STIFFNESS_LIMIT_N_M,
-                                                                            ARM_UNSTABLE_FRACTION))
-                 if arm else ForceLoop(robot, force, *(flange or (FORCE_IN, STROKE_OUT))))
-    signatures: dict[tuple[float, float], Signature] = {}
-    record = process_log(robot)
 
     def arc_here() -> float:
         return geometry.project(_position(robot.tcp_pose(call.tool)))[0]
 
-    def press(start_m: float, end_m: float, via: tuple[Pose, ...] = ()) -> Iterator[Any]:
-        """Submit the grinding move from arc start_m (where the robot is) to end_m; its ticket."""
-        target = geometry.pose_at(end_m) if end_m < length - 1e-9 else poses[-1]
-        if not arm:
-            return (yield dataclasses.replace(base, target=target, via=via))
-        here = geometry.pose_at(arc_here())
-        return (yield from loop.pressed_move(base, here, geometry.pose_at(start_m), target, via, signatures,
-                                             (round(start_m, 4), round(end_m, 4)), arc_here))
+    loop = _force_loop(call, force, geometry, arc_here)
+    record = process_log(robot)
 
-    def sample() -> tuple[float, float]:
-        """One cycle of the force loop and of CatchBulge's recording: (arc length, normal position error)."""
+    def press(start_m: float, end_m: float, via: tuple[Pose, ...] = ()) -> Iterator[Any]:
+        """Submit the grinding move from arc start_m to end_m (the path's own end at its end); its ticket."""
+        target = geometry.pose_at(end_m) if end_m < length - 1e-9 else poses[-1]
+        return (yield from loop.pressed_move(base, start_m, end_m, target, via))
+
+    def sample() -> tuple[float, float, float]:
+        """One cycle of the force loop and of CatchBulge's recording: (arc length, normal position error, commanded
+        force), the user's FORCE evaluated once (in the loop's step)."""
         tcp = robot.tcp_pose(call.tool)
         x = np.array((tcp.x, tcp.y, tcp.z))
         arc, nominal = geometry.project(x)
@@ -360,7 +378,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
             loop.retract()
             _quiet(record)
             raise record.fault(ProcessFault(f"{why}; the robot stopped at s = {arc / length:.3f}"), robot.time_s())
-        return arc, e
+        return arc, e, command
 
     def finish(ticket: Any) -> Iterator[Any]:
         while not ticket.done:
@@ -371,7 +389,7 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
             raise ticket.error if ticket.error is not None else BehaviourError("the motion failed")
 
     if math.dist((here.x, here.y, here.z), tuple(geometry.points[0])) > 1e-3:  # to the start of the edge, not grinding
-        ticket = yield dataclasses.replace(base, target=loop.offset(poses[0], LIFT_M) if arm else poses[0], via=())
+        ticket = yield dataclasses.replace(base, target=loop.approach(poses[0]), via=())
         while not ticket.done:
             yield None
         if ticket.outcome == "fault":
@@ -387,10 +405,10 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         caught = None
         while not ticket.done:
             yield None
-            arc, e = sample()
-            near = abs(loop.measured_n() - force(arc / length)) <= SETTLED_FRACTION * force(arc / length)
+            arc, e, command = sample()
+            near = abs(loop.measured_n() - command) <= SETTLED_FRACTION * command
             calm = calm + 1 if near else 0
-            if not catch.settled and calm >= (ARM_SETTLED_CYCLES if arm else 1):
+            if not catch.settled and calm >= loop.settle_cycles:
                 catch.settled = settled = True
             found = catch.add(arc, e)
             if found is not None and caught is None \
@@ -405,8 +423,8 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         bulge = CaughtBulge(s0_m / length, s1_m / length, height, arc_now / length)
         log.bulges.append(bulge)
         handled.append((s0_m - PASS_MARGIN_M, s1_m + PASS_MARGIN_M))
-        yield from grind_down(bulge, s0_m, s1_m, max_passes, tolerance_m, geometry, base, sample, finish,
-                              press if arm else None)
+        yield from grind_down(bulge, s0_m, s1_m, max_passes, tolerance_m, geometry, base, sample, finish, press,
+                              loop.stays_on_edge)
         left = bulge.passes[-1].measured_m if bulge.passes else height
         record.bulges.append(BulgeRecord(bulge.s0, bulge.s1, height, tuple(p.measured_m for p in bulge.passes),
                                          left, bulge.within_tolerance))
@@ -416,23 +434,27 @@ def grindmove(call: MotionCall, log: GrindLog | None = None) -> Iterator[Any]:
         arc_now = arc_here()  # BurrPath = PathLeft(BurrPath, s2)
         if arc_now >= length - 1e-4:
             break
-    loop.retract()
-    if arm:  # the path's end on the nominal edge: no force on a ground edge
-        yield from run_to(robot, base, poses[-1])
+    yield from loop.leave(base, poses[-1])
     _quiet(record)
     if log.warnings:
         raise record.fault(BurrLeft("; ".join(log.warnings) + "; more passes (max_passes) or a higher FORCE needed"),
                            robot.time_s())
-    if arm and not settled:  # never pressed with the command for ARM_SETTLED_CYCLES in a row
-        message = ("the arm felt no contact force along the whole path: nothing was ground "
-                   "(no casting in the cell, or the path is not on its edge)")
+    message = loop.nothing_ground(settled)
+    if message is not None:
         log.warnings.append(message)
         call.warn(message)
-    elif not arm and not any(sample[4] > 0.0 for sample in log.samples):
-        message = (f"no contact force on AnalogIn[{loop.force_in}] along the whole path: nothing was ground "
-                   "(no casting in the cell, or the path is not on its edge)")
-        log.warnings.append(message)
-        call.warn(message)
+
+
+def _force_loop(call: MotionCall, force: Callable[[float], float], geometry: PathGeometry,
+                arc_here: Callable[[], float]) -> ForceLoop | ArmForceLoop:
+    """The force loop GRINDMOVE presses with: a Grinder's force flange (its own wiring, AnalogIn/AnalogOut[8] for a
+    plain TOOL), or, for an installed Grinder without one, the arm itself feeling the force in its motor torques."""
+    robot = call.robot
+    flange = getattr(call.equipment, "force_flange", None)
+    if flange is None and hasattr(call.equipment, "force_flange"):
+        watch = ForceWatch(robot.dt_s, ARM_STIFFNESS_LIMIT_N_M, ARM_UNSTABLE_FRACTION)
+        return ArmForceLoop(robot, force, call.tool, watch, geometry, arc_here)
+    return ForceLoop(robot, force, *(flange or (FORCE_IN, STROKE_OUT)))
 
 
 def _quiet(record: ProcessLog) -> None:
@@ -441,27 +463,24 @@ def _quiet(record: ProcessLog) -> None:
 
 
 def grind_down(bulge: CaughtBulge, s0_m: float, s1_m: float, max_passes: int, tolerance_m: float,
-               geometry: PathGeometry, base: MotionRequest, sample: Callable[[], tuple[float, float]],
-               finish: Callable[[Any], Iterator[Any]],
-               press: Callable[[float, float], Iterator[Any]] | None = None) -> Iterator[Any]:
+               geometry: PathGeometry, base: MotionRequest, sample: Callable[[], tuple[float, float, float]],
+               finish: Callable[[Any], Iterator[Any]], press: Callable[[float, float], Iterator[Any]],
+               stays_on_edge: bool) -> Iterator[Any]:
     """GrindDownBulge: back and forth over [s0, s1] (10 mm beyond), each pass measuring what is left. `press`
-    (the arm's own force loop) submits a pass from its start, lifting off and on as it needs."""
+    submits a pass; a loop that `stays_on_edge` starts it where the robot is, the arm's lifts off to its start."""
     low, high = max(0.0, s0_m - PASS_MARGIN_M), min(geometry.length_m, s1_m + PASS_MARGIN_M)
     here = geometry.project(_position_of_last(geometry, bulge))[0]
     forward = here < (low + high) / 2
-    if low < here < high and press is None:  # stopped on the bulge: go to its nearer end first, not grinding it yet
+    if low < here < high and stays_on_edge:  # stopped on the bulge: go to its nearer end first, not grinding it yet
         ticket = yield dataclasses.replace(base, target=geometry.pose_at(low if forward else high), via=())
         yield from finish(ticket)
     for _ in range(max_passes):
-        if press is not None:
-            ticket = yield from press(low if forward else high, high if forward else low)
-        else:
-            ticket = yield dataclasses.replace(base, target=geometry.pose_at(high if forward else low), via=())
+        ticket = yield from press(low if forward else high, high if forward else low)
         outside: list[float] = []
         on: list[float] = []
         while not ticket.done:
             yield None
-            arc, e = sample()
+            arc, e, _ = sample()
             (on if s0_m <= arc <= s1_m else outside).append(e)
         yield from finish(ticket)
         reference = statistics.median(outside) if outside else 0.0

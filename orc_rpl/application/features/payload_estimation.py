@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S
+from orc_rpl.robot.friction import friction_torque_nm
 
 #: Samples averaged into one window (4 ms motion cycle: 20 ms windows).
 WINDOW = 5
@@ -94,7 +95,7 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
     offset_var, viscous_var = np.full(n, OFFSET_PRIOR_NM ** 2), np.full(n, VISCOUS_PRIOR_NM_S ** 2)
     if reference is not None and friction_change is not None:  # the gearboxes warmed since the tare
         dc, dv = np.array(friction_change.coulomb_nm), np.array(friction_change.viscous_nm_s)
-        y = y - dc * np.tanh(qd / SIGN_SMOOTH_RAD_S) - dv * qd
+        y = y - friction_torque_nm(dc, dv, qd, SIGN_SMOOTH_RAD_S)
         offset_var = offset_var + np.square(friction_change.coulomb_sigma_nm)
         viscous_var = viscous_var + np.square(friction_change.viscous_sigma_nm_s)
     k = len(rows)
