@@ -93,6 +93,8 @@ class FunctionSpec:
     returns: ValueType = "any"
     variadic: bool = False                     #: MIN/MAX take any number (at least min_args)
     moves: bool = False                        #: calling it moves the robot (RecordSeam, CALIBRATE)
+    of_arguments: bool = False                 #: its value depends on its arguments alone (POSE, SQRT; not IDENT,
+                                               #: which reads the last recording), so a motion computed early may call it
     origin: str = ""
     implementation: Callable[..., Any] | None = field(default=None, compare=False)
 
@@ -106,8 +108,7 @@ class FunctionSpec:
 
     @property
     def pure(self) -> bool:
-        """Free of side effects, so a parameter function may call it and a motion computed early (planned ahead)
-        may: every function that does not move the robot."""
+        """Free of side effects, so a parameter function may call it: every function that does not move the robot."""
         return not self.moves
 
 

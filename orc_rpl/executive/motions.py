@@ -46,16 +46,17 @@ class MotionCompiler:
 
     def predictor(self, stmt: n.Motion, scope: Scope) -> Callable[[Locals], Any] | None:
         """The request the motion statement `stmt` will make, computed early without side effects, and whether it
-        read sensors (None when it may have side effects: a call of anything but a pure function of the registry
-        (FunctionSpec.pure), a keyword of an application feature, a motion not known well enough; None too for
-        external axes, which are never planned ahead).
+        read sensors (None when it may have side effects or read what the motions before it change: a call of
+        anything but a function of its arguments alone (FunctionSpec.of_arguments: not IDENT, which reads the last
+        recording), a keyword of an application feature, a motion not known well enough; None too for external axes,
+        which are never planned ahead).
 
         Sensors are read from their dummies (thesis 5.2: dummy sampling for the precomputation of almost known
         motions): the real sensor is not asked until the statement runs. A motion that needs a sensor's value is
         computed early only when the program declares it KNOWN "almost" (its plan keeps a reserve for the
         correction when the real value comes)."""
         if stmt.keyword not in PREDICTABLE or any(
-                isinstance(node, n.Call) and not self._calls_pure(node) for node in stmt.walk()):
+                isinstance(node, n.Call) and not self._calls_of_arguments(node) for node in stmt.walk()):
             return None
         if any(isinstance(c, n.With) and c.name.id == "KNOWN" and c.value in (n.String("partly"), n.String("not"))
                for c in stmt.clauses):
@@ -91,12 +92,13 @@ class MotionCompiler:
             return requests, from_dummy
         return predict
 
-    def _calls_pure(self, call: n.Call) -> bool:
-        """The call is of a function of the registry without side effects (a FUNC of the program is not)."""
+    def _calls_of_arguments(self, call: n.Call) -> bool:
+        """The call is of a registered function whose value depends on its arguments alone (a FUNC of the program
+        may read anything)."""
         if not isinstance(call.function, n.Name):
             return False
         spec = self.m.registry.functions.get(call.function.id)
-        return spec is not None and spec.pure
+        return spec is not None and spec.of_arguments
 
     def compile(self, stmt: n.Motion, scope: Scope, following: n.Motion | None = None) -> Callable[[Locals], Iterator[object]]:
         m, keyword, frame = self.m, stmt.keyword, scope.frame

@@ -82,7 +82,10 @@ def register(registry: Registry) -> None:
                      (_p("items", "list", "path", "string"),), returns=DIMENSIONLESS),
     ]
     for spec in functions:
-        registry.add_function(FunctionSpec(spec.name, spec.doc, spec.params, spec.returns, spec.variadic, origin=ORIGIN))
+        # Each is a function of its arguments, so a motion computed early may call it; AXES is not marked: external
+        # axes are never planned ahead.
+        registry.add_function(FunctionSpec(spec.name, spec.doc, spec.params, spec.returns, spec.variadic, origin=ORIGIN,
+                                           of_arguments=spec.name != "AXES"))
 
 #: Software sensors readable as `ROBOT.<name>` (docs/language.md section 9); indexed ones take a joint number.
 ROBOT_SIGNALS: dict[str, str] = {
