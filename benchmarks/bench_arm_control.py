@@ -16,8 +16,9 @@ the twist its gear model commands. --without FEATURE (repeatable) switches off o
 gears' features to credit each: twist (the rotors' lead by the gears' twist), smoothing (trajectories
 averaged over the anti-resonance periods), gain (the position loops at 0.25 of the velocity loops'
 bandwidth instead of 0.8), friction (the servo's friction feed-forward the nominal warm one, not the
-controller's gearbox estimate's), integral (the twist from the model's torque alone, without the
-servo's averaged integral). A warm plant (warm_up) is a robot known to have run a while: the
+controller's gearbox estimate's), observer (the torque the model lacks in the twist from the servo's
+averaged integral instead of the gear-torque observer, servo/gear_observer.py), integral (the twist
+from the model's torque alone: neither the observer's nor the integral's). A warm plant (warm_up) is a robot known to have run a while: the
 controller's gearbox estimate is told so too (GearFriction.warm_up).
 """
 
@@ -33,7 +34,7 @@ from orc_rpl.servo import two_mass
 DECLARED_KG, CARRIED_KG = 10.0, 15.0
 ELASTIC = [False]   #: the plant's elastic gears (--elastic)
 WITHOUT: set[str] = set()   #: elastic gears' features switched off (--without)
-FEATURES = ("twist", "smoothing", "gain", "friction", "integral")
+FEATURES = ("twist", "smoothing", "gain", "friction", "integral", "observer")
 
 #: The fast motions: joint moves (MOVE) at full speed, FINE, between these configurations (deg),
 #: the first from home; the arm swings stretched out, where gravity and inertia use most of the torque.
@@ -71,8 +72,12 @@ def _layer(robot: str, seed: int) -> MotionLayer:
         layer.gear_friction.listener = None
         nominal = layer.gear_friction.warm_nm
         layer.backend.loop.servo.set_friction(*nominal)
+    if "observer" in WITHOUT and layer.backend.loop.twist is not None:
+        layer.backend.loop.set_gear_observer(None)   # the twist's extra torque from the servo's integral again
+        layer.backend.loop.twist.excess_of = None
     if "integral" in WITHOUT and layer.backend.loop.twist is not None:
         layer.backend.loop.twist.integral_of = None
+        layer.backend.loop.twist.excess_of = None
     return layer
 
 

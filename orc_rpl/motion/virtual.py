@@ -199,7 +199,8 @@ def make_virtual_motion_layer(
     over the gears' anti-resonance periods, the position loops at TWIST_POSITION_OVER_VELOCITY of
     the velocity loops, and the servo's friction feed-forward following the controller's gearbox
     estimate (`layer.gear_friction`: cold-start friction, falling as the gearboxes warm; docs/robots.md,
-    "Elastic gears").
+    "Elastic gears"), and the torque the model lacks in the twist the one a gear-torque observer sees
+    (servo/gear_observer.py).
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
@@ -246,6 +247,7 @@ def make_virtual_motion_layer(
             loop.servo.set_friction(nominal.coulomb_nm, nominal.viscous_nm_s)  # the model knows nominal friction
             reserve_nm = np.array(nominal.coulomb_nm) + np.array(nominal.viscous_nm_s) * arm.qd_max
         if gear_feedforward and getattr(sim, "elastic", False):
+            from orc_rpl.servo.gear_observer import GearTorqueObserver
             from orc_rpl.servo.two_mass import GearTwist, smoothing_windows_s
 
             k_gear, rotor = sim.plant.gear_stiffness_nm_rad, sim.motor_inertia_kg_m2
@@ -253,6 +255,11 @@ def make_virtual_motion_layer(
             servo = loop.servo
             twist.integral_of = lambda: servo.integral   # the torque the model lacks twists the gears too
             loop.set_gear_twist(twist)
+            # what the model lacks as the gears' torque shows it (the integral: the fallback without the observer)
+            observer = GearTorqueObserver(rotor, k_gear, servo._inverse_dynamics)
+            observer.friction_of = servo.friction_in_use
+            loop.set_gear_observer(observer)
+            twist.excess_of = lambda: observer.excess_nm
             smoothing = smoothing_windows_s(arm, rotor, k_gear)
         loop.reset(start)
         be: Any = ServoBackend(loop)
