@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
+from orc_rpl.errors import UsageError
 from orc_rpl.motion import JointMotion, Params, make_virtual_motion_layer
 from orc_rpl.servo.gear_observer import GearTorqueObserver
 
@@ -24,7 +26,8 @@ def test_the_observer_finds_the_gear_torque_from_the_rotors_speed_and_the_motors
 
 
 def test_the_observed_twist_is_nearer_the_links_than_the_commanded_one_under_an_undeclared_payload() -> None:
-    layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_feedforward=True)
+    layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_feedforward=True,
+                                      gear_observer=True)
     loop = layer.backend.loop
     loop.set_payload(15.0, known=False)   # the program declares 10 kg below
     observed, commanded = [], []
@@ -41,3 +44,8 @@ def test_the_observed_twist_is_nearer_the_links_than_the_commanded_one_under_an_
     # measured 0.10 0.07 0.06 against 0.36 0.29 0.51 mrad (j1..j3)
     assert np.all(observed_p95 < commanded_p95), (observed_p95, commanded_p95)
     assert observed_p95.max() < 1.5e-4
+
+
+def test_the_observer_is_a_part_of_the_gears_feed_forward() -> None:
+    with pytest.raises(UsageError, match="gear_observer is a part of the gears' feed-forward"):
+        make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_observer=True)
