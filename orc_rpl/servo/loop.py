@@ -74,6 +74,8 @@ class ServoLoop:
         """Observe each gear's torque from the motor side after every call (a
         `servo.gear_observer.GearTorqueObserver`; None: none)."""
         self.observer = observer
+        if self.drives is not None:
+            self.drives.observed = observer is not None
 
     def set_drives(self, on: bool) -> None:
         """Switch the drives off (no torque, the brakes engaged) or on again (brakes released, the servo

@@ -49,3 +49,28 @@ def test_the_observed_twist_is_nearer_the_links_than_the_commanded_one_under_an_
 def test_the_observer_is_a_part_of_the_gears_feed_forward() -> None:
     with pytest.raises(UsageError, match="gear_observer is a part of the gears' feed-forward"):
         make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_observer=True)
+
+
+def test_an_observer_on_its_own_reads_every_calls_mean_torque() -> None:
+    layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True)   # no feed-forward: no twist
+    loop = layer.backend.loop
+    k = np.array(loop.cell.plant.gear_stiffness_nm_rad)
+    observer = GearTorqueObserver(loop.cell.motor_inertia_kg_m2, k, loop.servo._inverse_dynamics)
+    observer.friction_of = loop.servo.friction_in_use   # the nominal friction: right for a warm plant
+    loop.set_gear_observer(observer)
+    loop.reset(np.array(layer.reference_q()))
+    loop.cell.warm_up()
+    errors = []
+
+    def sample() -> None:
+        if abs(loop.cell.true_qd[1]) > 0.2:
+            errors.append(abs(observer.twist_rad[1] - (loop.cell.true_q - loop.cell.link_q)[1]))
+
+    h = layer.move(JointMotion((0.3, -0.2, 0.1, 0.0, 0.3, 0.0)), Params())
+    while not h.done:   # sampled once a motion cycle: no per-step callback, the drives' calls as in a plain run
+        layer.tick()
+        sample()
+    # measured 0.12 mrad at the ends of the motion cycles (0.40 mrad step by step: the move is not averaged
+    # here and the gears ring faster than the observer follows); an observer that missed the drives' torque
+    # would be off by about the weight's twist, several mrad on j2
+    assert len(errors) > 50 and np.percentile(errors, 95) < 3e-4
