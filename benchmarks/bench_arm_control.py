@@ -16,8 +16,10 @@ the twist its gear model commands. --without FEATURE (repeatable) switches off o
 gears' features to credit each: twist (the rotors' lead by the gears' twist), smoothing (trajectories
 averaged over the anti-resonance periods), gain (the position loops at 0.25 of the velocity loops'
 bandwidth instead of 0.8), friction (the servo's friction feed-forward the nominal warm one, not the
-controller's gearbox estimate's), integral (the twist from the model's torque alone, without the
-servo's averaged integral). A warm plant (warm_up) is a robot known to have run a while: the
+controller's gearbox estimate's), integral (the twist from the model's torque alone: neither the
+servo's averaged integral nor, with --observer, the observer's excess). --observer: the torque the
+model lacks in the twist from the gear-torque observer (servo/gear_observer.py) instead of the
+servo's averaged integral (opt-in: make_virtual_motion_layer(..., gear_observer=True)). A warm plant (warm_up) is a robot known to have run a while: the
 controller's gearbox estimate is told so too (GearFriction.warm_up).
 """
 
@@ -34,6 +36,7 @@ DECLARED_KG, CARRIED_KG = 10.0, 15.0
 ELASTIC = [False]   #: the plant's elastic gears (--elastic)
 WITHOUT: set[str] = set()   #: elastic gears' features switched off (--without)
 FEATURES = ("twist", "smoothing", "gain", "friction", "integral")
+OBSERVER = [False]   #: the gears' torque observer for the twist's extra torque (--observer)
 
 #: The fast motions: joint moves (MOVE) at full speed, FINE, between these configurations (deg),
 #: the first from home; the arm swings stretched out, where gravity and inertia use most of the torque.
@@ -61,7 +64,7 @@ def _layer(robot: str, seed: int) -> MotionLayer:
     if "gain" in WITHOUT:
         two_mass.TWIST_POSITION_OVER_VELOCITY = two_mass.POSITION_OVER_VELOCITY
     layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0],
-                                      gear_feedforward=ELASTIC[0])
+                                      gear_feedforward=ELASTIC[0], gear_observer=OBSERVER[0])
     if "twist" in WITHOUT:
         layer.backend.loop.set_gear_twist(None)
         layer.backend.reset(np.array(layer.reference_q()))  # the rotors at the links' angles again
@@ -73,6 +76,7 @@ def _layer(robot: str, seed: int) -> MotionLayer:
         layer.backend.loop.servo.set_friction(*nominal)
     if "integral" in WITHOUT and layer.backend.loop.twist is not None:
         layer.backend.loop.twist.integral_of = None
+        layer.backend.loop.twist.excess_of = None
     return layer
 
 
@@ -182,10 +186,15 @@ def main() -> None:
     ap.add_argument("--robot", default="irb2400")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--elastic", action="store_true", help="elastic gears in the plant, the servo tuned for them")
+    ap.add_argument("--observer", action="store_true",
+                    help="with --elastic: the twist's extra torque from the gear-torque observer")
     ap.add_argument("--without", action="append", default=[], choices=FEATURES,
                     help="with --elastic: switch off one of the elastic gears' features (repeatable)")
     args = ap.parse_args()
     ELASTIC[0] = args.elastic
+    if args.observer and not args.elastic:
+        ap.error("--observer is for elastic gears (--elastic)")
+    OBSERVER[0] = args.observer
     WITHOUT.update(args.without)
     with_pvc = run_moves(args.robot, args.seed, True, True, CARRIED_KG)
     without = run_moves(args.robot, args.seed, False, True, CARRIED_KG)
@@ -196,6 +205,7 @@ def main() -> None:
     print(f"elastic={args.elastic}")
     if args.elastic:
         print(f"without={','.join(sorted(WITHOUT)) or 'none'}")
+        print(f"observer={args.observer}")
         layer = _layer(args.robot, args.seed)
         print(f"smoothing_windows_s={' '.join(f'{v:.3f}' for v in layer.smoothing_s) or 'none'}")
         gains = layer.backend.loop.servo.gains

@@ -184,6 +184,7 @@ def make_virtual_motion_layer(
     cell: Any = None,
     elastic: bool = False,
     gear_feedforward: bool = False,
+    gear_observer: bool = False,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
@@ -199,7 +200,8 @@ def make_virtual_motion_layer(
     over the gears' anti-resonance periods, the position loops at TWIST_POSITION_OVER_VELOCITY of
     the velocity loops, and the servo's friction feed-forward following the controller's gearbox
     estimate (`layer.gear_friction`: cold-start friction, falling as the gearboxes warm; docs/robots.md,
-    "Elastic gears").
+    "Elastic gears"); `gear_observer` (opt-in on top) takes the torque the model lacks in the twist from a
+    gear-torque observer (servo/gear_observer.py) instead of the servo's averaged integral.
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
@@ -207,6 +209,8 @@ def make_virtual_motion_layer(
         raise UsageError(f"elastic gears are part of the realistic plant, not of the {plant} one")
     if gear_feedforward and not elastic:
         raise UsageError("gear_feedforward is for elastic gears (elastic=True)")
+    if gear_observer and not gear_feedforward:
+        raise UsageError("gear_observer is a part of the gears' feed-forward (gear_feedforward=True)")
     from orc_rpl.robot import load_robot, solve_ik
 
     arm = load_robot(robot)
@@ -246,6 +250,7 @@ def make_virtual_motion_layer(
             loop.servo.set_friction(nominal.coulomb_nm, nominal.viscous_nm_s)  # the model knows nominal friction
             reserve_nm = np.array(nominal.coulomb_nm) + np.array(nominal.viscous_nm_s) * arm.qd_max
         if gear_feedforward and getattr(sim, "elastic", False):
+            from orc_rpl.servo.gear_observer import GearTorqueObserver
             from orc_rpl.servo.two_mass import GearTwist, smoothing_windows_s
 
             k_gear, rotor = sim.plant.gear_stiffness_nm_rad, sim.motor_inertia_kg_m2
@@ -253,6 +258,11 @@ def make_virtual_motion_layer(
             servo = loop.servo
             twist.integral_of = lambda: servo.integral   # the torque the model lacks twists the gears too
             loop.set_gear_twist(twist)
+            if gear_observer:   # what the model lacks as the gears' torque shows it, not as the integral holds it
+                observer = GearTorqueObserver(rotor, k_gear, servo._inverse_dynamics)
+                observer.friction_of = servo.friction_in_use
+                loop.set_gear_observer(observer)
+                twist.excess_of = lambda: observer.excess_nm
             smoothing = smoothing_windows_s(arm, rotor, k_gear)
         loop.reset(start)
         be: Any = ServoBackend(loop)

@@ -13,6 +13,7 @@ from orc_rpl.plant.sim import mj_step
 DRIVE_INPUTS = 1 | 2 | 4
 
 multiply = np.multiply
+add_reduce = np.add.reduce
 
 
 class PidDrives:
@@ -39,6 +40,8 @@ class PidDrives:
         self._minus_kd = m.actuator_biasprm[:n, 2]
         self._integral_state_max = m.actuator_dynprm[:n, 0]
         self._inputs, self._forces = np.zeros((0, n, 3)), np.zeros((0, n))
+        #: the mean of each motor's torque over the last `drive` call (N m): the current a drive reports
+        self.mean_force = np.zeros(n)
         self._input_rows = self._inputs.reshape(0, 3 * n)
         # what a kernel reads and writes of the plant, after the caller's own arguments (MuJoCo's arrays, in place)
         self._kernel_arrays = (d.ctrl, d.act, d.actuator_force, m.actuator_gainprm, m.actuator_biasprm,
@@ -133,6 +136,7 @@ class PidDrives:
                 cell._noise_row += 1
                 cell._measure()
                 each_step()
+        np.multiply(add_reduce(forces, 0), 1.0 / n_steps, self.mean_force)
         cell._copper_rows(forces)
         if each_step is None:
             cell._noise_row += n_steps

@@ -230,6 +230,12 @@ class JointServo:
         """The model's nominal joint friction (Coulomb N m, viscous N m s/rad) as set, or None."""
         return self._friction_nominal
 
+    def friction_in_use(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The friction the feed-forward uses now (Coulomb N m, viscous N m s/rad; a tuning's factor included), or None."""
+        if self._coulomb is None or self._viscous is None:
+            return None
+        return self._coulomb, self._viscous
+
     def _apply_friction(self) -> None:
         """The friction in use: the nominal one, times the factor of the tuning in use."""
         nominal, tuning = self._friction_nominal, self.tuning

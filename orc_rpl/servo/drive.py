@@ -61,6 +61,8 @@ class CompiledDrives:
         self._mass_diagonal = np.zeros(n)
         self._tail: Any = None   #: the kernel's arguments that change only with the ones checked in _run_kernel
         self.twist: Any = None  #: elastic gears' twist feed-forward (servo.two_mass.GearTwist), None: rigid gears
+        #: a gear observer reads the drives' mean torque of each call (`PidDrives.drive`'s; the kernel has none)
+        self.observed = False
 
     def engage(self) -> None:
         """Take over from the Python law: the drives' integral from the servo's (bumpless)."""
@@ -106,7 +108,7 @@ class CompiledDrives:
         if not self.engaged:
             self.engage()
         if (compiled.ON and self._kernels is not None and each_step is None and self.twist is None
-                and servo.tuning is None and cell.drives.kernel_fits()):
+                and not self.observed and servo.tuning is None and cell.drives.kernel_fits()):
             self._run_kernel(q_ref, qd_ref, qdd_ref)
             return
         q, _ = cell.live_state()

@@ -55,6 +55,8 @@ class ServoLoop:
         self.compiled_law = self.drives is not None  #: False: the Python law, step by step
         self.drives_on = True  #: False: no torque, the brakes hold the joints (set_drives)
         self.twist: Any = None  #: the elastic gears' twist feed-forward (set_gear_twist), None: rigid gears
+        self.observer: Any = None  #: the elastic gears' torque observer (set_gear_observer), None: none
+        self._mean_torque = np.zeros(self._n)   #: the motors' mean torque over the last call (the observer's input)
         self._kernels: Any = None   #: servo/drive_kernels.py where numba is (imported here: a simulation's)
         if compiled.AVAILABLE:
             from orc_rpl.servo import drive_kernels
@@ -67,6 +69,13 @@ class ServoLoop:
         self.twist = twist
         if self.drives is not None:
             self.drives.twist = twist
+
+    def set_gear_observer(self, observer: Any) -> None:
+        """Observe each gear's torque from the motor side after every call (a
+        `servo.gear_observer.GearTorqueObserver`; None: none)."""
+        self.observer = observer
+        if self.drives is not None:
+            self.drives.observed = observer is not None
 
     def set_drives(self, on: bool) -> None:
         """Switch the drives off (no torque, the brakes engaged) or on again (brakes released, the servo
@@ -103,6 +112,8 @@ class ServoLoop:
             return self.state()
         if self.compiled_law:
             self.drives.run(q_ref, qd_ref, qdd_ref, self._each_step if callbacks else None)  # type: ignore[union-attr]
+            if self.observer is not None:
+                self._observe(self.cell.drives.mean_force, len(q_ref))
             return self.state()
         if self.twist is not None:
             return self._run_twisted(q_ref, qd_ref, qdd_ref)
@@ -125,11 +136,20 @@ class ServoLoop:
         rnea = servo._inverse_dynamics
         tau_ff = np.array([rnea(*row) for row in zip(q_ref, qd_ref, qdd_ref)])
         q_m, qd_m = self.twist.motor_references(q_ref, qd_ref, qdd_ref, tau_ff)
+        torque_sum = self._mean_torque
+        torque_sum[:] = 0.0
         for i in range(len(q_m)):
             cell.step(servo.update(q_m[i], qd_m[i], qdd_ref[i], cell.q, cell.qd))
+            torque_sum += cell.tau   # what the motors applied, after their saturation
             for callback in self.on_step:
                 callback()
+        if self.observer is not None:
+            self._observe(torque_sum / len(q_m), len(q_m))
         return self.state()
+
+    def _observe(self, mean_torque_nm: np.ndarray, n_steps: int) -> None:
+        """The gear observer after a call of n_steps steps with these mean motor torques."""
+        self.observer.update(self.cell.q, self.cell.qd, mean_torque_nm, n_steps * self.period_s)
 
     def _each_step(self) -> None:
         for callback in self.on_step:
@@ -200,6 +220,10 @@ class ServoLoop:
             q = q_link + self.twist.twist_rad
         self.cell.reset(q)
         self.servo.reset()
+        if self.observer is not None:   # at rest: the gears carry the torques the twist was set for
+            zero = np.zeros(self._n)
+            self.observer.reset(self.twist.twist_rad / self.observer.compliance_rad_nm if self.twist is not None
+                                else np.array(self.servo._inverse_dynamics(self.cell.q, zero, zero)))
         return self.state()
 
     def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0), known: bool = True) -> None:

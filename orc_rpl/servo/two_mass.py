@@ -10,6 +10,7 @@ import numpy as np
 
 from orc_rpl.robot.model import ArmModel
 from orc_rpl.servo.control import ServoGains
+from orc_rpl.servo.gear_observer import EXCESS_TIME_S
 
 #: Poses of j2 and j3 (share of each joint's range) over which the links' largest inertia is sought.
 GRID_POINTS = 7
@@ -104,6 +105,10 @@ class GearTwist:
         self.integral_time_s = float(integral_time_s)
         self.integral_min_speed_rad_s = TWIST_INTEGRAL_MIN_SPEED_RAD_S
         self.extra_torque_nm = np.zeros(len(self.compliance_rad_nm))   #: the averaged integral in the twist (N m)
+        #: Where set, the torque the model lacks as a gear-torque observer sees it (servo/gear_observer.py,
+        #: `excess_nm`), low-passed over `excess_time_s`, instead of the servo's integral (same hold at rest).
+        self.excess_of: Callable[[], np.ndarray] | None = None
+        self.excess_time_s = EXCESS_TIME_S
 
     def reset(self) -> None:
         """Forget the last row: the next call starts at rest (no rate from a stale row)."""
@@ -125,9 +130,11 @@ class GearTwist:
         """Motor-side (q_ref, qd_ref) rows for link-side rows; tau_ff: the model's torque rows of the link
         references (armature included, as the model's)."""
         link_torque = tau_ff - self.rotor_inertia_kg_m2 * qdd_ref
-        if self.integral_of is not None:
-            share = (1.0 - np.exp(-len(q_ref) * self.period_s / self.integral_time_s)) * self._moving(qd_ref[-1])
-            self.extra_torque_nm += share * (self.integral_of() - self.extra_torque_nm)
+        source, time_s = ((self.excess_of, self.excess_time_s) if self.excess_of is not None
+                          else (self.integral_of, self.integral_time_s))
+        if source is not None:
+            share = (1.0 - np.exp(-len(q_ref) * self.period_s / time_s)) * self._moving(qd_ref[-1])
+            self.extra_torque_nm += share * (source() - self.extra_torque_nm)
             link_torque += self.extra_torque_nm
         twist = link_torque * self.compliance_rad_nm
         before = twist[:1] if self._fresh else self.twist_rad[None, :]
