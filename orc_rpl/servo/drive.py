@@ -47,12 +47,9 @@ class CompiledDrives:
         self._tau_abs = np.zeros(n)
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
         self._law_of: Any = None   #: the (kp, friction) the law's constants below were made for
-        self._kernels: Any = None   #: servo/drive_kernels.py where numba is (imported here: a simulation's)
-        if compiled.AVAILABLE:
-            from orc_rpl.servo import drive_kernels
-
-            self._kernels = drive_kernels
-            self._law, self._scratch = np.zeros((drive_kernels.LAW_ROWS, n)), np.zeros((drive_kernels.SCRATCH_ROWS, n))
+        self._kernels: Any = compiled.kernels("orc_rpl.servo.drive_kernels")   #: None where numba is not
+        if self._kernels is not None:
+            self._law, self._scratch = np.zeros((self._kernels.LAW_ROWS, n)), np.zeros((self._kernels.SCRATCH_ROWS, n))
         #: the kernel's feed-forward and M_ii compiled (servo/rnea_kernel.py; False: Pinocchio's, the reference)
         self.compiled_rnea = True
         self._no_body = np.zeros((0, 29))
