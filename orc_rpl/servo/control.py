@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.robot.friction import friction_torque_nm
 from orc_rpl.robot.model import ArmModel
 from orc_rpl.errors import UsageError
 
@@ -249,7 +250,7 @@ class JointServo:
         """The model's torque for a motion state: rigid-body dynamics with the control payload, plus nominal friction."""
         tau = np.array(self._inverse_dynamics(q, qd, qdd))
         if self._coulomb is not None:
-            tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
+            tau += friction_torque_nm(self._coulomb, self._viscous, qd, FRICTION_SMOOTH_RAD_S)
         return tau
 
     def model_torque_rows(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
@@ -257,7 +258,7 @@ class JointServo:
         tau = np.empty(q.shape)
         self._inverse_dynamics_rows(q, qd, qdd, tau)
         if self._coulomb is not None:
-            tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
+            tau += friction_torque_nm(self._coulomb, self._viscous, qd, FRICTION_SMOOTH_RAD_S)
         return tau
 
     def _choose_law(self) -> None:
