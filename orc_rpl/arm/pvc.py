@@ -81,11 +81,8 @@ class PathVelocityController:
         self.done = False
         self.scaled_cycles = 0       #: cycles in which the time scale was changed (saturation avoided)
         self.cycles = 0
-        self._range: Any = None   #: the compiled range from b1, b2 (arm/pvc_kernels.py) where numba is
-        if compiled.AVAILABLE:
-            from orc_rpl.arm import pvc_kernels  # numba's import only where a controller runs
-
-            self._range = pvc_kernels.admissible_range
+        kernels = compiled.kernels("orc_rpl.arm.pvc_kernels")   # numba's import only where a controller runs
+        self._range: Any = None if kernels is None else kernels.admissible_range   #: the compiled range from b1, b2
 
     # -- what the motion layer reads ----------------------------------------------------
 

@@ -25,6 +25,7 @@ import numpy as np
 from orc_rpl.errors import UsageError
 from orc_rpl.motion.thermal import estimate_kernels
 from orc_rpl.plant import compiled
+from orc_rpl.robot.friction import friction_torque_nm
 
 #: The rise is integrated every so many motion cycles (0.1 s at 4 ms) from the cycles' mean heat: its time
 #: constant is 20 minutes, and a cycle then costs three in-place sums.
@@ -106,8 +107,7 @@ class GearFriction:
 
     def torque_nm(self, qd_rad_s: np.ndarray) -> np.ndarray:
         """The friction torque the joints need at these speeds now (N m, opposing the motion: add it to the drive's)."""
-        coulomb, viscous = self.friction_nm()
-        return coulomb * np.tanh(np.asarray(qd_rad_s) / SIGN_SMOOTH_RAD_S) + viscous * qd_rad_s
+        return friction_torque_nm(*self.friction_nm(), qd_rad_s, SIGN_SMOOTH_RAD_S)
 
     def update(self, tau_nm: np.ndarray, qd_rad_s: np.ndarray, winding_rise_k: np.ndarray | None = None) -> None:
         """One motion cycle with the measured torque and speed (the winding's estimated rise for its resistance).

@@ -24,13 +24,8 @@ multiply, add = np.multiply, np.add
 
 
 def estimate_kernels() -> Any:
-    """The estimates' compiled updates (motion/estimate_kernels.py), None where numba is not there; imported
-    when an estimate is made (a simulation), so that numba's import is paid only there."""
-    if not compiled.AVAILABLE:
-        return None
-    from orc_rpl.motion import estimate_kernels
-
-    return estimate_kernels
+    """The estimates' compiled updates (motion/estimate_kernels.py), None where numba is not there."""
+    return compiled.kernels("orc_rpl.motion.estimate_kernels")
 
 
 

@@ -117,8 +117,9 @@ class PathDynamicsBlocks:
 
     The thesis' formulation along a planned path: b1 = m(s) = M(q) q'(s), and b2 = c(s) s'^2 + g(s) +
     friction(q'(s) s') + the servo's integral, the model part computed for ROWS_BLOCK rows at once with
-    the batched RNEA when a row of a new block is first asked for (again if the control payload or the
-    friction changes), the integral added at each call: the same numbers as `path_dynamics`, row by row.
+    the batched RNEA when a row of a new block is first asked for (again if the control payload changes;
+    a change of the friction, every 0.1 s with the gearboxes' estimate, makes only the friction term again),
+    the integral added at each call: the same numbers as `path_dynamics`, row by row.
     A term of a more detailed drive model (an elastic gear's twist, say) would be added per row here, as
     in `path_dynamics`.
     """
@@ -131,14 +132,16 @@ class PathDynamicsBlocks:
         self._start = self._stop = 0
         self._payload: Any = None
         self._coulomb: Any = None
-        self._b1 = self._b2 = np.zeros((0, q.shape[1]))
+        self._b1 = self._b2 = self._rigid = np.zeros((0, q.shape[1]))
 
     def __call__(self, i: int) -> tuple[np.ndarray, np.ndarray]:
         """(b1, b2) at row i (b1 a view of the block: read, do not write)."""
         servo = self._servo
         # the payload's tuple and the friction's arrays are new objects when they change
-        if not self._start <= i < self._stop or self._payload is not servo.arm.payload or self._coulomb is not servo._coulomb:
+        if not self._start <= i < self._stop or self._payload is not servo.arm.payload:
             self._block(i)
+        elif self._coulomb is not servo._coulomb:
+            self._friction()
         i -= self._start
         return self._b1[i], self._b2[i] + servo.integral
 
@@ -146,14 +149,22 @@ class PathDynamicsBlocks:
         """The model's b1 and b2 (without the integral) at rows start .. start + ROWS_BLOCK."""
         servo, rows = self._servo, slice(start, start + ROWS_BLOCK)
         q, d1 = self._q[rows], self._d1[rows]
-        self._b2 = servo.model_torque_rows(q, self._qd[rows], self._qdd[rows])
+        self._rigid, self._b1 = np.empty(q.shape), np.empty(q.shape)
+        self._rnea_rows(q, self._qd[rows], self._qdd[rows], self._rigid)   # the servo's model torque, rigid part
         zero, gravity = np.zeros(q.shape), np.empty(q.shape)
-        self._b1 = np.empty(q.shape)
         self._rnea_rows(q, zero, d1, self._b1)
         self._rnea_rows(q, zero, zero, gravity)
         self._b1 -= gravity  # M(q) d1: friction has no part in it
         self._start, self._stop = start, start + len(q)
-        self._payload, self._coulomb = servo.arm.payload, servo._coulomb
+        self._payload = servo.arm.payload
+        self._friction()
+
+    def _friction(self) -> None:
+        """b2 of the block from its rigid-body part and the servo's friction now (`JointServo.model_torque`'s sum)."""
+        servo = self._servo
+        friction = servo.model_friction(self._qd[self._start : self._stop])
+        self._b2 = self._rigid if friction is None else self._rigid + friction
+        self._coulomb = servo._coulomb
 
 
 #: The virtual robots: "realistic" is not the controller's model (docs/robots.md), "ideal" is its exact twin.

@@ -18,9 +18,11 @@ from __future__ import annotations
 
 import ctypes
 import glob
+import importlib
 import importlib.util
 import os
 from collections.abc import Callable
+from types import ModuleType
 from typing import Any
 
 from orc_rpl.plant.gl import import_mujoco
@@ -105,6 +107,16 @@ def use_kernels(on: bool) -> bool:
     global ON
     before, ON = ON, bool(on) and AVAILABLE
     return before
+
+
+def kernels(module: str) -> ModuleType | None:
+    """The module of kernels named `module` (its caller's own, e.g. "orc_rpl.servo.drive_kernels"),
+    imported now, or None where the kernels are not AVAILABLE. The objects that run kernels call it when
+    they are made (a simulation's), so that numba's import is paid only where something simulates; the
+    name comes from the caller, so this room knows nothing of the rooms above it."""
+    if not AVAILABLE:
+        return None
+    return importlib.import_module(module)
 
 
 def kernel(function: Callable[..., Any]) -> Callable[..., Any]:

@@ -123,12 +123,8 @@ class RealisticCell(SimCell):
         for view in (self._q_meas_view, self._qd_meas_view):
             view.flags.writeable = False
         self.drives = PidDrives(self)
-        self._kernels: Any = None   #: plant/drive_kernels.py where numba is
-        if compiled.AVAILABLE:
-            from orc_rpl.plant import drive_kernels
-
-            self._kernels = drive_kernels
-            self._brake_nm = BRAKE_SHARE * self.tau_max   #: the brakes' holding torque on top of friction
+        self._kernels: Any = compiled.kernels("orc_rpl.plant.drive_kernels")   #: None where numba is not
+        self._brake_nm = BRAKE_SHARE * self.tau_max   #: the brakes' holding torque on top of friction
         #: `_heat` compiled: the same operations, but exp and pow from the C library, which differ from numpy's
         #: in the last bit now and then (False: numpy's, the reference)
         self.compiled_heat = True

@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.robot.friction import friction_torque_nm
 from orc_rpl.robot.model import ArmModel
 from orc_rpl.errors import UsageError
 
@@ -126,7 +127,6 @@ class JointServo:
         self._kv = np.diag(arm.mass_matrix(arm.home_q)) * velocity_bw
         self._ki_dt = self._kv * (gains.integral_bw_rad_s * period_s)
         self._inverse_dynamics = arm.inverse_dynamics_function()
-        self._inverse_dynamics_rows = arm.inverse_dynamics_rows_function()
         self._steps = 0
         self._inertia_every = gains.inertia_every_steps
         # Scalar gains as arrays: numpy multiplies two arrays faster than an array and a Python float,
@@ -248,17 +248,16 @@ class JointServo:
     def model_torque(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
         """The model's torque for a motion state: rigid-body dynamics with the control payload, plus nominal friction."""
         tau = np.array(self._inverse_dynamics(q, qd, qdd))
-        if self._coulomb is not None:
-            tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
+        friction = self.model_friction(qd)
+        if friction is not None:
+            tau += friction
         return tau
 
-    def model_torque_rows(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
-        """`model_torque` of k motion states at once ((k, n) arrays, unchecked): the same numbers, batched."""
-        tau = np.empty(q.shape)
-        self._inverse_dynamics_rows(q, qd, qdd, tau)
-        if self._coulomb is not None:
-            tau += self._coulomb * np.tanh(qd / FRICTION_SMOOTH_RAD_S) + self._viscous * qd
-        return tau
+    def model_friction(self, qd: np.ndarray) -> np.ndarray | None:
+        """The model's friction torque at speeds qd (one state, or (k, n) rows), or None: the model has none."""
+        if self._coulomb is None:
+            return None
+        return friction_torque_nm(self._coulomb, self._viscous, qd, FRICTION_SMOOTH_RAD_S)
 
     def _choose_law(self) -> None:
         """The plain law unless a tuning or friction adds feed-forward terms."""

@@ -47,12 +47,9 @@ class CompiledDrives:
         self._tau_abs = np.zeros(n)
         self.engaged = False   #: the drives hold the servo's integral (False: the Python law has it)
         self._law_of: Any = None   #: the (kp, friction) the law's constants below were made for
-        self._kernels: Any = None   #: servo/drive_kernels.py where numba is (imported here: a simulation's)
-        if compiled.AVAILABLE:
-            from orc_rpl.servo import drive_kernels
-
-            self._kernels = drive_kernels
-            self._law, self._scratch = np.zeros((drive_kernels.LAW_ROWS, n)), np.zeros((drive_kernels.SCRATCH_ROWS, n))
+        self._kernels: Any = compiled.kernels("orc_rpl.servo.drive_kernels")   #: None where numba is not
+        if self._kernels is not None:
+            self._law, self._scratch = np.zeros((self._kernels.LAW_ROWS, n)), np.zeros((self._kernels.SCRATCH_ROWS, n))
         #: the kernel's feed-forward and M_ii compiled (servo/rnea_kernel.py; False: Pinocchio's, the reference)
         self.compiled_rnea = True
         self._no_body = np.zeros((0, 29))
@@ -114,8 +111,7 @@ class CompiledDrives:
         q, _ = cell.live_state()
         self._schedule(q)
         n_steps = len(q_ref)
-        if self._ff.shape[0] != n_steps or self._friction_of is not servo._coulomb:
-            self._rows_for(n_steps)
+        self._rows_ready(n_steps)
         # per-joint values are spread over the rows once (copyto) before they meet a (rows, joints) array:
         # numpy 2.4 broadcasts a row three times slower than it copies it; the numbers are the same
         ff, work, rnea, spread = self._ff, self._rows, self._rnea, self._spread
@@ -199,8 +195,7 @@ class CompiledDrives:
         servo, cell = self.servo, self.cell
         self._constants()
         n_steps = len(q_ref)
-        if self._ff.shape[0] != n_steps or self._friction_of is not servo._coulomb:
-            self._rows_for(n_steps)
+        self._rows_ready(n_steps)
         if self._law_of is None or self._law_of[0] is not servo._kp or self._law_of[1] is not servo._coulomb:
             self._law_rows()
         rnea, mass_diagonal = self._rnea, self._mass_diagonal
@@ -239,14 +234,28 @@ class CompiledDrives:
         law[k.INTEGRAL_MAX], law[k.INTEGRAL_MIN], law[k.TAU_MAX] = servo._integral_max, servo._integral_min, servo._tau_max
         self._law_of, self._tail = (servo._kp, servo._coulomb), None
 
+    def _rows_ready(self, n_steps: int) -> None:
+        """The work arrays fit a call of n_steps rows and hold the friction now (made again only on a change)."""
+        if self._ff.shape[0] != n_steps:
+            self._rows_for(n_steps)
+        elif self._friction_of is not self.servo._coulomb:
+            self._friction_rows()
+
     def _rows_for(self, n_steps: int) -> None:
         """Work arrays of a call of n_steps rows, and the friction's constants spread over them."""
-        servo, shape = self.servo, (n_steps, self.servo.arm.n_joints)
+        shape = (n_steps, self.servo.arm.n_joints)
         self._ff, self._rows, self._rnea, self._spread = np.zeros(shape), np.zeros(shape), np.zeros(shape), np.zeros(shape)
         self._smooth_rows = np.full(shape, 1.0 / FRICTION_SMOOTH_RAD_S)
-        self._friction_of, self._tail = servo._coulomb, None
+        self._coulomb_rows, self._viscous_rows = np.zeros(shape), np.zeros(shape)
+        self._tail = None
+        self._friction_rows()
+
+    def _friction_rows(self) -> None:
+        """The friction's constants spread over the rows, in place (the gearboxes' estimate changes it every 0.1 s;
+        nothing else of the rows depends on it)."""
+        servo = self.servo
+        self._friction_of = servo._coulomb
         if servo._coulomb is not None:
-            self._coulomb_rows, self._viscous_rows = np.zeros(shape), np.zeros(shape)
             self._coulomb_rows[:], self._viscous_rows[:] = servo._coulomb, servo._viscous
 
     def _integral_now(self) -> None:

@@ -57,11 +57,7 @@ class ServoLoop:
         self.twist: Any = None  #: the elastic gears' twist feed-forward (set_gear_twist), None: rigid gears
         self.observer: Any = None  #: the elastic gears' torque observer (set_gear_observer), None: none
         self._mean_torque = np.zeros(self._n)   #: the motors' mean torque over the last call (the observer's input)
-        self._kernels: Any = None   #: servo/drive_kernels.py where numba is (imported here: a simulation's)
-        if compiled.AVAILABLE:
-            from orc_rpl.servo import drive_kernels
-
-            self._kernels = drive_kernels
+        self._kernels: Any = compiled.kernels("orc_rpl.servo.drive_kernels")   #: None where numba is not
 
     def set_gear_twist(self, twist: Any) -> None:
         """Lead each rotor by its gear's twist (a `servo.two_mass.GearTwist`; None: rigid gears). The
