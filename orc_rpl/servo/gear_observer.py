@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.robot.friction import friction_torque_nm
 from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S
 
 #: The observer's bandwidth (rad/s): its gear torque is the true one low-passed at this. Updated once a motion
@@ -66,8 +67,7 @@ class GearTorqueObserver:
         drive = tau_m - self.torque_nm
         friction = self.friction_of() if self.friction_of is not None else None
         if friction is not None:
-            coulomb, viscous = friction
-            drive -= coulomb * np.tanh(qd_m / FRICTION_SMOOTH_RAD_S) + viscous * qd_m
+            drive -= friction_torque_nm(*friction, qd_m, FRICTION_SMOOTH_RAD_S)
         self._sum += drive * dt_s
         self.torque_nm = self.bandwidth_rad_s * (self._sum - self.rotor_inertia_kg_m2 * qd_m)
         share = min(1.0, self.bandwidth_rad_s * dt_s)   # the same low-pass for the model's side
