@@ -48,8 +48,8 @@ class MotionCompiler:
         """The request the motion statement `stmt` will make, computed early without side effects, and whether it
         read sensors (None when it may have side effects or read what the motions before it change: a call of
         anything but a function of its arguments alone (FunctionSpec.of_arguments: not IDENT, which reads the last
-        recording), a keyword of an application feature, a motion not known well enough; None too for external axes,
-        which are never planned ahead).
+        recording), a keyword of an application feature, a motion not known well enough; None too for a motion of
+        external axes, which are never planned ahead).
 
         Sensors are read from their dummies (thesis 5.2: dummy sampling for the precomputation of almost known
         motions): the real sensor is not asked until the statement runs. A motion that needs a sensor's value is

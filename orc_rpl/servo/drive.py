@@ -35,7 +35,7 @@ class CompiledDrives:
         self.servo, self.cell = servo, cell
         n = servo.arm.n_joints
         self._ff = np.zeros((0, n))
-        self._friction_of: Any = None   #: the friction the rows below were made for (`_rows_for`)
+        self._friction_of: Any = None   #: the friction the rows below were filled for (`_friction_rows`)
         self._work, self._integral = np.zeros(n), np.zeros(n)
         self._gains = np.zeros((3, n))
         self._gain_p, self._gain_i, self._kv_ibw = self._gains   # views of its rows

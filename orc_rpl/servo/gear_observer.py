@@ -62,19 +62,21 @@ class GearTorqueObserver:
         self._sum = self.torque_nm / self.bandwidth_rad_s
         self._qd_before, self._qdd = np.zeros(len(self.torque_nm)), np.zeros(len(self.torque_nm))
 
-    def update(self, q_m: np.ndarray, qd_m: np.ndarray, tau_m: np.ndarray, dt_s: float) -> None:
-        """After dt_s of the motors' mean torque tau_m; q_m, qd_m: the encoders' angles and speeds now."""
-        drive = tau_m - self.torque_nm
+    def update(self, q_motor_rad: np.ndarray, qd_motor_rad_s: np.ndarray, tau_motor_nm: np.ndarray, dt_s: float) -> None:
+        """After dt_s of the motors' mean torque tau_motor_nm; q_motor_rad, qd_motor_rad_s: the encoders' angles and
+        speeds now."""
+        drive = tau_motor_nm - self.torque_nm
         friction = self.friction_of() if self.friction_of is not None else None
-        if friction is not None:
-            drive -= friction_torque_nm(*friction, qd_m, FRICTION_SMOOTH_RAD_S)
+        if friction is not None:   # smoothed as the servo's feed-forward smooths it (the figures above used that)
+            drive -= friction_torque_nm(*friction, qd_motor_rad_s, FRICTION_SMOOTH_RAD_S)
         self._sum += drive * dt_s
-        self.torque_nm = self.bandwidth_rad_s * (self._sum - self.rotor_inertia_kg_m2 * qd_m)
+        self.torque_nm = self.bandwidth_rad_s * (self._sum - self.rotor_inertia_kg_m2 * qd_motor_rad_s)
         share = min(1.0, self.bandwidth_rad_s * dt_s)   # the same low-pass for the model's side
-        self._qdd += share * ((qd_m - self._qd_before) / dt_s - self._qdd)
-        self._qd_before = np.array(qd_m, dtype=float)
+        self._qdd += share * ((qd_motor_rad_s - self._qd_before) / dt_s - self._qdd)
+        self._qd_before = np.array(qd_motor_rad_s, dtype=float)
         # the link torque: the model's rigid-body torque less the rotor's own (the armature's) on its acceleration
-        model = np.array(self.inverse_dynamics(q_m - self.twist_rad, qd_m, self._qdd)) - self.rotor_inertia_kg_m2 * self._qdd
+        model = (np.array(self.inverse_dynamics(q_motor_rad - self.twist_rad, qd_motor_rad_s, self._qdd))
+                 - self.rotor_inertia_kg_m2 * self._qdd)
         self._model_nm += share * (model - self._model_nm)
         self.excess_nm = self.torque_nm - self._model_nm
 

@@ -56,7 +56,7 @@ class ServoLoop:
         self.drives_on = True  #: False: no torque, the brakes hold the joints (set_drives)
         self.twist: Any = None  #: the elastic gears' twist feed-forward (set_gear_twist), None: rigid gears
         self.observer: Any = None  #: the elastic gears' torque observer (set_gear_observer), None: none
-        self._mean_torque = np.zeros(self._n)   #: the motors' mean torque over the last call (the observer's input)
+        self._torque_sum_nm = np.zeros(self._n)   #: the motors' torque summed over the last call (the observer's input)
         self._kernels: Any = compiled.kernels("orc_rpl.servo.drive_kernels")   #: None where numba is not
 
     def set_gear_twist(self, twist: Any) -> None:
@@ -85,6 +85,8 @@ class ServoLoop:
         self._no_torque = np.zeros(self.arm.n_joints)
         self.cell.set_brakes(not on)
         self.drives_on = on
+        if on:   # braked, the rotors' momentum changed without the observer: it starts afresh at rest
+            self._reset_observer()
 
     def use_compiled_law(self, on: bool) -> None:
         """Run the servo law in the drives (C) or in Python, from the next step; a bumpless hand-over."""
@@ -111,8 +113,8 @@ class ServoLoop:
             if self.observer is not None:
                 self._observe(self.cell.drives.mean_force, len(q_ref))
             return self.state()
-        if self.twist is not None:
-            return self._run_twisted(q_ref, qd_ref, qdd_ref)
+        if self.twist is not None or self.observer is not None:
+            return self._run_stepwise(q_ref, qd_ref, qdd_ref)
         update, step = self.servo.update, self.cell.step
         q, qd = self.cell.live_state()
         # The inner loop of the whole stack: 1,000 times per simulated second (measured: the step
@@ -126,13 +128,16 @@ class ServoLoop:
                 callback()
         return self.state()
 
-    def _run_twisted(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> ServoState:
-        """The Python law on elastic gears: the motor-side references (two_mass.GearTwist), step by step."""
+    def _run_stepwise(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> ServoState:
+        """The Python law on elastic gears, step by step: the motor-side references (two_mass.GearTwist) where
+        the gears' twist is fed forward, and the motors' torques summed for the gear observer where there is one."""
         servo, cell = self.servo, self.cell
-        rnea = servo._inverse_dynamics
-        tau_ff = np.array([rnea(*row) for row in zip(q_ref, qd_ref, qdd_ref)])
-        q_m, qd_m = self.twist.motor_references(q_ref, qd_ref, qdd_ref, tau_ff)
-        torque_sum = self._mean_torque
+        q_m, qd_m = q_ref, qd_ref
+        if self.twist is not None:
+            rnea = servo._inverse_dynamics
+            tau_ff = np.array([rnea(*row) for row in zip(q_ref, qd_ref, qdd_ref)])
+            q_m, qd_m = self.twist.motor_references(q_ref, qd_ref, qdd_ref, tau_ff)
+        torque_sum = self._torque_sum_nm
         torque_sum[:] = 0.0
         for i in range(len(q_m)):
             cell.step(servo.update(q_m[i], qd_m[i], qdd_ref[i], cell.q, cell.qd))
@@ -216,11 +221,16 @@ class ServoLoop:
             q = q_link + self.twist.twist_rad
         self.cell.reset(q)
         self.servo.reset()
-        if self.observer is not None:   # at rest: the gears carry the torques the twist was set for
-            zero = np.zeros(self._n)
-            self.observer.reset(self.twist.twist_rad / self.observer.compliance_rad_nm if self.twist is not None
-                                else np.array(self.servo._inverse_dynamics(self.cell.q, zero, zero)))
+        self._reset_observer()
         return self.state()
+
+    def _reset_observer(self) -> None:
+        """At rest: the gears carry the torques the twist was set for (without a twist, the model's weight)."""
+        if self.observer is None:
+            return
+        zero = np.zeros(self._n)
+        self.observer.reset(self.twist.twist_rad / self.observer.compliance_rad_nm if self.twist is not None
+                            else np.array(self.servo._inverse_dynamics(self.cell.q, zero, zero)))
 
     def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0), known: bool = True) -> None:
         """Put a payload on the flange; `known` also tells the feed-forward (False: the plant only, for identification)."""

@@ -128,9 +128,9 @@ def test_missing_metadata_is_a_clear_error(monkeypatch: pytest.MonkeyPatch, caps
 
 def test_a_motion_computed_early_may_call_only_functions_of_their_arguments() -> None:
     """Planning ahead evaluates a motion's target before the motions before it have run: IDENT (the last
-    recording) or a seam's functions must wait for their statement; AXES targets are never planned ahead."""
+    recording) or a seam's functions must wait for their statement."""
     registry = default_registry()
     early = {name for name, spec in registry.functions.items() if spec.of_arguments}
-    assert early == {"POSE", "JOINTS", "TRANSL", "INV", "OFFS", "RELTOOL", "ABS", "ROUND", "SQRT", "SIN", "COS",
-                     "ATAN2", "MIN", "MAX", "LEN"}
+    assert early == {"POSE", "AXES", "JOINTS", "TRANSL", "INV", "OFFS", "RELTOOL", "ABS", "ROUND", "SQRT", "SIN",
+                     "COS", "ATAN2", "MIN", "MAX", "LEN"}
     assert registry.functions["IDENT"].pure and not registry.functions["IDENT"].of_arguments

@@ -81,11 +81,9 @@ def register(registry: Registry) -> None:
         FunctionSpec("LEN", "number of elements of a list or path, or of characters of a string",
                      (_p("items", "list", "path", "string"),), returns=DIMENSIONLESS),
     ]
-    for spec in functions:
-        # Each is a function of its arguments, so a motion computed early may call it; AXES is not marked: external
-        # axes are never planned ahead.
+    for spec in functions:   # each a function of its arguments alone (AXES too: its requests are turned away later)
         registry.add_function(FunctionSpec(spec.name, spec.doc, spec.params, spec.returns, spec.variadic, origin=ORIGIN,
-                                           of_arguments=spec.name != "AXES"))
+                                           of_arguments=True))
 
 #: Software sensors readable as `ROBOT.<name>` (docs/language.md section 9); indexed ones take a joint number.
 ROBOT_SIGNALS: dict[str, str] = {
