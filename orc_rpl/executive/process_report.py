@@ -68,7 +68,7 @@ def process_lines(section: dict[str, Any] | None) -> list[str]:
     for b in section["bulges"]:
         passes = len(b["pass_heights_m"])
         lines.append(f"bulge {1000 * b['caught_height_m']:.2f} mm caught at s = {b['s0']:.2f}..{b['s1']:.2f}, "
-                     f"ground to {1000 * b['left_m']:.2f} mm in {passes} pass{'es' if passes != 1 else ''}"
+                     f"ground to {round(1000 * b['left_m'], 2) + 0.0:.2f} mm in {passes} pass{'es' if passes != 1 else ''}"
                      + ("" if b["within_tolerance"] else " (above the tolerance)"))
     for s in section["seams"]:
         lines.append(f"seam tracked over {1000 * s['length_m']:.0f} mm: the laser's error {1000 * s['rms_m']:.2f} mm RMS, "

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from orc_rpl.cli import main
+from orc_rpl.executive.process_report import process_lines
 from orc_rpl.signals.recording import Recording
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -84,3 +85,10 @@ def test_a_program_without_processes_has_no_process_section(tmp_path: Path, caps
     program.write_text('PRINT "hello"\n')
     code, result, _, _ = _run(program, tmp_path, capsys)
     assert code == 0 and "process" not in result
+
+
+def test_a_bulge_ground_a_hair_below_the_edge_reads_0_00_mm_not_minus_0_00() -> None:
+    section = {"welds": [], "seams": [], "identifications": [], "tunings": [], "faults": [],
+               "bulges": [{"caught_height_m": 7.6e-4, "s0": 0.32, "s1": 0.37, "left_m": -2e-6,
+                           "pass_heights_m": [4e-4, 0.0], "within_tolerance": True}]}
+    assert process_lines(section) == ["bulge 0.76 mm caught at s = 0.32..0.37, ground to 0.00 mm in 2 passes"]
