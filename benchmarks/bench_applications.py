@@ -549,7 +549,7 @@ def _grinding_run(plant: str, program: Path, source: str, casting_on: bool,
                   row: Any) -> None:
     """Run `source` (GRINDMOVEs) on a fresh robot with the casting of `program`'s .sim.yaml (or none), calling
     row(robot, estimator, castings, loop, s) once a grinding cycle, before the force loop's step."""
-    from orc_rpl.application.features import deburring_behaviour
+    from orc_rpl.application.features import deburring_flange
     from orc_rpl.application.standard_behaviour import runtime_registry
     from orc_rpl.executive.executive import Executive
     from orc_rpl.executive.sim_io import load_script
@@ -562,16 +562,16 @@ def _grinding_run(plant: str, program: Path, source: str, casting_on: bool,
     castings = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.tcp_pose(machine.last_tool),
                            robot.set_plant_payload, robot.push_on_arm).castings if casting_on else []
     estimator = TorqueForce(robot, lambda: machine.last_tool)
-    sample = deburring_behaviour.ForceLoop.step
+    sample = deburring_flange.ForceLoop.step
 
     def recording_step(loop: Any, s: float, arc_m: float = 0.0) -> tuple[float, float]:  # once a grinding cycle
         row(robot, estimator, castings, loop, s)
         return sample(loop, s, arc_m)
-    deburring_behaviour.ForceLoop.step = recording_step  # type: ignore[method-assign]
+    deburring_flange.ForceLoop.step = recording_step  # type: ignore[method-assign]
     try:
         executive.run()
     finally:
-        deburring_behaviour.ForceLoop.step = sample  # type: ignore[method-assign]
+        deburring_flange.ForceLoop.step = sample  # type: ignore[method-assign]
 
 
 #: The variants of the tuning comparison: the default gains, the fixed boost alone, the identified tuning, and the

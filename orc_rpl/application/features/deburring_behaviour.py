@@ -16,7 +16,7 @@ An installed Grinder without a force flange presses with the arm itself and read
 torques (deburring_arm: the thesis' way, no extra sensor). With a flange (or a plain TOOL), as follows.
 The grinder sits on a compliant flange with a stroke u along the tool's z axis (normal to the path): the
 analog output AnalogOut[8] commands the stroke (m, positive toward the part), the analog input AnalogIn[8] is the
-measured normal force (N). The force loop runs every motion cycle (dt = 4 ms) in this procedure, an
+measured normal force (N). The force loop (deburring_flange.ForceLoop) runs every motion cycle (dt = 4 ms), an
 integral admittance law
 
     u <- clip(u + K dt (F_cmd(s) - F_measured), -10 mm, +10 mm),   K = 2.5e-3 m/(N s)
@@ -41,7 +41,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import statistics
-from collections import deque
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
@@ -49,6 +48,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.application.features.deburring_arm import ArmForceLoop
+from orc_rpl.application.features.deburring_flange import FORCE_IN, STROKE_OUT, ForceLoop, ForceWatch
 from orc_rpl.application.process_log import BulgeRecord, ProcessFault, ProcessLog, process_log
 from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, MotionRequest
 from orc_rpl.errors import MotionFault
@@ -57,12 +57,6 @@ from orc_rpl.application.values import Record
 from orc_rpl.syntax.units import DIMENSIONLESS, FORCE, LENGTH, Quantity
 from orc_rpl.world.pose import Pose
 
-#: The compliant flange's wiring: its force sensor and its stroke command.
-FORCE_IN = 8
-STROKE_OUT = 8
-#: Admittance gain K (m of stroke per N of force error and second) and the stroke's range (m).
-ADMITTANCE_M_PER_N_S = 2.5e-3
-STROKE_LIMIT_M = 0.01
 #: Default grinding force (N), tolerance (m) and extra passes.
 DEFAULT_FORCE_N = 30.0
 DEFAULT_TOLERANCE_M = 0.0002
@@ -72,12 +66,6 @@ BASELINE_SAMPLES = 25
 PASS_MARGIN_M = 0.01
 #: The contact has settled when the force first comes within this fraction of the commanded one.
 SETTLED_FRACTION = 0.2
-#: The force loop is unstable when, over this many cycles in contact, its error's RMS exceeds UNSTABLE_FRACTION
-#: of the command and changes sign at least UNSTABLE_SIGN_CHANGES times (a stable loop's error on a bulge's
-#: flank stays below a fifth of the command and keeps its sign).
-UNSTABLE_WINDOW = 25
-UNSTABLE_FRACTION = 0.5
-UNSTABLE_SIGN_CHANGES = 8
 #: The arm's watch reads each cycle's own estimate (an oscillation faster than its average must show), whose
 #: noise and model error reach 17 N RMS over 100 ms on the realistic plant: unstable above the command itself.
 ARM_UNSTABLE_FRACTION = 1.0
@@ -192,98 +180,6 @@ class PathGeometry:
         """The path's points beyond arc length `arc_m` (the last one always)."""
         later = [p for p, s in zip(self.poses[1:-1], self.starts[1:-1]) if s > arc_m + 1e-4]
         return [*later, self.poses[-1]]
-
-
-class ForceWatch:
-    """The force loop watching itself: its last UNSTABLE_WINDOW errors from the first contact on."""
-
-    def __init__(self, dt_s: float, stiffness_limit_n_m: float, fraction: float = UNSTABLE_FRACTION) -> None:
-        self.dt_s, self.stiffness_limit_n_m, self.fraction = dt_s, stiffness_limit_n_m, fraction
-        self._errors: deque[float] = deque(maxlen=UNSTABLE_WINDOW)
-        self._command = 0.0
-
-    def observe(self, command: float, measured: float) -> None:
-        if measured > 0.0 or self._errors:  # watched from the first contact on
-            self._errors.append(command - measured)
-        self._command = command
-
-    def unstable(self) -> str | None:
-        """Why the loop is oscillating (its error's RMS and sign changes over the window), or None."""
-        errors = self._errors
-        if len(errors) < UNSTABLE_WINDOW:
-            return None
-        rms = math.sqrt(sum(e * e for e in errors) / len(errors))
-        changes = sum(1 for a, b in zip(errors, list(errors)[1:]) if a * b < 0)
-        if rms > self.fraction * max(self._command, 1.0) and changes >= UNSTABLE_SIGN_CHANGES:
-            return (f"the force loop is unstable: its error oscillates at {rms:.1f} N RMS about the commanded "
-                    f"{self._command:.1f} N ({changes} sign changes in {1000 * UNSTABLE_WINDOW * self.dt_s:.0f} ms); "
-                    f"the contact is stiffer than its gain allows (stable below "
-                    f"{self.stiffness_limit_n_m / 1000:.0f} N/mm)")
-        return None
-
-
-class ForceLoop:
-    """The admittance law on the flange's stroke, one step a motion cycle. GRINDMOVE drives it and the arm's own
-    loop (deburring_arm.ArmForceLoop) through the same methods; the flange stays on the edge between moves."""
-
-    #: The contact has settled the first cycle the force is within SETTLED_FRACTION of the command.
-    settle_cycles = 1
-    #: A pass over a bulge starts where the robot stopped (no lifting off: the stroke keeps the force).
-    stays_on_edge = True
-
-    def __init__(self, robot: Any, force: Callable[[float], float], force_in: int = FORCE_IN,
-                 stroke_out: int = STROKE_OUT) -> None:
-        self.robot, self.force = robot, force
-        self.force_in, self.stroke_out = force_in, stroke_out
-        self.stroke_m = 0.0
-        self.touched = False  #: the sensor has read a contact force
-        self._in, self._out = robot.io.bank("AnaIn"), robot.io.bank("AnaOut")
-        self.watch = ForceWatch(robot.dt_s, 2 / (ADMITTANCE_M_PER_N_S * robot.dt_s))
-
-    def measured_n(self) -> float:
-        return float(self._in[self.force_in])
-
-    def tip_offset_m(self) -> float:
-        """How far the grinding tip sits from the TCP along -n: the flange's stroke."""
-        return self.stroke_m
-
-    def unstable(self) -> str | None:
-        return self.watch.unstable()
-
-    def step(self, s: float, arc_m: float = 0.0) -> tuple[float, float]:
-        """Read the force, move the stroke; (commanded, measured) force."""
-        command, measured = self.force(s), self.measured_n()
-        self.touched = self.touched or measured > 0.0
-        self.watch.observe(command, measured)
-        self.stroke_m = min(STROKE_LIMIT_M, max(-STROKE_LIMIT_M, self.stroke_m + ADMITTANCE_M_PER_N_S * self.robot.dt_s
-                                                * (command - measured)))
-        self._out[self.stroke_out] = self.stroke_m
-        return command, measured
-
-    def retract(self) -> None:
-        self.stroke_m = 0.0
-        self._out[self.stroke_out] = 0.0
-
-    def approach(self, start: Pose) -> Pose:
-        """Where the move to the path's start goes: onto it."""
-        return start
-
-    def pressed_move(self, base: MotionRequest, start_m: float, end_m: float, target: Pose,
-                     via: tuple[Pose, ...]) -> Iterator[Any]:
-        """A grinding move from where the robot is to `target`; its ticket."""
-        return (yield dataclasses.replace(base, target=target, via=via))
-
-    def leave(self, base: MotionRequest, end: Pose) -> Iterator[Any]:
-        """The path is done: the stroke back to 0."""
-        self.retract()
-        yield from ()
-
-    def nothing_ground(self, settled: bool) -> str | None:
-        """Why nothing was ground (the sensor never read a contact force), or None."""
-        if self.touched:
-            return None
-        return (f"no contact force on AnalogIn[{self.force_in}] along the whole path: nothing was ground "
-                "(no casting in the cell, or the path is not on its edge)")
 
 
 class CatchBulge:
