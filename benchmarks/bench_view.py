@@ -20,7 +20,8 @@
   and the drawing (`gpu_cpu_share`, `gpu_cpu_ms_per_frame`).
 * Baselines in the same run: no view (`_without_view`), the view's server with no browser
   (`_view_without_browser`), the run's process sending each update through the view's sending thread as before the
-  shared-memory stream (`_sender`, and `_sender_view_without_browser`), the server inside the run's process as it was before it got a process of its own
+  shared-memory stream (`_sender`, and `_sender_view_without_browser`), the view drawing 30 states a second instead of
+  40 (`_30_updates_per_s`), the server inside the run's process as it was before it got a process of its own
   (`_in_process`), the default light casting shadows (`_with_shadows`), and the paced motion cycle at normal
   priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority with the threads it waits on
   through the interpreter lock left at normal priority (`_helpers_normal`), as before those changes.
@@ -47,7 +48,7 @@ from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
 from orc_rpl.motion import scheduling
 from orc_rpl.transform.loading import load_program
-from orc_rpl.view.live import LiveView
+from orc_rpl.view.live import RATE_HZ, LiveView
 from orc_rpl.view.remote import ViewProcess
 from orc_rpl.view.scene import CellScene
 from orc_rpl.view.server import close_server, open_server, url_of
@@ -131,7 +132,7 @@ def browser_cpu_s(root: int) -> dict[str, float]:
 
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
-            helpers: bool = True, before_run: Any = None) -> dict[str, Any]:
+            helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
     memory), "sender" (the server in its own process, each update sent by the run's sending thread, as before),
     "in-process" (the server in the run's process, as before that) or "none"; with a page, it is (re)loaded and connected before the run.
@@ -154,7 +155,7 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
         else:
             server = open_server(port=0)
             scene, url = CellScene(server, shadows), url_of(server)
-        live = (StreamedView if view == "process" else LiveView)(scene, executive, robot)
+        live = (StreamedView if view == "process" else LiveView)(scene, executive, robot, rate_hz=rate_hz)
         live.attach(program)
         if page is not None:
             page.goto(url)
@@ -229,6 +230,7 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_without_view": (None, "none", {}),
     "_view_without_browser": (None, "process", {}),
     "_sender": ("small", "sender", {}),
+    "_30_updates_per_s": ("small", "process", {"rate_hz": 30.0}),
     "_sender_view_without_browser": (None, "sender", {}),
     "_in_process": ("small", "in-process", {}),
     "_with_shadows": ("small", "process", {"shadows": True}),

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.view.live import caption_text
+from orc_rpl.view.live import RATE_HZ, caption_text
 from orc_rpl.view.process import TRACED, error_colours
 from orc_rpl.view.stream import LINE, PAYLOAD, SIGNALS, TIME, TOOL, StreamReader
 from orc_rpl.world.pose import Pose, shown_pose
@@ -21,8 +21,9 @@ class StreamDrawer:
     """Draws the rows of one run's stream into a CellScene. `poser` (plant.posing.CellPoser) places the cell at a
     row's joint positions; without one (no simulated cell) a row carries the flange pose itself (3x4, row-major)."""
 
-    def __init__(self, scene: Any, name: str, poser: Any = None) -> None:
+    def __init__(self, scene: Any, name: str, poser: Any = None, rate_hz: float = RATE_HZ) -> None:
         self.scene, self.poser = scene, poser
+        self.period_s = 1.0 / rate_hz                           #: how often the stream is read and drawn
         self.reader = StreamReader(name)
         self.tools: dict[int, np.ndarray | None] = {0: None}   #: tool number -> its offset from the flange (4x4)
         self.lines: list[str] = []                              #: the program's source lines (the caption)

@@ -172,7 +172,6 @@ class ViewProcess:
 def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool) -> None:
     """The view's process: open the server, then apply the run's messages until told to close."""
     from orc_rpl.view.drawing import StreamDrawer
-    from orc_rpl.view.live import RATE_HZ
     from orc_rpl.view.scene import CellScene
     from orc_rpl.view.server import close_server, open_server, url_of
 
@@ -212,7 +211,7 @@ def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool) ->
                 elif name:
                     getattr(scene, name)(*args)
                 if drawer is not None and time.monotonic() >= next_s:
-                    next_s = max(next_s + 1.0 / RATE_HZ, time.monotonic())
+                    next_s = max(next_s + drawer.period_s, time.monotonic())
                     drawer.poll()
             except Exception as error:  # the view stops (the run's next message finds the socket closed); the run goes on
                 sys.stderr.write(f"orc: the 3D view stopped: {error}\n")

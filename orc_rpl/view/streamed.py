@@ -11,7 +11,7 @@ from functools import partial
 from typing import Any
 
 from orc_rpl.plant.posing import CellPoser, live_qpos
-from orc_rpl.view.live import TRACE_EVERY_TICKS, LiveView
+from orc_rpl.view.live import RATE_HZ, TRACE_EVERY_TICKS, LiveView
 from orc_rpl.view.process import TRACED, process_record
 from orc_rpl.view.stream import LINE, PAYLOAD, SIGNALS, TIME, TOOL, StreamWriter
 
@@ -49,8 +49,8 @@ class StreamedView(LiveView):
     (`remote.ViewProcess.scene`). Its robot's `tick_listeners` (CellRobot, PendantRobot) call it, so the executive
     drives the robot itself, not a wrapper."""
 
-    def __init__(self, scene: Any, executive: Any, robot: Any, world: Any = None) -> None:
-        super().__init__(scene, executive, robot, world)
+    def __init__(self, scene: Any, executive: Any, robot: Any, world: Any = None, rate_hz: float = RATE_HZ) -> None:
+        super().__init__(scene, executive, robot, world, rate_hz)
         self.writer: StreamWriter | None = None
         self._qpos = None if self._cell is None else live_qpos(self._cell)
         self._listening: list[Callable[[], None]] | None = None
@@ -66,7 +66,7 @@ class StreamedView(LiveView):
     def attach(self, program: Any) -> None:
         poser = None if self._cell is None else CellPoser(self._cell)
         self.writer = StreamWriter(PAYLOAD + (poser.nq if poser is not None else 12))
-        self.sender.always(partial(self.scene.stream_open, self.writer.name, poser))
+        self.sender.always(partial(self.scene.stream_open, self.writer.name, poser, 1.0 / self.period_s))
         super().attach(program)
 
     def monitor(self, robot: Any) -> Any:
