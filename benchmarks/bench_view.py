@@ -19,7 +19,9 @@
   second, its CPU per frame, and its parts: the page's JavaScript (`renderer_cpu_share`, `renderer_cpu_ms_per_update`)
   and the drawing (`gpu_cpu_share`, `gpu_cpu_ms_per_frame`).
 * Baselines in the same run: no view (`_without_view`), the view's server with no browser
-  (`_view_without_browser`), the server inside the run's process as it was before it got a process of its own
+  (`_view_without_browser`), the run's process sending each update through the view's sending thread as before the
+  shared-memory stream (`_sender`, and `_sender_view_without_browser`), the view drawing 30 states a second instead of
+  40 (`_30_updates_per_s`), the server inside the run's process as it was before it got a process of its own
   (`_in_process`), the default light casting shadows (`_with_shadows`), and the paced motion cycle at normal
   priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority with the threads it waits on
   through the interpreter lock left at normal priority (`_helpers_normal`), as before those changes.
@@ -46,10 +48,11 @@ from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
 from orc_rpl.motion import scheduling
 from orc_rpl.transform.loading import load_program
-from orc_rpl.view.live import LiveView
+from orc_rpl.view.live import RATE_HZ, LiveView
 from orc_rpl.view.remote import ViewProcess
 from orc_rpl.view.scene import CellScene
 from orc_rpl.view.server import close_server, open_server, url_of
+from orc_rpl.view.streamed import StreamedView
 
 #: A pick-and-place cycle of joint and straight-line motions with zones, repeated ROUNDS times.
 PROGRAM = """\
@@ -129,9 +132,10 @@ def browser_cpu_s(root: int) -> dict[str, float]:
 
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
-            helpers: bool = True, before_run: Any = None) -> dict[str, Any]:
-    """Run the program once with `view` "process" (the product: the server in its own process), "in-process" (the
-    server in the run's process, as before) or "none"; with a page, it is (re)loaded and connected before the run.
+            helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ) -> dict[str, Any]:
+    """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
+    memory), "sender" (the server in its own process, each update sent by the run's sending thread, as before),
+    "in-process" (the server in the run's process, as before that) or "none"; with a page, it is (re)loaded and connected before the run.
     `slice_s`: the scheduler slice the paced motion cycle asks for (None: the system's default, as before);
     `realtime`: a paced run's motion cycle at real-time priority, as `orc run` asks for it (False: normal priority);
     `helpers`: the threads the cycle waits on through the interpreter lock follow its priority (False: they stay at
@@ -145,13 +149,13 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     driven: Any = robot
     view_pid = None
     if view != "none":
-        if view == "process":
+        if view in ("process", "sender"):
             server = ViewProcess("127.0.0.1", 0, shadows)
             scene, url, view_pid = server.scene, server.url, server.pid
         else:
             server = open_server(port=0)
             scene, url = CellScene(server, shadows), url_of(server)
-        live = LiveView(scene, executive, robot)
+        live = (StreamedView if view == "process" else LiveView)(scene, executive, robot, rate_hz=rate_hz)
         live.attach(program)
         if page is not None:
             page.goto(url)
@@ -164,7 +168,7 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     view_cpu = process_cpu_s(view_pid) if view_pid is not None else 0.0
     frames = page.evaluate("window.orcFrames || 0") if page is not None and live is not None else 0
     browser_before = browser_cpu_s(os.getpid())
-    wall, cpu = time.perf_counter(), time.process_time()
+    wall, cpu, thread_cpu = time.perf_counter(), time.process_time(), time.thread_time()
     follow = scheduling.follow_paced
     if not helpers:
         scheduling.follow_paced = lambda below=1: None
@@ -174,6 +178,7 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     finally:
         scheduling.follow_paced = follow
     wall_s, cpu_s = time.perf_counter() - wall, time.process_time() - cpu
+    motion_cpu_s = time.thread_time() - thread_cpu  # this thread runs the motion cycle
     view_cpu_s = process_cpu_s(view_pid) - view_cpu if view_pid is not None else 0.0
     browser_kinds = {kind: cpu - browser_before[kind] for kind, cpu in browser_cpu_s(os.getpid()).items()}
     frames = page.evaluate("window.orcFrames || 0") - frames if page is not None and live is not None else 0
@@ -182,9 +187,9 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     if server is not None:
         if page is not None:
             page.goto("about:blank")
-        server.close() if view == "process" else close_server(server)
+        server.close() if view in ("process", "sender") else close_server(server)
     assert status == "finished", status
-    return {"wall_s": wall_s, "cpu_s": cpu_s, "browser_cpu_s": sum(browser_kinds.values()), "view_cpu_s": view_cpu_s,
+    return {"wall_s": wall_s, "cpu_s": cpu_s, "motion_cpu_s": motion_cpu_s, "browser_cpu_s": sum(browser_kinds.values()), "view_cpu_s": view_cpu_s,
             "renderer_cpu_s": browser_kinds["renderer"], "gpu_cpu_s": browser_kinds["gpu"], "frames": frames,
             "sim_s": robot.time_s(), "late_s": np.array(probe.late_s),
             "updates": live.updates if live is not None else 0,
@@ -210,6 +215,7 @@ PACED: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_plain_browser_small_page": ("plain_small", "process", {}),
     "_plain_browser": ("plain_large", "process", {}),
     "_view_without_browser": (None, "process", {}),
+    "_sender": ("small", "sender", {}),
     "_without_view": (None, "none", {}),
     "_helpers_normal": ("plain_large", "process", {"helpers": False}),
     "_normal_priority": ("plain_large", "process", {"realtime": False}),
@@ -223,6 +229,9 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_plain_browser": ("plain_large", "process", {}),
     "_without_view": (None, "none", {}),
     "_view_without_browser": (None, "process", {}),
+    "_sender": ("small", "sender", {}),
+    "_30_updates_per_s": ("small", "process", {"rate_hz": 30.0}),
+    "_sender_view_without_browser": (None, "sender", {}),
     "_in_process": ("small", "in-process", {}),
     "_with_shadows": ("small", "process", {"shadows": True}),
 }
@@ -297,6 +306,7 @@ def main() -> None:
                         help="run the browser at this nice value (a user's browser on the controller's own machine "
                              "started with `nice -n 10`); 0: as a browser normally runs")
     args = parser.parse_args()
+    load_before = os.getloadavg()[0]
     from playwright.sync_api import sync_playwright
 
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
@@ -337,6 +347,7 @@ def main() -> None:
                 fast_runs[suffix].append(run(fast, page, False, view, options))
         benchmark.close()
         plain.close()
+    print(f"load_average_1min_before={load_before:.2f}")
     print(f"load_average_1min={os.getloadavg()[0]:.2f}")
     print(f"browser_nice={args.browser_nice}")
     print(f"small_page={'x'.join(map(str, args.small_page))}")
@@ -348,6 +359,7 @@ def main() -> None:
     print(f"fast_simulated_s={fast_runs[''][0]['sim_s']:.3f}")
     baseline = fast_runs.pop("_without_view")
     print(f"fast_wall_s_without_view={np.median([r['wall_s'] for r in baseline]):.3f}")
+    print(f"fast_motion_thread_cpu_s_without_view={np.median([r['motion_cpu_s'] for r in baseline]):.3f}")
     for suffix, runs in fast_runs.items():
         _fast_figures(list(zip(runs, baseline)), suffix, FAST[suffix][0] is not None)
 
@@ -390,6 +402,10 @@ def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: st
     if suffix != "_in_process":
         print(f"view_process_cpu_ms_per_update{suffix}={median([1000 * v['view_cpu_s'] / v['updates'] for v, _ in pairs]):.2f}")
     print(f"fast_cpu_slowdown_pct{suffix}={100 * median([v['cpu_s'] / b['cpu_s'] - 1 for v, b in pairs]):.1f}")
+    # the motion thread's own CPU time: what the view costs the cycle itself, the other threads of the run apart
+    print(f"fast_motion_thread_cpu_s{suffix}={median([v['motion_cpu_s'] for v, _ in pairs]):.3f}")
+    print(f"fast_motion_thread_cpu_slowdown_pct{suffix}="
+          f"{100 * median([v['motion_cpu_s'] / b['motion_cpu_s'] - 1 for v, b in pairs]):.1f}")
     slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in pairs]
     print(f"fast_slowdown_pct_runs{suffix}={','.join(f'{x:.1f}' for x in slowdowns)}")
     print(f"fast_slowdown_pct{suffix}={median(slowdowns):.1f}")

@@ -11,6 +11,7 @@ from pathlib import Path
 from orc_rpl.commands import bus_robot
 from orc_rpl.commands.run import add_cell_options, equipment_script
 from orc_rpl.errors import OrcError, UsageError
+from orc_rpl.motion import scheduling
 from orc_rpl.syntax.files import interrupted_mark
 
 
@@ -158,7 +159,17 @@ def _run(args: argparse.Namespace) -> int:
                 message = "\n".join(filter(None, (message, f"the 3D view is at {watchers.url}")))
             if not interactive:
                 return _run_script(session, sys.stdin, message)
-            return PendantApp(session, message=message).run()
+            if not args.view:
+                return PendantApp(session, message=message).run()
+            # paced to the wall clock beside a browser drawing the view: the motion cycle at real-time priority, as
+            # `orc run --view` has it (its safeguards: motion/scheduling.py)
+            with scheduling.PacedPriority() as priority:
+                if priority.refused is not None:
+                    message = "\n".join(filter(None, (message, scheduling.refusal_text("orc pendant", priority))))
+                code = PendantApp(session, message=message).run()
+            if priority.demoted:
+                sys.stderr.write(scheduling.demotion_text("orc pendant") + "\n")
+            return code
     finally:
         session.close()
 

@@ -274,8 +274,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         with _paced_priority(paced) as priority:
             interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
         if priority.demoted:
-            sys.stderr.write(f"orc run: the motion cycle computed {scheduling.RUNAWAY_CPU_S:g} s without waiting at "
-                             "real-time priority; it went on at normal priority\n")
+            sys.stderr.write(scheduling.demotion_text("orc run") + "\n")
     machine.robot = robot
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
@@ -323,8 +322,7 @@ def _paced_priority(paced: bool) -> Iterator[scheduling.PacedPriority]:
         return
     with priority:
         if priority.refused is not None:
-            sys.stderr.write(f"orc run: the motion cycle runs at normal priority: {priority.refused}; other busy "
-                             "programs on this machine (a browser drawing the view) can make it late\n")
+            sys.stderr.write(scheduling.refusal_text("orc run", priority) + "\n")
         yield priority
 
 

@@ -62,6 +62,7 @@ class CellRobot:
         #: the request planned ahead (its plan key), its descriptor, and whether it was computed from sensor dummies
         self._ahead: tuple[MotionRequest, int, bool] | None = None
         self.axes: Any = None  #: the cell's moving frames (executive.cell_axes.CellAxes), after attach_world
+        self.tick_listeners: list[Any] = []    #: called after every motion cycle (the 3D view): no wrapper needed
 
     def attach_world(self, world: Any) -> None:
         """The cell's world model with moving frames: the robot drives its external axes and knows where its base is."""
@@ -101,6 +102,8 @@ class CellRobot:
         self.layer.tick()
         if self._own_io:
             self.io.update(self.layer.now_s())
+        for listener in self.tick_listeners:
+            listener()
 
     def pending(self) -> int:
         external = self.layer.external

@@ -68,7 +68,11 @@ class LiveView:
         self._tools_mounted = False                #: a world object rides on the flange: the flange is sent too
         self._lines: tuple[str | None, list[str]] = (None, [])   #: the program's source and its lines (the caption)
         self.process = ProcessOverlay()
-        self.sender = Sender()
+        self.sender = self._sender()
+
+    def _sender(self) -> Any:
+        """Who runs the scene's calls: a thread of the view's (the scene may take its time; the cycle never waits)."""
+        return Sender()
 
     # -- setting up ---------------------------------------------------------------------------
 
@@ -158,14 +162,7 @@ class LiveView:
         self._next_wall_s = time.perf_counter() + self.period_s
         frames = cell_frames(self._cell) if self._cell is not None else None
         flange = self.robot.layer.fk(self.robot.layer.current_q()) if self._tools_mounted else None
-        values = self.executive.machine.globals
-        for name in self._names:
-            value = values.get(name)
-            if value is not None and value is not self._seen.get(name):
-                self._seen[name] = value
-                for label, t in world_transforms(name, value, self.executive):
-                    self._labels.add(label)
-                    self.sender.always(partial(self.scene.show_position, label, t))
+        self._show_new_positions()
         if self._trace_new:
             self.sender.always(partial(self.scene.extend_trace, self._trace_new))
             self._trace_new = []
@@ -183,6 +180,17 @@ class LiveView:
             self.sender.always(partial(self._show_welds, process))
         self.sender.latest(partial(self._show_state, frames, flange, tcp, self.robot.time_s(), line, self._lines[1],
                                    process.caption if process is not None else ""))
+
+    def _show_new_positions(self) -> None:
+        """Positions declared, taught or touched up since the last look (the variables' values are compared by identity)."""
+        values = self.executive.machine.globals
+        for name in self._names:
+            value = values.get(name)
+            if value is not None and value is not self._seen.get(name):
+                self._seen[name] = value
+                for label, t in world_transforms(name, value, self.executive):
+                    self._labels.add(label)
+                    self.sender.always(partial(self.scene.show_position, label, t))
 
     def _show_welds(self, process: ProcessState) -> None:
         for number, weld in enumerate(process.welds, start=process.first_weld):

@@ -1,8 +1,10 @@
-"""The view's web server in its own process: the run's process only pickles what to show into a socket.
+"""The view's web server in its own process: the run's process stores samples in shared memory and sends the rare
+events (a planned path, a position, a weld) into a socket.
 
 Serialising scene updates for the browser, the websocket sends and viser's event loop all run Python; in the run's
-process they held the interpreter lock the motion cycle needs (bench_view measures the difference). Here the run's
-process sends one message per update (MuJoCo's arrays, a caption) and the view's process does the rest.
+process they held the interpreter lock the motion cycle needs (bench_view measures the difference). Here the view's
+process reads the run's samples at its own rate (view/stream.py, view/drawing.py) and does the rest; the run's
+process may also send whole updates down the socket (`show`, as LiveView does).
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import socket
 import subprocess
 import sys
 import threading
+import time
 from multiprocessing.connection import Connection
 from dataclasses import dataclass, field
 from typing import Any
@@ -25,6 +28,8 @@ from orc_rpl.errors import OrcError, UsageError
 #: The scene's methods a run may call through the socket (CellScene's; `snapshot` is answered, not called).
 COMMANDS = frozenset({"add_cell", "add_object", "set_position", "show_position", "remove_positions", "add_path",
                       "extend_trace", "extend_process", "add_weld", "highlight", "set_caption", "frame_camera", "show"})
+#: The run's stream (StreamedView): opened, told the tool, the program's lines and the process caption, closed.
+STREAM_COMMANDS = frozenset({"stream_open", "stream_tool", "stream_lines", "stream_process", "stream_close"})
 #: How long the view's process may take to start (imports, binding) before the run gives up on it.
 START_TIMEOUT_S = 120.0
 
@@ -89,7 +94,7 @@ class RemoteScene:
         self._lock = threading.Lock()
 
     def __getattr__(self, name: str) -> Any:
-        if name not in COMMANDS:
+        if name not in COMMANDS and name not in STREAM_COMMANDS:
             raise AttributeError(name)
 
         def call(*args: Any) -> None:
@@ -101,6 +106,13 @@ class RemoteScene:
         """What the server shows once every message sent so far is applied (drain the view's sender first)."""
         with self._lock:
             self._connection.send(("snapshot", ()))
+            return self._connection.recv()  # type: ignore[no-any-return]
+
+    def sync(self) -> int:
+        """Wait until the server has applied every message sent so far and drawn the stream's last sample; the
+        number of states it drew from the stream."""
+        with self._lock:
+            self._connection.send(("sync", ()))
             return self._connection.recv()  # type: ignore[no-any-return]
 
 
@@ -159,6 +171,7 @@ class ViewProcess:
 
 def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool) -> None:
     """The view's process: open the server, then apply the run's messages until told to close."""
+    from orc_rpl.view.drawing import StreamDrawer
     from orc_rpl.view.scene import CellScene
     from orc_rpl.view.server import close_server, open_server, url_of
 
@@ -170,23 +183,42 @@ def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool) ->
     server.on_client_connect(lambda client: os.write(notice, b"c"))
     scene = CellScene(server, shadows)
     connection.send(("ready", url_of(server)))
+    drawer: StreamDrawer | None = None
+    next_s = time.monotonic()
     try:
         while True:
+            timeout = None if drawer is None else max(0.0, next_s - time.monotonic())
             try:
-                name, args = connection.recv()
+                ready = connection.poll(timeout)
+                name, args = connection.recv() if ready else ("", ())
             except EOFError:  # the run's process is gone
                 break
             if name == "close":
                 break
             try:
-                if name == "snapshot":
-                    connection.send(picture_of(scene))
-                else:
+                if name == "stream_open":
+                    drawer = StreamDrawer(scene, *args)
+                elif name == "stream_close" and drawer is not None:
+                    drawer.poll()
+                    drawer.close()
+                    drawer = None
+                elif name in STREAM_COMMANDS and drawer is not None:
+                    getattr(drawer, f"set_{name.removeprefix('stream_')}")(*args)
+                elif name in ("snapshot", "sync"):
+                    if drawer is not None:
+                        drawer.poll()
+                    connection.send(picture_of(scene) if name == "snapshot" else drawer.updates if drawer else 0)
+                elif name:
                     getattr(scene, name)(*args)
+                if drawer is not None and time.monotonic() >= next_s:
+                    next_s = max(next_s + drawer.period_s, time.monotonic())
+                    drawer.poll()
             except Exception as error:  # the view stops (the run's next message finds the socket closed); the run goes on
                 sys.stderr.write(f"orc: the 3D view stopped: {error}\n")
                 break
     finally:
+        if drawer is not None:
+            drawer.close()
         close_server(server)
 
 

@@ -27,6 +27,6 @@ def show_still(server: Any, world: Any, program: n.Program | None, registry: Any
         raise OrcError(executive.report())
     view = LiveView(CellScene(server), executive, cell_robot, world)
     view.attach(shown)
-    view.sender.drain()  # everything is drawn when this returns
+    view.sender.close()  # everything is drawn when this returns; nothing moves, so its thread stops (it would poll on)
     view.scene.set_caption(caption)
     return view

@@ -15,9 +15,10 @@ from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
 from orc_rpl.view.framing import frame_work
 from orc_rpl.plant.shapes import cell_poses, cell_shapes
-from orc_rpl.view.live import LiveView, sim_cell
+from orc_rpl.view.live import sim_cell
 from orc_rpl.view.positions import declared_names, evaluate_declarations, world_transforms
 from orc_rpl.view.remote import ViewProcess
+from orc_rpl.view.streamed import StreamedView
 from orc_rpl.view.server import DEFAULT_HOST, DEFAULT_PORT
 from orc_rpl.view.video import VideoRecorder
 from orc_rpl.world import World, load_world
@@ -43,7 +44,7 @@ class Watching:
 class Watchers:
     """What watch() opened: the live view (and its scene, for tests and the pendant), the video recorder."""
 
-    live: LiveView | None = None
+    live: StreamedView | None = None
     video: Any = None
     url: str | None = None
     _linger: Any = None
@@ -115,7 +116,7 @@ def watch(executive: Executive, robot: Any, program: Any, world: Any, registry: 
             watchers.url = server.url
             stderr.write(f"orc: the 3D view is at {watchers.url}\n")
             stderr.flush()
-            watchers.live = LiveView(server.scene, executive, robot, world)
+            watchers.live = StreamedView(server.scene, executive, robot, world)  # the cycle only stores samples
             watchers.live.attach(program)
             if how.interactive:
                 stderr.write(f"orc: open it in a browser; the run starts when it connects (at most {BROWSER_WAIT_S:.0f} s)\n")

@@ -1,0 +1,51 @@
+"""A copy of a cell's compiled model that places its geoms and flange at given joint positions (another process, the
+3D view's, draws a run from the positions alone)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from orc_rpl.plant.shapes import Frames
+
+
+def live_qpos(cell: Any) -> np.ndarray:
+    """MuJoCo's joint positions of the running cell, as a live view (read it, never write it; valid while the cell is)."""
+    return cell._data.qpos  # type: ignore[no-any-return]
+
+
+class CellPoser:
+    """Places every geom and the flange of a cell at stored joint positions (MuJoCo's qpos); picklable (the model
+    travels as MuJoCo's own binary form), so a process of its own can do the forward kinematics."""
+
+    def __init__(self, cell: Any) -> None:
+        self.model = cell._model
+        self.flange_site: int = int(cell._flange_site)
+        self.nq: int = int(self.model.nq)
+        self._data: Any = None
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {"model": self.model, "flange_site": self.flange_site, "nq": self.nq}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state, _data=None)
+
+    def place(self, qpos: np.ndarray, time_s: float = 0.0) -> tuple[Frames, np.ndarray]:
+        """Every geom's pose (MuJoCo's arrays, copied) and the flange's (4x4, world) at `qpos`."""
+        flange = self.flange(qpos)
+        d = self._data
+        return Frames(time_s, d.geom_xpos.copy(), d.geom_xmat.reshape(-1, 3, 3).copy()), flange
+
+    def flange(self, qpos: np.ndarray) -> np.ndarray:
+        """The flange's pose (4x4, world) at `qpos` (for the trace's points this is all that is needed)."""
+        if self._data is None:
+            self._data = mujoco.MjData(self.model)
+        d = self._data
+        d.qpos[:] = qpos
+        mujoco.mj_kinematics(self.model, d)
+        flange = np.eye(4)
+        flange[:3, :3] = d.site_xmat[self.flange_site].reshape(3, 3)
+        flange[:3, 3] = d.site_xpos[self.flange_site]
+        return flange

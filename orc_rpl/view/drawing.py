@@ -1,0 +1,94 @@
+"""In the view's process: reads the run's samples from shared memory and draws them (the robot, the trace, the caption).
+
+Everything the run's process used to do for each update happens here: the forward kinematics of the geoms, the
+flange and the TCP from the stored joint positions, the quaternions, the caption's text, the scene's messages.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.view.live import RATE_HZ, caption_text
+from orc_rpl.view.process import TRACED, error_colours
+from orc_rpl.view.stream import LINE, PAYLOAD, SIGNALS, TIME, TOOL, StreamReader
+from orc_rpl.world.pose import Pose, shown_pose
+
+
+class StreamDrawer:
+    """Draws the rows of one run's stream into a CellScene. `poser` (plant.posing.CellPoser) places the cell at a
+    row's joint positions; without one (no simulated cell) a row carries the flange pose itself (3x4, row-major)."""
+
+    def __init__(self, scene: Any, name: str, poser: Any = None, rate_hz: float = RATE_HZ) -> None:
+        self.scene, self.poser = scene, poser
+        self.period_s = 1.0 / rate_hz                           #: how often the stream is read and drawn
+        self.reader = StreamReader(name)
+        self.tools: dict[int, np.ndarray | None] = {0: None}   #: tool number -> its offset from the flange (4x4)
+        self.lines: list[str] = []                              #: the program's source lines (the caption)
+        self.process_caption = ""
+        self.updates = 0                                        #: states drawn (the benchmark's update rate)
+        self._last: np.ndarray | None = None                    #: the newest row drawn
+        self._stale = False                                     #: the caption's words changed since it was drawn
+
+    def set_tool(self, number: int, tool: np.ndarray | None) -> None:
+        self.tools[number] = tool
+
+    def set_lines(self, lines: list[str]) -> None:
+        self.lines, self._stale = lines, True
+
+    def set_process(self, caption: str) -> None:
+        self.process_caption, self._stale = caption, True
+
+    def _flange(self, row: np.ndarray) -> np.ndarray:
+        if self.poser is not None:
+            return self.poser.flange(row[PAYLOAD:])  # type: ignore[no-any-return]
+        flange = np.eye(4)
+        flange[:3, :] = row[PAYLOAD:PAYLOAD + 12].reshape(3, 4)
+        return flange
+
+    def _tcp(self, flange: np.ndarray, row: np.ndarray) -> np.ndarray:
+        tool = self.tools.get(int(row[TOOL]))
+        return flange if tool is None else flange @ tool
+
+    def poll(self) -> bool:
+        """Draw what the run stored since the last poll; False when there was nothing new."""
+        rows = self.reader.take()
+        if not len(rows):
+            if not self._stale or self._last is None:
+                return False
+            self._show(self._last)  # the words came after the pose they belong with
+            return True
+        trace = []
+        process: dict[str, list[tuple[np.ndarray, float]]] = {}
+        for row in rows:
+            tcp = self._tcp(self._flange(row), row)[:3, 3].copy()
+            trace.append(tcp)
+            for column, name in enumerate(TRACED, start=SIGNALS):
+                if not math.isnan(row[column]):
+                    process.setdefault(name, []).append((tcp, float(row[column])))
+        self.scene.extend_trace(trace)
+        for name, points in process.items():
+            colours = error_colours(np.array([value for _, value in points]), TRACED[name])
+            self.scene.extend_process(name, [p for p, _ in points], colours)
+        self._show(rows[-1])
+        return True
+
+    def _show(self, last: np.ndarray) -> None:
+        """The robot, the flange and the caption at one row."""
+        self._last, self._stale = last, False
+        if self.poser is not None:
+            frames, flange = self.poser.place(last[PAYLOAD:], float(last[TIME]))
+        else:
+            frames, flange = None, self._flange(last)
+        line = int(last[LINE])
+        caption = caption_text(float(last[TIME]), line if line > 0 and self.lines else None, self.lines)
+        caption += f"\n\nTCP {shown_pose(Pose.from_matrix(self._tcp(flange, last))).text()}"
+        if self.process_caption:
+            caption += f"\n\n{self.process_caption}"
+        self.scene.show(frames, flange, caption)
+        self.updates += 1
+
+    def close(self) -> None:
+        self.reader.close()
