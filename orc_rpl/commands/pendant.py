@@ -9,9 +9,8 @@ from contextlib import ExitStack
 from pathlib import Path
 
 from orc_rpl.commands import bus_robot
-from orc_rpl.commands.run import add_cell_options, equipment_script
+from orc_rpl.commands.run import add_cell_options, equipment_script, paced_priority
 from orc_rpl.errors import OrcError, UsageError
-from orc_rpl.motion import scheduling
 from orc_rpl.syntax.files import interrupted_mark
 
 
@@ -162,14 +161,10 @@ def _run(args: argparse.Namespace) -> int:
             if not args.view:
                 return PendantApp(session, message=message).run()
             # paced to the wall clock beside a browser drawing the view: the motion cycle at real-time priority, as
-            # `orc run --view` has it (its safeguards: motion/scheduling.py)
-            with scheduling.PacedPriority() as priority:
-                if priority.refused is not None:
-                    message = "\n".join(filter(None, (message, scheduling.refusal_text("orc pendant", priority))))
-                code = PendantApp(session, message=message).run()
-            if priority.demoted:
-                sys.stderr.write(scheduling.demotion_text("orc pendant") + "\n")
-            return code
+            # `orc run --view` has it; a refusal is the pendant's first message
+            refusal: list[str] = []
+            with paced_priority(True, "orc pendant", refusal.append):
+                return PendantApp(session, message="\n".join(filter(None, (message, *refusal)))).run()
     finally:
         session.close()
 

@@ -8,7 +8,7 @@ import json
 import math
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -271,10 +271,8 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         watched = progress.monitor(margins or robot)
         machine.robot = watchers.monitor(watched) if watchers is not None else watched
         wall_start = time.perf_counter()  # after the view's page connected
-        with _paced_priority(paced) as priority:
+        with paced_priority(paced, "orc run"):
             interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
-        if priority.demoted:
-            sys.stderr.write(scheduling.demotion_text("orc run") + "\n")
     machine.robot = robot
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
@@ -314,16 +312,27 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
 
 
 @contextlib.contextmanager
-def _paced_priority(paced: bool) -> Iterator[scheduling.PacedPriority]:
-    """A run paced to the wall clock runs its motion cycle at real-time priority, or says why it cannot."""
-    priority = scheduling.PacedPriority()
+def paced_priority(paced: bool, command: str, tell_refusal: Callable[[str], Any] | None = None) -> Iterator[None]:
+    """A command paced to the wall clock (`orc run --view`, `orc pendant --view`) runs its motion cycle at real-time
+    priority (motion/scheduling.py's safeguards), or says why it cannot (to `tell_refusal`, else on stderr); when
+    the runaway guard put the cycle back to normal priority, it says so on stderr at the end."""
     if not paced:
-        yield priority  # never entered: nothing changes
+        yield
         return
+    priority = scheduling.PacedPriority()
     with priority:
         if priority.refused is not None:
-            sys.stderr.write(scheduling.refusal_text("orc run", priority) + "\n")
-        yield priority
+            refusal = (f"{command}: the motion cycle runs at normal priority: {priority.refused}; other busy programs "
+                       "on this machine (a browser drawing the view) can make it late")
+            (tell_refusal or _stderr_line)(refusal)
+        yield
+    if priority.demoted:
+        _stderr_line(f"{command}: the motion cycle computed {scheduling.RUNAWAY_CPU_S:g} s without waiting at "
+                     "real-time priority; it went on at normal priority")
+
+
+def _stderr_line(text: str) -> None:
+    sys.stderr.write(text + "\n")
 
 
 def _run_until_done(executive: Any, timeout_s: float | None, simulated: bool = True) -> str:

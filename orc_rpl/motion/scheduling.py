@@ -144,18 +144,6 @@ class PacedPriority:
         signal.signal(signal.SIGXCPU, handler)
 
 
-def refusal_text(command: str, priority: PacedPriority) -> str:
-    """What a paced command says when its motion cycle could not have real-time priority."""
-    return (f"{command}: the motion cycle runs at normal priority: {priority.refused}; other busy programs on this "
-            "machine (a browser drawing the view) can make it late")
-
-
-def demotion_text(command: str) -> str:
-    """What a paced command says when the runaway guard put its motion cycle back to normal priority."""
-    return (f"{command}: the motion cycle computed {RUNAWAY_CPU_S:g} s without waiting at real-time priority; it went on "
-            "at normal priority")
-
-
 def follow_paced(below: int = 1) -> None:
     """Called by a thread the paced motion cycle can wait on through Python's interpreter lock (the plan-ahead worker,
     the view's sender): while a PacedPriority block is in force, the calling thread runs at real-time priority `below`
