@@ -15,10 +15,12 @@ from multiprocessing.shared_memory import SharedMemory
 
 import numpy as np
 
+from orc_rpl.view.process import TRACED
+
 #: The columns every row starts with; the sample's positions follow (MuJoCo's qpos, or a flange pose without a cell).
 TIME, LINE, TOOL, SIGNALS = 0, 1, 2, 3
-#: The process signals stored with each sample, in this order (process.TRACED's).
-SIGNAL_COLUMNS = 2
+#: The process signals stored with each sample, in process.TRACED's order.
+SIGNAL_COLUMNS = len(TRACED)
 PAYLOAD = SIGNALS + SIGNAL_COLUMNS
 #: Rows in the ring: a sample every 5 motion cycles of 4 ms, a `--fast` run about 30 times real time, the view reading
 #: 40 times a second: some 40 rows a read, so the view may fall behind by seconds before a row is lost.
