@@ -85,8 +85,9 @@ def picture_of(scene: Any) -> Picture:
 class RemoteScene:
     """Stands for the CellScene in the view's process: each call is one message down the socket, in order.
 
-    Calls come from the view's sending thread and, while a view is being set up, from the thread that sets it up;
-    the lock keeps their messages whole. The motion cycle never calls it.
+    Calls come from the thread that sets a view up and, for the rare events of a streamed view (a planned path, a
+    position, a weld, a new tool, the process caption), from the motion cycle itself (view/streamed.py's Direct):
+    a send there waits while the socket's buffer is full. The lock keeps the messages whole.
     """
 
     def __init__(self, connection: Any) -> None:
