@@ -29,7 +29,7 @@ class StreamDrawer:
         self.lines: list[str] = []                              #: the program's source lines (the caption)
         self.process_caption = ""
         self.updates = 0                                        #: states drawn (the benchmark's update rate)
-        self._last: np.ndarray | None = None                    #: the newest row drawn
+        self._last: tuple[np.ndarray, Any, np.ndarray] | None = None  #: the newest row drawn, its geoms and flange
         self._stale = False                                     #: the caption's words changed since it was drawn
 
     def set_tool(self, number: int, tool: np.ndarray | None) -> None:
@@ -58,12 +58,16 @@ class StreamDrawer:
         if not len(rows):
             if not self._stale or self._last is None:
                 return False
-            self._show(self._last)  # the words came after the pose they belong with
+            self._show(*self._last)  # the words came after the pose they belong with
             return True
         trace = []
         process: dict[str, list[tuple[np.ndarray, float]]] = {}
-        for row in rows:
-            tcp = self._tcp(self._flange(row), row)[:3, 3].copy()
+        for number, row in enumerate(rows, start=1 - len(rows)):
+            if number < 0:
+                frames, flange = None, self._flange(row)
+            else:  # the last row is drawn whole: its geoms come from the same forward kinematics as its flange
+                frames, flange = self._place(row)
+            tcp = self._tcp(flange, row)[:3, 3].copy()
             trace.append(tcp)
             for column, name in enumerate(TRACED, start=SIGNALS):
                 if not math.isnan(row[column]):
@@ -72,16 +76,18 @@ class StreamDrawer:
         for name, points in process.items():
             colours = error_colours(np.array([value for _, value in points]), TRACED[name])
             self.scene.extend_process(name, [p for p, _ in points], colours)
-        self._show(rows[-1])
+        self._show(rows[-1], frames, flange)
         return True
 
-    def _show(self, last: np.ndarray) -> None:
-        """The robot, the flange and the caption at one row."""
-        self._last, self._stale = last, False
+    def _place(self, row: np.ndarray) -> tuple[Any, np.ndarray]:
+        """The geoms (None without a cell) and the flange at a row."""
         if self.poser is not None:
-            frames, flange = self.poser.place(last[PAYLOAD:], float(last[TIME]))
-        else:
-            frames, flange = None, self._flange(last)
+            return self.poser.place(row[PAYLOAD:], float(row[TIME]))  # type: ignore[no-any-return]
+        return None, self._flange(row)
+
+    def _show(self, last: np.ndarray, frames: Any, flange: np.ndarray) -> None:
+        """The robot, the flange and the caption at one row (placed by the caller)."""
+        self._last, self._stale = (last, frames, flange), False
         line = int(last[LINE])
         caption = caption_text(float(last[TIME]), line if line > 0 and self.lines else None, self.lines)
         caption += f"\n\nTCP {shown_pose(Pose.from_matrix(self._tcp(flange, last))).text()}"
