@@ -18,8 +18,9 @@ from orc_rpl.world.pose import Pose, shown_pose
 
 
 class StreamDrawer:
-    """Draws the rows of one run's stream into a CellScene. `poser` (plant.posing.CellPoser) places the cell at a
-    row's joint positions; without one (no simulated cell) a row carries the flange pose itself (3x4, row-major)."""
+    """Draws the rows of one run's stream into a CellScene. `poser` (plant.posing.CellPoser) draws the cell where it
+    stood when the stream opened and places it at a row's joint positions; without one (no simulated cell) a row
+    carries the flange pose itself (3x4, row-major)."""
 
     def __init__(self, scene: Any, name: str, poser: Any = None, rate_hz: float = RATE_HZ) -> None:
         self.scene, self.poser = scene, poser
@@ -31,6 +32,8 @@ class StreamDrawer:
         self.updates = 0                                        #: states drawn (the benchmark's update rate)
         self._last: tuple[np.ndarray, Any, np.ndarray] | None = None  #: the newest row drawn, its geoms and flange
         self._stale = False                                     #: the caption's words changed since it was drawn
+        if poser is not None:  # the cell travels once, in the poser: its geoms are drawn from it here
+            scene.add_cell(poser.shapes(), poser.poses(poser.qpos))
 
     def set_tool(self, number: int, tool: np.ndarray | None) -> None:
         self.tools[number] = tool

@@ -80,8 +80,7 @@ class LiveView:
         """Draw the cell, the world and what is declared so far; listen to the planned paths; aim the camera."""
         self.executive.tracing = True  # the program pointer follows every statement (the caption)
         self._names = declared_names(program)
-        if self._cell is not None:
-            self.scene.add_cell(cell_shapes(self._cell), cell_poses(self._cell))
+        self._add_cell()
         layer = self.robot.layer
         reach = [np.zeros(3), layer.fk(layer.current_q())[:3, 3]]
         if self.world is not None:
@@ -89,6 +88,11 @@ class LiveView:
         layer.plan_listeners.append(self._planned)
         self.scene.frame_camera(frame_work(np.array(reach)))
         self.update()
+
+    def _add_cell(self) -> None:
+        """The simulated cell's geoms where they stand."""
+        if self._cell is not None:
+            self.scene.add_cell(cell_shapes(self._cell), cell_poses(self._cell))
 
     def _add_world(self) -> list[np.ndarray]:
         """Draw the world's objects and named frames; where the objects standing in the cell are (the camera's aim)."""

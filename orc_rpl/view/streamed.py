@@ -69,6 +69,9 @@ class StreamedView(LiveView):
         self.sender.always(partial(self.scene.stream_open, self.writer.name, poser, 1.0 / self.period_s))
         super().attach(program)
 
+    def _add_cell(self) -> None:
+        """Nothing to send: the view's process draws the cell from the poser the stream opened with."""
+
     def monitor(self, robot: Any) -> Any:
         """Listen to the robot's ticks where it has listeners (no wrapper on the executive's calls), else wrap it."""
         listeners = getattr(self.robot, "tick_listeners", None)

@@ -27,6 +27,9 @@ class Scene:
         self.trace: list[np.ndarray] = []
         self.shown: list[tuple[Any, Any, str]] = []
 
+    def add_cell(self, shapes: Any, poses: Any) -> None:
+        pass
+
     def extend_trace(self, points: list[np.ndarray]) -> None:
         self.trace += points
 
