@@ -8,7 +8,8 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from orc_rpl.plant.shapes import Frames, Poses, Shape, geom_poses, model_shapes
+from orc_rpl.plant.shapes import Frames, Poses, Shape, geom_frames, geom_poses, model_shapes
+from orc_rpl.plant.sim import site_pose
 
 
 def live_qpos(cell: Any) -> np.ndarray:
@@ -46,17 +47,12 @@ class CellPoser:
     def place(self, qpos: np.ndarray, time_s: float = 0.0) -> tuple[Frames, np.ndarray]:
         """Every geom's pose (MuJoCo's arrays, copied) and the flange's (4x4, world) at `qpos`."""
         flange = self.flange(qpos)
-        d = self._data
-        return Frames(time_s, d.geom_xpos.copy(), d.geom_xmat.reshape(-1, 3, 3).copy()), flange
+        return geom_frames(self._data, time_s), flange
 
     def flange(self, qpos: np.ndarray) -> np.ndarray:
         """The flange's pose (4x4, world) at `qpos` (for the trace's points this is all that is needed)."""
         if self._data is None:
             self._data = mujoco.MjData(self.model)
-        d = self._data
-        d.qpos[:] = qpos
-        mujoco.mj_kinematics(self.model, d)
-        flange = np.eye(4)
-        flange[:3, :3] = d.site_xmat[self.flange_site].reshape(3, 3)
-        flange[:3, 3] = d.site_xpos[self.flange_site]
-        return flange
+        self._data.qpos[:] = qpos
+        mujoco.mj_kinematics(self.model, self._data)
+        return site_pose(self._data, self.flange_site)

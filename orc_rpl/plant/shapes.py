@@ -103,5 +103,9 @@ def geom_poses(m: Any, d: Any) -> Poses:
 def cell_frames(cell: SimCell) -> Frames:
     """Every geom's world pose now, as copies of MuJoCo's arrays: cheap enough to take in a motion cycle (a viewer
     turns the matrices into quaternions on its own thread)."""
-    d = cell._data
-    return Frames(float(d.time), d.geom_xpos.copy(), d.geom_xmat.reshape(-1, 3, 3).copy())
+    return geom_frames(cell._data, float(cell._data.time))
+
+
+def geom_frames(d: Any, time_s: float) -> Frames:
+    """Every geom's world pose in MuJoCo data `d` (after its kinematics), as copies of its arrays."""
+    return Frames(time_s, d.geom_xpos.copy(), d.geom_xmat.reshape(-1, 3, 3).copy())

@@ -6,15 +6,14 @@ flange and the TCP from the stored joint positions, the quaternions, the caption
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
-from orc_rpl.view.live import RATE_HZ, caption_text
-from orc_rpl.view.process import TRACED, error_colours
+from orc_rpl.view.live import RATE_HZ, state_caption
+from orc_rpl.view.process import TRACED, ProcessOverlay
 from orc_rpl.view.stream import LINE, PAYLOAD, SIGNALS, TIME, TOOL, StreamReader
-from orc_rpl.world.pose import Pose, shown_pose
+from orc_rpl.world.pose import Pose
 
 
 class StreamDrawer:
@@ -29,6 +28,7 @@ class StreamDrawer:
         self.tools: dict[int, np.ndarray | None] = {0: None}   #: tool number -> its offset from the flange (4x4)
         self.lines: list[str] = []                              #: the program's source lines (the caption)
         self.process_caption = ""
+        self.process = ProcessOverlay()                          #: the traced signals' points, coloured
         self.updates = 0                                        #: states drawn (the benchmark's update rate)
         self._last: tuple[np.ndarray, Any, np.ndarray] | None = None  #: the newest row drawn, its geoms and flange
         self._stale = False                                     #: the caption's words changed since it was drawn
@@ -64,7 +64,6 @@ class StreamDrawer:
             self._show(*self._last)  # the words came after the pose they belong with
             return True
         trace = []
-        process: dict[str, list[tuple[np.ndarray, float]]] = {}
         for number, row in enumerate(rows, start=1 - len(rows)):
             if number < 0:
                 frames, flange = None, self._flange(row)
@@ -72,13 +71,10 @@ class StreamDrawer:
                 frames, flange = self._place(row)
             tcp = self._tcp(flange, row)[:3, 3].copy()
             trace.append(tcp)
-            for column, name in enumerate(TRACED, start=SIGNALS):
-                if not math.isnan(row[column]):
-                    process.setdefault(name, []).append((tcp, float(row[column])))
+            self.process.sample(dict(zip(TRACED, row[SIGNALS:PAYLOAD])), tcp)
         self.scene.extend_trace(trace)
-        for name, points in process.items():
-            colours = error_colours(np.array([value for _, value in points]), TRACED[name])
-            self.scene.extend_process(name, [p for p, _ in points], colours)
+        for name, points, colours in self.process.take_points():
+            self.scene.extend_process(name, points, colours)
         self._show(rows[-1], frames, flange)
         return True
 
@@ -92,11 +88,9 @@ class StreamDrawer:
         """The robot, the flange and the caption at one row (placed by the caller)."""
         self._last, self._stale = (last, frames, flange), False
         line = int(last[LINE])
-        caption = caption_text(float(last[TIME]), line if line > 0 and self.lines else None, self.lines)
-        caption += f"\n\nTCP {shown_pose(Pose.from_matrix(self._tcp(flange, last))).text()}"
-        if self.process_caption:
-            caption += f"\n\n{self.process_caption}"
-        self.scene.show(frames, flange, caption)
+        self.scene.show(frames, flange, state_caption(float(last[TIME]), line if line > 0 and self.lines else None,
+                                                      self.lines, Pose.from_matrix(self._tcp(flange, last)),
+                                                      self.process_caption))
         self.updates += 1
 
     def close(self) -> None:

@@ -13,11 +13,11 @@ from orc_rpl.executive.report import MonitoredRobot
 from orc_rpl.plant.shapes import Frames, cell_frames, cell_poses, cell_shapes
 from orc_rpl.view.framing import frame_work
 from orc_rpl.view.positions import declared_names, world_transforms
-from orc_rpl.view.process import TRACED, ProcessOverlay, ProcessState, error_colours, process_record
+from orc_rpl.view.process import ProcessOverlay, ProcessState, process_record
 from orc_rpl.view.scene import FLANGE_NODE, CellScene
 from orc_rpl.view.sender import Sender
 from orc_rpl.world.objects import FLANGE, PREDEFINED
-from orc_rpl.world.pose import shown_pose
+from orc_rpl.world.pose import Pose, shown_pose
 
 #: Updates per second of wall-clock time the view sends at most (the robot, the trace, the caption).
 RATE_HZ = 40.0
@@ -44,6 +44,12 @@ def caption_text(time_s: float, line: int | None, lines: list[str]) -> str:
         return f"t = {time_s:.2f} s"
     text = lines[line - 1].strip() if 0 < line <= len(lines) else ""
     return f"t = {time_s:.2f} s · line {line}: {text}"
+
+
+def state_caption(time_s: float, line: int | None, lines: list[str], tcp: Pose, process: str = "") -> str:
+    """The view's caption: where the program is, the measured TCP as `orc run` shows it, the processes' line."""
+    caption = f"{caption_text(time_s, line, lines)}\n\nTCP {shown_pose(tcp).text()}"
+    return f"{caption}\n\n{process}" if process else caption
 
 
 class LiveView:
@@ -142,7 +148,8 @@ class LiveView:
         if self._ticks % TRACE_EVERY_TICKS == 0:
             tcp = self._tcp_m()
             self._trace_new.append(tcp)
-            self.process.sample(process_record(self.executive.machine.robot), tcp)
+            record = process_record(self.executive.machine.robot)
+            self.process.sample(None if record is None else record.signals, tcp)
         if time.perf_counter() >= self._next_wall_s:
             self.update()
 
@@ -173,9 +180,8 @@ class LiveView:
         executive = self.executive
         record = process_record(executive.machine.robot)
         process = self.process.state(record)
-        for name, points in self.process.take_points().items():
-            colours = error_colours(np.array([value for _, value in points]), TRACED[name])
-            self.sender.always(partial(self.scene.extend_process, name, [p for p, _ in points], colours))
+        for name, points, colours in self.process.take_points():
+            self.sender.always(partial(self.scene.extend_process, name, points, colours))
         tcp = self.robot.tcp_pose(executive.machine.last_tool)
         if self._lines[0] is not executive.source:
             self._lines = (executive.source, executive.source.splitlines() if executive.source is not None else [])
@@ -202,10 +208,7 @@ class LiveView:
 
     def _show_state(self, frames: Frames | None, flange: np.ndarray | None, tcp: Any, time_s: float,
                     line: int | None, lines: list[str], process: str = "") -> None:
-        caption = f"{caption_text(time_s, line, lines)}\n\nTCP {shown_pose(tcp).text()}"
-        if process:
-            caption += f"\n\n{process}"
-        self.scene.show(frames, flange, caption)
+        self.scene.show(frames, flange, state_caption(time_s, line, lines, tcp, process))
         self.updates += 1
 
     def highlight(self, position: str | None = None, move_id: int | None = None) -> None:
