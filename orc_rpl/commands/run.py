@@ -266,10 +266,11 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload,
                     robot.push_on_arm)
     margins = MarginWatch(robot, machine) if args.margins else None
-    with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress, _watched(args, executive, robot, program,
-                                                                                       registry, watch_how) as watchers:
-        watched = progress.monitor(margins or robot)
-        machine.robot = watchers.monitor(watched) if watchers is not None else watched
+    # what watches the run listens to the robot's motion cycles while it runs: the executive drives the robot itself
+    with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS, robot), margins or contextlib.nullcontext(), \
+            _watched(args, executive, robot, program, registry, watch_how) as watchers:
+        if watchers is not None:
+            watchers.monitor(robot)
         wall_start = time.perf_counter()  # after the view's page connected
         with paced_priority(paced, "orc run"):
             interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)

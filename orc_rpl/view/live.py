@@ -9,7 +9,6 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.executive.executive import Executive
-from orc_rpl.executive.report import MonitoredRobot
 from orc_rpl.plant.shapes import Frames, cell_frames, cell_poses, cell_shapes
 from orc_rpl.view.framing import frame_work
 from orc_rpl.view.positions import declared_names, world_transforms
@@ -53,7 +52,7 @@ def state_caption(time_s: float, line: int | None, lines: list[str], tcp: Pose, 
 
 
 class LiveView:
-    """Attach to a run (`attach`), let the executive drive `monitor(robot)`, call `finish()` at the end.
+    """Attach to a run (`attach`), listen to its robot (`monitor(robot)`), call `finish()` at the end.
 
     It reads the plant, the motion layer's planned-path signal and the executive's variables; it commands nothing.
     """
@@ -74,6 +73,7 @@ class LiveView:
         self._tools_mounted = False                #: a world object rides on the flange: the flange is sent too
         self._lines: tuple[str | None, list[str]] = (None, [])   #: the program's source and its lines (the caption)
         self.process = ProcessOverlay()
+        self._listening: list[Any] = []           #: the tick listeners of the robot watched (monitor)
         self.sender = self._sender()
 
     def _sender(self) -> Any:
@@ -138,8 +138,11 @@ class LiveView:
         self.update()
 
     def monitor(self, robot: Any) -> Any:
-        """The robot the executive should drive: the same robot, whose ticks also feed the view."""
-        return MonitoredRobot(robot, 1, self.on_tick)
+        """Listen to the robot's motion cycles (its `tick_listeners`) until finish(); the robot for the executive to
+        drive is the robot itself, no wrapper."""
+        robot.tick_listeners.append(self.on_tick)
+        self._listening = robot.tick_listeners
+        return robot
 
     # -- each motion cycle ---------------------------------------------------------------------
 
@@ -217,6 +220,8 @@ class LiveView:
 
     def finish(self) -> None:
         """Show the last state of the run, whatever the rate, and wait until it is sent; stop listening."""
+        if self.on_tick in self._listening:
+            self._listening.remove(self.on_tick)
         self._trace_new.append(self._tcp_m())
         self.update()
         self.sender.close()

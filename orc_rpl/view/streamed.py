@@ -53,7 +53,6 @@ class StreamedView(LiveView):
         super().__init__(scene, executive, robot, world, rate_hz)
         self.writer: StreamWriter | None = None
         self._qpos = None if self._cell is None else live_qpos(self._cell)
-        self._listening: list[Callable[[], None]] | None = None
         self._tool_sent: Any = None
         self._tool_number = 0
         self._next_events_s = 0.0
@@ -71,15 +70,6 @@ class StreamedView(LiveView):
 
     def _add_cell(self) -> None:
         """Nothing to send: the view's process draws the cell from the poser the stream opened with."""
-
-    def monitor(self, robot: Any) -> Any:
-        """Listen to the robot's ticks where it has listeners (no wrapper on the executive's calls), else wrap it."""
-        listeners = getattr(self.robot, "tick_listeners", None)
-        if listeners is None:
-            return super().monitor(robot)
-        listeners.append(self.on_tick)
-        self._listening = listeners
-        return robot
 
     # -- each motion cycle -------------------------------------------------------------------
 
@@ -136,7 +126,7 @@ class StreamedView(LiveView):
 
     def finish(self) -> None:
         """Store the last state, wait until the view's process has drawn it, stop listening, free the stream."""
-        if self._listening is not None and self.on_tick in self._listening:
+        if self.on_tick in self._listening:
             self._listening.remove(self.on_tick)
         listeners = self.robot.layer.plan_listeners
         if self._planned in listeners:
