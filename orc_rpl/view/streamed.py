@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
 from functools import partial
 from typing import Any
 
@@ -19,29 +18,6 @@ from orc_rpl.view.stream import LINE, PAYLOAD, SIGNALS, TIME, TOOL, StreamWriter
 #: process caption, the program's text. The robot, the trace and the caption's time and line go through the stream.
 EVENTS_HZ = 10.0
 _SIGNALS = tuple(TRACED)
-
-
-class Direct:
-    """Runs the scene's calls at once in the caller's thread: each is one message into the view's socket. A view
-    whose process has gone stops; the run goes on."""
-
-    def __init__(self) -> None:
-        self.error: BaseException | None = None
-
-    def always(self, job: Callable[[], None]) -> None:
-        if self.error is None:
-            try:
-                job()
-            except Exception as error:  # the view's process is gone: the robot must not stop for it
-                self.error = error
-
-    latest = always
-
-    def drain(self) -> None:
-        """Nothing waits: each call was sent when it was made."""
-
-    def close(self) -> None:
-        """Nothing to stop."""
 
 
 class StreamedView(LiveView):
@@ -58,9 +34,6 @@ class StreamedView(LiveView):
         self._next_events_s = 0.0
         self._source: Any = self   # never the executive's source: the first look sends the program's lines
         self._process_caption = ""
-
-    def _sender(self) -> Direct:
-        return Direct()
 
     def attach(self, program: Any) -> None:
         poser = None if self._cell is None else CellPoser(self._cell)
