@@ -99,11 +99,7 @@ class StreamedView(LiveView):
 
     def finish(self) -> None:
         """Store the last state, wait until the view's process has drawn it, stop listening, free the stream."""
-        if self.on_tick in self._listening:
-            self._listening.remove(self.on_tick)
-        listeners = self.robot.layer.plan_listeners
-        if self._planned in listeners:
-            listeners.remove(self._planned)
+        super().finish()
         if self.writer is None:
             return
         self.update()
