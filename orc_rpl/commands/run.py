@@ -274,7 +274,6 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         wall_start = time.perf_counter()  # after the view's page connected
         with paced_priority(paced, "orc run"):
             interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
-    machine.robot = robot
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
     elif interrupted:
@@ -339,10 +338,9 @@ def _stderr_line(text: str) -> None:
 def _run_until_done(executive: Any, timeout_s: float | None, simulated: bool = True) -> str:
     """Run the program; what interrupted it ("Ctrl-C", the timeout) or "" when it ended by itself."""
     limit = TimeLimit(executive.machine.robot, timeout_s, executive) if timeout_s is not None else None
-    if limit is not None:
-        executive.machine.robot = limit
     try:
-        executive.run()
+        with limit or contextlib.nullcontext():
+            executive.run()
     except KeyboardInterrupt:
         return "Ctrl-C"
     if limit is not None and limit.reached and executive.status == "paused":
