@@ -48,11 +48,12 @@ from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
 from orc_rpl.motion import scheduling
 from orc_rpl.transform.loading import load_program
-from orc_rpl.view.live import RATE_HZ, LiveView
+from orc_rpl.view.live import RATE_HZ
 from orc_rpl.view.remote import ViewProcess
 from orc_rpl.view.scene import CellScene
 from orc_rpl.view.server import close_server, open_server, url_of
 from orc_rpl.view.streamed import StreamedView
+from view_sender import SenderView  # the baseline beside this file: the view before the stream
 
 #: A pick-and-place cycle of joint and straight-line motions with zones, repeated ROUNDS times.
 PROGRAM = """\
@@ -155,7 +156,7 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
         else:
             server = open_server(port=0)
             scene, url = CellScene(server, shadows), url_of(server)
-        live = (StreamedView if view == "process" else LiveView)(scene, executive, robot, rate_hz=rate_hz)
+        live = (StreamedView if view == "process" else SenderView)(scene, executive, robot, rate_hz=rate_hz)
         live.attach(program)
         if page is not None:
             page.goto(url)

@@ -35,21 +35,24 @@ def statement_budget(text: str) -> int:
 
 
 class TimeLimit:
-    """A robot whose ticks ask the executive to pause once simulated time reaches `limit_s`."""
+    """While entered (`with`): after each motion cycle of the robot (it listens to them), asks the executive to pause
+    once simulated time reaches `limit_s`."""
 
     def __init__(self, robot: Any, limit_s: float, executive: Any) -> None:
         self._robot, self._limit_s, self._executive = robot, limit_s, executive
-        self.dt_s, self.io = robot.dt_s, robot.io
         self.reached = False
 
-    def tick(self) -> None:
-        self._robot.tick()
+    def __enter__(self) -> TimeLimit:
+        self._robot.tick_listeners.append(self.on_tick)
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self._robot.tick_listeners.remove(self.on_tick)
+
+    def on_tick(self) -> None:
         if self._robot.time_s() >= self._limit_s and not self.reached:
             self.reached = True
             self._executive.pause()  # the executive stops at the next motion cycle
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._robot, name)
 
 
 def stop_on_path(robot: Any) -> None:

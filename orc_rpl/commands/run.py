@@ -266,14 +266,14 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload,
                     robot.push_on_arm)
     margins = MarginWatch(robot, machine) if args.margins else None
-    with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS) as progress, _watched(args, executive, robot, program,
-                                                                                       registry, watch_how) as watchers:
-        watched = progress.monitor(margins or robot)
-        machine.robot = watchers.monitor(watched) if watchers is not None else watched
+    # what watches the run listens to the robot's motion cycles while it runs: the executive drives the robot itself
+    with Progress(executive, sys.stderr, PROGRESS_EVERY_TICKS, robot), margins or contextlib.nullcontext(), \
+            _watched(args, executive, robot, program, registry, watch_how) as watchers:
+        if watchers is not None:
+            watchers.monitor(robot)
         wall_start = time.perf_counter()  # after the view's page connected
         with paced_priority(paced, "orc run"):
             interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
-    machine.robot = robot
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
     elif interrupted:
@@ -338,10 +338,9 @@ def _stderr_line(text: str) -> None:
 def _run_until_done(executive: Any, timeout_s: float | None, simulated: bool = True) -> str:
     """Run the program; what interrupted it ("Ctrl-C", the timeout) or "" when it ended by itself."""
     limit = TimeLimit(executive.machine.robot, timeout_s, executive) if timeout_s is not None else None
-    if limit is not None:
-        executive.machine.robot = limit
     try:
-        executive.run()
+        with limit or contextlib.nullcontext():
+            executive.run()
     except KeyboardInterrupt:
         return "Ctrl-C"
     if limit is not None and limit.reached and executive.status == "paused":

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -62,7 +63,11 @@ class CellRobot:
         #: the request planned ahead (its plan key), its descriptor, and whether it was computed from sensor dummies
         self._ahead: tuple[MotionRequest, int, bool] | None = None
         self.axes: Any = None  #: the cell's moving frames (executive.cell_axes.CellAxes), after attach_world
-        self.tick_listeners: list[Any] = []    #: called after every motion cycle (the 3D view): no wrapper needed
+        #: who watches the run (the 3D view, the video, the progress display, the margins) listens here, not through
+        #: a wrapper in front of every call: called after every motion cycle, and with each motion's ticket once it
+        #: is accepted
+        self.tick_listeners: list[Callable[[], None]] = []
+        self.submit_listeners: list[Callable[[HandleTicket], None]] = []
 
     def attach_world(self, world: Any) -> None:
         """The cell's world model with moving frames: the robot drives its external axes and knows where its base is."""
@@ -306,6 +311,8 @@ class CellRobot:
                 raise h.error
             if h.status is MoveStatus.ILLEGAL:
                 raise PlanningError(f"the motion layer refused the move (mode {layer.get_mode().value})")
+        for listener in self.submit_listeners:
+            listener(ticket)
         return ticket
 
 

@@ -25,32 +25,38 @@ class _Statement:
 
 
 class MarginWatch:
-    """A robot wrapper (like the progress display's): remembers which statement submitted each move, and after every
-    motion cycle in which a move runs samples the clearance (plant.clearance.RunClearance, on the cell's own model)
-    and the joint margins of the moment, under that statement. Reads the cell, never changes it: the run is the
-    same with or without it."""
+    """Listens to the robot while it is entered (`with`): remembers which statement submitted each move, and after
+    every motion cycle in which a move runs samples the clearance (plant.clearance.RunClearance, on the cell's own
+    model) and the joint margins of the moment, under that statement. Reads the cell, never changes it: the run is
+    the same with or without it."""
 
     def __init__(self, robot: Any, machine: Any) -> None:
         cell = getattr(getattr(robot.layer.backend, "loop", None), "cell", None)
         if cell is None:
             raise UsageError("--margins: only a run on the simulated cell measures its margins")
         self._robot, self._machine = robot, machine
-        self.dt_s, self.io = robot.dt_s, robot.io
+        self.dt_s = robot.dt_s
         self.clearance = RunClearance(cell)
         spec = ROBOTS.get(cell.robot)
         self._q_min, self._q_max = np.asarray(spec.q_min_rad), np.asarray(spec.q_max_rad)
         self._moves: deque[tuple[Any, Span]] = deque()  #: submitted moves not yet done, with their statements
         self.statements: dict[tuple[int, int], _Statement] = {}
 
-    def submit(self, request: Any) -> Any:
-        ticket = self._robot.submit(request)
+    def __enter__(self) -> MarginWatch:
+        self._robot.submit_listeners.append(self.on_submit)
+        self._robot.tick_listeners.append(self.on_tick)
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self._robot.submit_listeners.remove(self.on_submit)
+        self._robot.tick_listeners.remove(self.on_tick)
+
+    def on_submit(self, ticket: Any) -> None:
         span = self._machine.motion_span
         for handle in ticket.handles:
             self._moves.append((handle, span))
-        return ticket
 
-    def tick(self) -> None:
-        self._robot.tick()
+    def on_tick(self) -> None:
         moves = self._moves
         running = next(((h, span) for h, span in moves if h.started and not h.done), None)
         while moves and moves[0][0].done:  # finished, stopped, or cancelled before it began
@@ -69,9 +75,6 @@ class MarginWatch:
         joint = int(np.argmin(margins))
         if margins[joint] < statement.joint_margin_rad:
             statement.joint_margin_rad, statement.joint = float(margins[joint]), joint + 1
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._robot, name)
 
     def section(self, program: str) -> dict[str, Any]:
         """The summary's `margins` section: the nearest approach and the smallest joint margin of the run, each with

@@ -70,30 +70,14 @@ def write_summary_text(result: dict[str, Any], wall_s: float, stream: TextIO, re
         stream.write(f"process: {line}\n")
 
 
-class MonitoredRobot:
-    """A robot whose ticks also refresh the progress display (every `every` motion cycles)."""
-
-    def __init__(self, robot: Any, every: int, refresh: Any) -> None:
-        self._robot, self._every, self._refresh, self._count = robot, every, refresh, 0
-        self.dt_s, self.io = robot.dt_s, robot.io
-
-    def tick(self) -> None:
-        self._robot.tick()
-        self._count += 1
-        if self._count % self._every == 0:
-            self._refresh()
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._robot, name)
-
-
 class Progress:
-    """A one-line rich display on a terminal (time, motions, line); nothing when standard error is not a terminal."""
+    """A one-line rich display on a terminal (time, motions, line), refreshed every `every_ticks` motion cycles of
+    `robot` (it listens to them); nothing when standard error is not a terminal."""
 
-    def __init__(self, executive: Executive, stream: TextIO, every_ticks: int) -> None:
-        self.executive, self.stream, self.every = executive, stream, every_ticks
+    def __init__(self, executive: Executive, stream: TextIO, every_ticks: int, robot: Any) -> None:
+        self.executive, self.stream, self.every, self.robot = executive, stream, every_ticks, robot
         self._live: Any = None
-        self._robot: Any = None
+        self._ticks = 0
 
     def __enter__(self) -> Progress:
         if self.stream.isatty():
@@ -103,11 +87,13 @@ class Progress:
             self._live = Live(self._text(), console=Console(file=self.stream), transient=True, refresh_per_second=8,
                               redirect_stdout=False, redirect_stderr=False)  # PRINT lines stay on standard output
             self._live.__enter__()
+            self.robot.tick_listeners.append(self.on_tick)
         return self
 
-    def monitor(self, robot: Any) -> Any:
-        self._robot = robot
-        return MonitoredRobot(robot, self.every, self.refresh) if self._live is not None else robot
+    def on_tick(self) -> None:
+        self._ticks += 1
+        if self._ticks % self.every == 0:
+            self.refresh()
 
     def refresh(self) -> None:
         if self._live is not None:
@@ -117,11 +103,12 @@ class Progress:
         from rich.text import Text
 
         m = self.executive.machine
-        robot = self._robot or m.robot
         stack = m.stack_entries()
         where = f"in {stack[-1].routine}" if len(stack) > 1 else ""
-        return Text(f"running {self.executive.path}: t = {robot.time_s():7.2f} s, {m.motions} motions {where}", style="cyan")
+        return Text(f"running {self.executive.path}: t = {self.robot.time_s():7.2f} s, {m.motions} motions {where}",
+                    style="cyan")
 
     def __exit__(self, *exc: Any) -> None:
         if self._live is not None:
+            self.robot.tick_listeners.remove(self.on_tick)
             self._live.__exit__(*exc)

@@ -146,7 +146,7 @@ class PacedPriority:
 
 def follow_paced(below: int = 1) -> None:
     """Called by a thread the paced motion cycle can wait on through Python's interpreter lock (the plan-ahead worker,
-    the view's sender): while a PacedPriority block is in force, the calling thread runs at real-time priority `below`
+    bench_view's old view sender): while a PacedPriority block is in force, the calling thread runs at real-time priority `below`
     under the cycle's, until the block ends. At normal priority, such a thread holding the interpreter lock when a
     busy program preempted it kept the cycle waiting however high the cycle's own priority (bench_paced_contention:
     `lateness_p99_ms_busy_realtime` against `..._helpers_normal`). The thread must wait between its jobs (a queue, a

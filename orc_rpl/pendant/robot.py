@@ -46,7 +46,7 @@ class PendantRobot:
         self.on_slice_end: Callable[[], None] | None = None
         self.last_submit_s = 0.0                     #: perf_counter() when the last motion reached the motion layer
         self.mode = "auto"
-        self.tick_listeners: list[Callable[[], None]] = []   #: called after every motion cycle (the 3D view)
+        self.tick_listeners = cell.tick_listeners    #: the cell's: called after every motion cycle (the 3D view)
         self.asking_line = 0                         #: while a program motion is submitted: its statement's line
 
     @classmethod
@@ -61,8 +61,6 @@ class PendantRobot:
     def tick(self) -> None:
         self.cell.tick()
         self.ticks += 1
-        for listener in self.tick_listeners:
-            listener()
         if self.slice_end is not None and self.ticks >= self.slice_end and self.on_slice_end is not None:
             self.on_slice_end()
 

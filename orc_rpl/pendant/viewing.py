@@ -29,7 +29,8 @@ class View(Protocol):
 class ViewLink:
     """Owns the link from the session to a view: the robot each motion cycle, the program after each edit, the
     position at the cursor and the motion at the program pointer highlighted. It reads the other parts; it commands
-    nothing. Call `refresh()` after each command and while the screen idles; `close()` at the end."""
+    nothing. Call `refresh()` after each command and while the screen idles (it costs nothing while the robot moves);
+    `close()` at the end."""
 
     def __init__(self, view: View, editor: Editor, execution: Execution, robot: PendantRobot, events: EventLog,
                  url: str | None = None) -> None:
@@ -87,8 +88,10 @@ class ViewLink:
         if changed:
             self._shown = chosen
             self.view.highlight(*chosen)
-        if changed or self._ticks != self.robot.ticks:
-            # the robot's last cycles may have fallen between two of the view's timed updates: show where it stopped
+        # while the robot moves, its motion cycles feed the view (on_tick); once it stands, its last cycles may have
+        # fallen between two of the view's samples: show where it stopped, once
+        standing = not self.execution.busy and self.robot.pending() == 0
+        if changed or (standing and self._ticks != self.robot.ticks):
             self._ticks = self.robot.ticks
             self.view.update()
 

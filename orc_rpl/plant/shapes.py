@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -62,7 +63,11 @@ class Frames:
 
 def cell_shapes(cell: SimCell) -> tuple[Shape, ...]:
     """The visible geoms of the cell as built (robot, fixed geometry, whatever the scene contains), in model order."""
-    m = cell._model
+    return model_shapes(cell._model)
+
+
+def model_shapes(m: Any) -> tuple[Shape, ...]:
+    """The visible geoms of a compiled MuJoCo model (a cell's, or a copy of it in another process), in model order."""
     shapes = []
     for i in range(m.ngeom):
         kind = KINDS.get(int(m.geom_type[i]))
@@ -84,7 +89,11 @@ def cell_shapes(cell: SimCell) -> tuple[Shape, ...]:
 
 def cell_poses(cell: SimCell) -> Poses:
     """Every geom's world pose now (after the last step's kinematics); copies, safe to hand to another thread."""
-    m, d = cell._model, cell._data
+    return geom_poses(cell._model, cell._data)
+
+
+def geom_poses(m: Any, d: Any) -> Poses:
+    """Every geom's world pose in MuJoCo data `d` of model `m` (after its kinematics), as copies."""
     wxyz = np.empty((m.ngeom, 4))
     for i in range(m.ngeom):
         mujoco.mju_mat2Quat(wxyz[i], d.geom_xmat[i])
@@ -94,5 +103,9 @@ def cell_poses(cell: SimCell) -> Poses:
 def cell_frames(cell: SimCell) -> Frames:
     """Every geom's world pose now, as copies of MuJoCo's arrays: cheap enough to take in a motion cycle (a viewer
     turns the matrices into quaternions on its own thread)."""
-    d = cell._data
-    return Frames(float(d.time), d.geom_xpos.copy(), d.geom_xmat.reshape(-1, 3, 3).copy())
+    return geom_frames(cell._data, float(cell._data.time))
+
+
+def geom_frames(d: Any, time_s: float) -> Frames:
+    """Every geom's world pose in MuJoCo data `d` (after its kinematics), as copies of its arrays."""
+    return Frames(time_s, d.geom_xpos.copy(), d.geom_xmat.reshape(-1, 3, 3).copy())

@@ -26,6 +26,14 @@ BRAKE_SHARE = 1.5
 BRAKE_NOSLIP_ITERATIONS = 20
 
 
+def site_pose(data: Any, site: int) -> np.ndarray:
+    """A site's pose (4x4, world) in MuJoCo data after its kinematics: the flange's, of a cell or of a copy of it."""
+    t = np.eye(4)
+    t[:3, :3] = data.site_xmat[site].reshape(3, 3)
+    t[:3, 3] = data.site_xpos[site]
+    return t
+
+
 class SimCell:
     """The simulated cell: robot joints driven by torque motors, 1 kHz steps, simulated IO.
 
@@ -131,10 +139,7 @@ class SimCell:
 
     def flange_pose(self) -> np.ndarray:
         """The plant's own flange pose (4x4, world), to check the controller's model against."""
-        t = np.eye(4)
-        t[:3, :3] = self._data.site_xmat[self._flange_site].reshape(3, 3)
-        t[:3, 3] = self._data.site_xpos[self._flange_site]
-        return t
+        return site_pose(self._data, self._flange_site)
 
     # -- stepping -------------------------------------------------------------
 

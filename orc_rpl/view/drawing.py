@@ -6,20 +6,20 @@ flange and the TCP from the stored joint positions, the quaternions, the caption
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
-from orc_rpl.view.live import RATE_HZ, caption_text
-from orc_rpl.view.process import TRACED, error_colours
+from orc_rpl.view.live import RATE_HZ, state_caption
+from orc_rpl.view.process import TRACED, ProcessOverlay
 from orc_rpl.view.stream import LINE, PAYLOAD, SIGNALS, TIME, TOOL, StreamReader
-from orc_rpl.world.pose import Pose, shown_pose
+from orc_rpl.world.pose import Pose
 
 
 class StreamDrawer:
-    """Draws the rows of one run's stream into a CellScene. `poser` (plant.posing.CellPoser) places the cell at a
-    row's joint positions; without one (no simulated cell) a row carries the flange pose itself (3x4, row-major)."""
+    """Draws the rows of one run's stream into a CellScene. `poser` (plant.posing.CellPoser) draws the cell where it
+    stood when the stream opened and places it at a row's joint positions; without one (no simulated cell) a row
+    carries the flange pose itself (3x4, row-major)."""
 
     def __init__(self, scene: Any, name: str, poser: Any = None, rate_hz: float = RATE_HZ) -> None:
         self.scene, self.poser = scene, poser
@@ -28,9 +28,12 @@ class StreamDrawer:
         self.tools: dict[int, np.ndarray | None] = {0: None}   #: tool number -> its offset from the flange (4x4)
         self.lines: list[str] = []                              #: the program's source lines (the caption)
         self.process_caption = ""
+        self.process = ProcessOverlay()                          #: the traced signals' points, coloured
         self.updates = 0                                        #: states drawn (the benchmark's update rate)
-        self._last: np.ndarray | None = None                    #: the newest row drawn
+        self._last: tuple[np.ndarray, Any, np.ndarray] | None = None  #: the newest row drawn, its geoms and flange
         self._stale = False                                     #: the caption's words changed since it was drawn
+        if poser is not None:  # the cell travels once, in the poser: its geoms are drawn from it here
+            scene.add_cell(poser.shapes(), poser.poses(poser.qpos))
 
     def set_tool(self, number: int, tool: np.ndarray | None) -> None:
         self.tools[number] = tool
@@ -58,36 +61,36 @@ class StreamDrawer:
         if not len(rows):
             if not self._stale or self._last is None:
                 return False
-            self._show(self._last)  # the words came after the pose they belong with
+            self._show(*self._last)  # the words came after the pose they belong with
             return True
         trace = []
-        process: dict[str, list[tuple[np.ndarray, float]]] = {}
-        for row in rows:
-            tcp = self._tcp(self._flange(row), row)[:3, 3].copy()
+        for number, row in enumerate(rows, start=1 - len(rows)):
+            if number < 0:
+                frames, flange = None, self._flange(row)
+            else:  # the last row is drawn whole: its geoms come from the same forward kinematics as its flange
+                frames, flange = self._place(row)
+            tcp = self._tcp(flange, row)[:3, 3].copy()
             trace.append(tcp)
-            for column, name in enumerate(TRACED, start=SIGNALS):
-                if not math.isnan(row[column]):
-                    process.setdefault(name, []).append((tcp, float(row[column])))
+            self.process.sample(dict(zip(TRACED, row[SIGNALS:PAYLOAD])), tcp)
         self.scene.extend_trace(trace)
-        for name, points in process.items():
-            colours = error_colours(np.array([value for _, value in points]), TRACED[name])
-            self.scene.extend_process(name, [p for p, _ in points], colours)
-        self._show(rows[-1])
+        for name, points, colours in self.process.take_points():
+            self.scene.extend_process(name, points, colours)
+        self._show(rows[-1], frames, flange)
         return True
 
-    def _show(self, last: np.ndarray) -> None:
-        """The robot, the flange and the caption at one row."""
-        self._last, self._stale = last, False
+    def _place(self, row: np.ndarray) -> tuple[Any, np.ndarray]:
+        """The geoms (None without a cell) and the flange at a row."""
         if self.poser is not None:
-            frames, flange = self.poser.place(last[PAYLOAD:], float(last[TIME]))
-        else:
-            frames, flange = None, self._flange(last)
+            return self.poser.place(row[PAYLOAD:], float(row[TIME]))  # type: ignore[no-any-return]
+        return None, self._flange(row)
+
+    def _show(self, last: np.ndarray, frames: Any, flange: np.ndarray) -> None:
+        """The robot, the flange and the caption at one row (placed by the caller)."""
+        self._last, self._stale = (last, frames, flange), False
         line = int(last[LINE])
-        caption = caption_text(float(last[TIME]), line if line > 0 and self.lines else None, self.lines)
-        caption += f"\n\nTCP {shown_pose(Pose.from_matrix(self._tcp(flange, last))).text()}"
-        if self.process_caption:
-            caption += f"\n\n{self.process_caption}"
-        self.scene.show(frames, flange, caption)
+        self.scene.show(frames, flange, state_caption(float(last[TIME]), line if line > 0 and self.lines else None,
+                                                      self.lines, Pose.from_matrix(self._tcp(flange, last)),
+                                                      self.process_caption))
         self.updates += 1
 
     def close(self) -> None:

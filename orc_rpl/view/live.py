@@ -1,25 +1,24 @@
-"""The view of a run: follows the robot, the planned paths, the positions and the statement, at a steady wall-clock rate."""
+"""The view of a robot and its program: the cell, the world, the positions and the planned paths drawn and kept as they
+are; a run's motion cycles feed its streamed form (view/streamed.py)."""
 
 from __future__ import annotations
 
-import time
+from collections.abc import Callable
 from functools import partial
 from typing import Any
 
 import numpy as np
 
 from orc_rpl.executive.executive import Executive
-from orc_rpl.executive.report import MonitoredRobot
-from orc_rpl.plant.shapes import Frames, cell_frames, cell_poses, cell_shapes
+from orc_rpl.plant.shapes import cell_poses, cell_shapes
 from orc_rpl.view.framing import frame_work
 from orc_rpl.view.positions import declared_names, world_transforms
-from orc_rpl.view.process import TRACED, ProcessOverlay, ProcessState, error_colours, process_record
+from orc_rpl.view.process import ProcessOverlay, ProcessState
 from orc_rpl.view.scene import FLANGE_NODE, CellScene
-from orc_rpl.view.sender import Sender
 from orc_rpl.world.objects import FLANGE, PREDEFINED
-from orc_rpl.world.pose import shown_pose
+from orc_rpl.world.pose import Pose, shown_pose
 
-#: Updates per second of wall-clock time the view sends at most (the robot, the trace, the caption).
+#: Updates per second of wall-clock time the view draws at most (the robot, the trace, the caption).
 RATE_HZ = 40.0
 #: The TCP trace takes a point every this many motion cycles (simulated time, so it is the same paced or fast).
 TRACE_EVERY_TICKS = 5
@@ -46,33 +45,61 @@ def caption_text(time_s: float, line: int | None, lines: list[str]) -> str:
     return f"t = {time_s:.2f} s · line {line}: {text}"
 
 
-class LiveView:
-    """Attach to a run (`attach`), let the executive drive `monitor(robot)`, call `finish()` at the end.
+def state_caption(time_s: float, line: int | None, lines: list[str], tcp: Pose, process: str = "") -> str:
+    """The view's caption: where the program is, the measured TCP as `orc run` shows it, the processes' line."""
+    caption = f"{caption_text(time_s, line, lines)}\n\nTCP {shown_pose(tcp).text()}"
+    return f"{caption}\n\n{process}" if process else caption
 
-    It reads the plant, the motion layer's planned-path signal and the executive's variables; it commands nothing.
+
+class Direct:
+    """Runs the scene's calls at once in the caller's thread (for a scene in the view's own process, each is one
+    message into its socket). A view whose scene failed (its process has gone) stops; the run goes on."""
+
+    def __init__(self) -> None:
+        self.error: BaseException | None = None
+
+    def always(self, job: Callable[[], None]) -> None:
+        if self.error is None:
+            try:
+                job()
+            except Exception as error:  # the view's process is gone: the robot must not stop for it
+                self.error = error
+
+    latest = always
+
+    def drain(self) -> None:
+        """Nothing waits: each call was sent when it was made."""
+
+    def close(self) -> None:
+        """Nothing to stop."""
+
+
+class LiveView:
+    """Attach to a robot and its program (`attach`), call `finish()` at the end. It draws the cell, the world, the
+    declared positions (as they are taught and touched up, `update`) and the planned paths, and follows the pendant's
+    executive after each edit; it reads the plant, the motion layer's planned-path signal and the executive's
+    variables, and commands nothing. By itself it is the still view (`orc view`); a run's view
+    (streamed.StreamedView) also listens to the robot's motion cycles (`monitor(robot)` calls its `on_tick`).
     """
 
     def __init__(self, scene: CellScene | Any, executive: Executive, robot: Any, world: Any = None,
                  rate_hz: float = RATE_HZ) -> None:
         self.scene, self.executive, self.robot, self.world = scene, executive, robot, world
         self.period_s = 1.0 / rate_hz
-        self.updates = 0                          #: updates sent so far (the benchmark's rate)
+        self.updates = 0                          #: states drawn so far (the benchmark's rate)
         self._cell = sim_cell(robot)
         self._names: tuple[str, ...] = ()
         self._seen: dict[str, Any] = {}
         self._labels: set[str] = set()            #: positions of the program on screen (the world's stay)
-        self._next_wall_s = 0.0
-        self._ticks = 0
-        self._trace_new: list[np.ndarray] = []
-        self._tool: tuple[Any, np.ndarray | None] = (None, None)
-        self._tools_mounted = False                #: a world object rides on the flange: the flange is sent too
-        self._lines: tuple[str | None, list[str]] = (None, [])   #: the program's source and its lines (the caption)
+        self._ticks = 0                           #: motion cycles seen
+        self._tools_mounted = False                #: a world object rides on the flange: the flange is drawn too
         self.process = ProcessOverlay()
+        self._listening: list[Any] = []           #: the tick listeners of the robot watched (monitor)
         self.sender = self._sender()
 
     def _sender(self) -> Any:
-        """Who runs the scene's calls: a thread of the view's (the scene may take its time; the cycle never waits)."""
-        return Sender()
+        """Who runs the scene's calls: at once, in the caller's thread."""
+        return Direct()
 
     # -- setting up ---------------------------------------------------------------------------
 
@@ -80,8 +107,7 @@ class LiveView:
         """Draw the cell, the world and what is declared so far; listen to the planned paths; aim the camera."""
         self.executive.tracing = True  # the program pointer follows every statement (the caption)
         self._names = declared_names(program)
-        if self._cell is not None:
-            self.scene.add_cell(cell_shapes(self._cell), cell_poses(self._cell))
+        self._add_cell()
         layer = self.robot.layer
         reach = [np.zeros(3), layer.fk(layer.current_q())[:3, 3]]
         if self.world is not None:
@@ -89,6 +115,11 @@ class LiveView:
         layer.plan_listeners.append(self._planned)
         self.scene.frame_camera(frame_work(np.array(reach)))
         self.update()
+
+    def _add_cell(self) -> None:
+        """The simulated cell's geoms where they stand."""
+        if self._cell is not None:
+            self.scene.add_cell(cell_shapes(self._cell), cell_poses(self._cell))
 
     def _add_world(self) -> list[np.ndarray]:
         """Draw the world's objects and named frames; where the objects standing in the cell are (the camera's aim)."""
@@ -128,58 +159,19 @@ class LiveView:
         self.update()
 
     def monitor(self, robot: Any) -> Any:
-        """The robot the executive should drive: the same robot, whose ticks also feed the view."""
-        return MonitoredRobot(robot, 1, self.on_tick)
-
-    # -- each motion cycle ---------------------------------------------------------------------
+        """Listen to the robot's motion cycles (its `tick_listeners`) until finish(); the robot for the executive to
+        drive is the robot itself, no wrapper."""
+        robot.tick_listeners.append(self.on_tick)
+        self._listening = robot.tick_listeners
+        return robot
 
     def on_tick(self) -> None:
+        """One motion cycle of the robot watched (monitor), counted; a run's view stores a sample every few."""
         self._ticks += 1
-        if self._ticks % TRACE_EVERY_TICKS == 0:
-            tcp = self._tcp_m()
-            self._trace_new.append(tcp)
-            self.process.sample(process_record(self.executive.machine.robot), tcp)
-        if time.perf_counter() >= self._next_wall_s:
-            self.update()
-
-    def _tcp_m(self) -> np.ndarray:
-        tool = self.executive.machine.last_tool
-        if tool is not self._tool[0]:
-            self._tool = (tool, None if tool is None else tool.matrix())
-        layer = self.robot.layer
-        flange = layer.fk(layer.current_q())
-        if self._tool[1] is None:
-            return flange[:3, 3].copy()
-        # the tool's offset applied here: the motion layer's fk with a tool checks it each call (four times the cost)
-        return flange[:3, :3] @ self._tool[1][:3, 3] + flange[:3, 3]
 
     def update(self) -> None:
-        """Hand the robot's pose, the trace, new positions and the caption to the sending thread now.
-
-        Only copies are taken here, in the motion cycle; turning them into what the browser gets (quaternions, text)
-        is the sending thread's work.
-        """
-        self._next_wall_s = time.perf_counter() + self.period_s
-        frames = cell_frames(self._cell) if self._cell is not None else None
-        flange = self.robot.layer.fk(self.robot.layer.current_q()) if self._tools_mounted else None
+        """Show what changed now: positions declared, taught or touched up."""
         self._show_new_positions()
-        if self._trace_new:
-            self.sender.always(partial(self.scene.extend_trace, self._trace_new))
-            self._trace_new = []
-        executive = self.executive
-        record = process_record(executive.machine.robot)
-        process = self.process.state(record)
-        for name, points in self.process.take_points().items():
-            colours = error_colours(np.array([value for _, value in points]), TRACED[name])
-            self.sender.always(partial(self.scene.extend_process, name, [p for p, _ in points], colours))
-        tcp = self.robot.tcp_pose(executive.machine.last_tool)
-        if self._lines[0] is not executive.source:
-            self._lines = (executive.source, executive.source.splitlines() if executive.source is not None else [])
-        line = executive.pointer.line if executive.pointer is not None and self._lines[1] else None
-        if process is not None and process.welds:
-            self.sender.always(partial(self._show_welds, process))
-        self.sender.latest(partial(self._show_state, frames, flange, tcp, self.robot.time_s(), line, self._lines[1],
-                                   process.caption if process is not None else ""))
 
     def _show_new_positions(self) -> None:
         """Positions declared, taught or touched up since the last look (the variables' values are compared by identity)."""
@@ -196,23 +188,14 @@ class LiveView:
         for number, weld in enumerate(process.welds, start=process.first_weld):
             self.scene.add_weld(number, weld.position_m, weld.good, weld.reason)
 
-    def _show_state(self, frames: Frames | None, flange: np.ndarray | None, tcp: Any, time_s: float,
-                    line: int | None, lines: list[str], process: str = "") -> None:
-        caption = f"{caption_text(time_s, line, lines)}\n\nTCP {shown_pose(tcp).text()}"
-        if process:
-            caption += f"\n\n{process}"
-        self.scene.show(frames, flange, caption)
-        self.updates += 1
-
     def highlight(self, position: str | None = None, move_id: int | None = None) -> None:
         """Show a selected position and a move's planned path (the pendant's selection and program pointer)."""
         self.sender.always(partial(self.scene.highlight, position, move_id))
 
     def finish(self) -> None:
-        """Show the last state of the run, whatever the rate, and wait until it is sent; stop listening."""
-        self._trace_new.append(self._tcp_m())
-        self.update()
-        self.sender.close()
+        """Stop listening to the robot's motion cycles and planned paths."""
+        if self.on_tick in self._listening:
+            self._listening.remove(self.on_tick)
         listeners = self.robot.layer.plan_listeners
         if self._planned in listeners:
             listeners.remove(self._planned)

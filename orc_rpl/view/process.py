@@ -4,6 +4,7 @@ error, and a caption line, all read from the applications' process record (it co
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -40,12 +41,12 @@ class ProcessOverlay:
         self._welds_seen = 0
         self.points: dict[str, list[tuple[np.ndarray, float]]] = {name: [] for name in TRACED}  #: not sent yet
 
-    def sample(self, record: ProcessLog | None, tcp_m: np.ndarray) -> None:
-        """Where the TCP is while a traced signal is measured (NaN: no process runs, nothing drawn)."""
-        if record is None:
+    def sample(self, signals: Mapping[str, float] | None, tcp_m: np.ndarray) -> None:
+        """Where the TCP is while a traced signal is measured (None, NaN: no process runs, nothing drawn)."""
+        if signals is None:
             return
         for name in TRACED:
-            value = record.signals.get(name, math.nan)
+            value = signals.get(name, math.nan)
             if not math.isnan(value):
                 self.points[name].append((tcp_m, float(value)))
 
@@ -58,9 +59,10 @@ class ProcessOverlay:
         self._welds_seen = len(record.welds)
         return ProcessState(welds, first, caption_line(record))
 
-    def take_points(self) -> dict[str, list[tuple[np.ndarray, float]]]:
-        """The sampled points not handed over yet (and forget them)."""
-        taken = {name: points for name, points in self.points.items() if points}
+    def take_points(self) -> list[tuple[str, list[np.ndarray], np.ndarray]]:
+        """The sampled points not handed over yet, each signal's with their colours (RGB 0..255); forget them."""
+        taken = [(name, [p for p, _ in points], error_colours(np.array([value for _, value in points]), TRACED[name]))
+                 for name, points in self.points.items() if points]
         self.points = {name: [] for name in TRACED}
         return taken
 

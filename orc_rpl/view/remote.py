@@ -86,7 +86,7 @@ class RemoteScene:
     """Stands for the CellScene in the view's process: each call is one message down the socket, in order.
 
     Calls come from the thread that sets a view up and, for the rare events of a streamed view (a planned path, a
-    position, a weld, a new tool, the process caption), from the motion cycle itself (view/streamed.py's Direct):
+    position, a weld, a new tool, the process caption), from the motion cycle itself (view/live.py's Direct):
     a send there waits while the socket's buffer is full. The lock keeps the messages whole.
     """
 

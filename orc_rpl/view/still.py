@@ -26,7 +26,7 @@ def show_still(server: Any, world: Any, program: n.Program | None, registry: Any
     if executive.status == "failed":
         raise OrcError(executive.report())
     view = LiveView(CellScene(server), executive, cell_robot, world)
-    view.attach(shown)
-    view.sender.close()  # everything is drawn when this returns; nothing moves, so its thread stops (it would poll on)
-    view.scene.set_caption(caption)
+    view.attach(shown)  # drawn when this returns: nothing moves, nothing runs on
+    layer = cell_robot.layer
+    view.scene.show(None, layer.fk(layer.current_q()), caption)  # the tools on the flange where it stands
     return view

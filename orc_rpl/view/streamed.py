@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
 from functools import partial
 from typing import Any
 
@@ -21,29 +20,6 @@ EVENTS_HZ = 10.0
 _SIGNALS = tuple(TRACED)
 
 
-class Direct:
-    """Runs the scene's calls at once in the caller's thread: each is one message into the view's socket. A view
-    whose process has gone stops; the run goes on."""
-
-    def __init__(self) -> None:
-        self.error: BaseException | None = None
-
-    def always(self, job: Callable[[], None]) -> None:
-        if self.error is None:
-            try:
-                job()
-            except Exception as error:  # the view's process is gone: the robot must not stop for it
-                self.error = error
-
-    latest = always
-
-    def drain(self) -> None:
-        """Nothing waits: each call was sent when it was made."""
-
-    def close(self) -> None:
-        """Nothing to stop."""
-
-
 class StreamedView(LiveView):
     """A LiveView whose per-cycle part is a few array stores into shared memory, for a scene in the view's own process
     (`remote.ViewProcess.scene`). Its robot's `tick_listeners` (CellRobot, PendantRobot) call it, so the executive
@@ -53,15 +29,11 @@ class StreamedView(LiveView):
         super().__init__(scene, executive, robot, world, rate_hz)
         self.writer: StreamWriter | None = None
         self._qpos = None if self._cell is None else live_qpos(self._cell)
-        self._listening: list[Callable[[], None]] | None = None
         self._tool_sent: Any = None
         self._tool_number = 0
         self._next_events_s = 0.0
         self._source: Any = self   # never the executive's source: the first look sends the program's lines
         self._process_caption = ""
-
-    def _sender(self) -> Direct:
-        return Direct()
 
     def attach(self, program: Any) -> None:
         poser = None if self._cell is None else CellPoser(self._cell)
@@ -69,14 +41,8 @@ class StreamedView(LiveView):
         self.sender.always(partial(self.scene.stream_open, self.writer.name, poser, 1.0 / self.period_s))
         super().attach(program)
 
-    def monitor(self, robot: Any) -> Any:
-        """Listen to the robot's ticks where it has listeners (no wrapper on the executive's calls), else wrap it."""
-        listeners = getattr(self.robot, "tick_listeners", None)
-        if listeners is None:
-            return super().monitor(robot)
-        listeners.append(self.on_tick)
-        self._listening = listeners
-        return robot
+    def _add_cell(self) -> None:
+        """Nothing to send: the view's process draws the cell from the poser the stream opened with."""
 
     # -- each motion cycle -------------------------------------------------------------------
 
@@ -133,11 +99,7 @@ class StreamedView(LiveView):
 
     def finish(self) -> None:
         """Store the last state, wait until the view's process has drawn it, stop listening, free the stream."""
-        if self._listening is not None and self.on_tick in self._listening:
-            self._listening.remove(self.on_tick)
-        listeners = self.robot.layer.plan_listeners
-        if self._planned in listeners:
-            listeners.remove(self._planned)
+        super().finish()
         if self.writer is None:
             return
         self.update()

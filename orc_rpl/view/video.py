@@ -13,7 +13,6 @@ from PIL import Image, ImageDraw, ImageFont
 
 from orc_rpl.errors import UsageError
 from orc_rpl.executive.executive import Executive
-from orc_rpl.executive.report import MonitoredRobot
 from orc_rpl.plant.camera import OffscreenCamera
 from orc_rpl.view.framing import Framing
 from orc_rpl.view.live import sim_cell, statement_caption
@@ -31,7 +30,7 @@ def frames_for(duration_s: float, fps: int = FPS) -> int:
 
 
 class VideoRecorder:
-    """Film a run: `monitor(robot)` for the executive to drive, `close()` at the end (also after a failure)."""
+    """Film a run: `monitor(robot)` listens to its motion cycles, `close()` at the end (also after a failure)."""
 
     def __init__(self, path: str | Path, executive: Executive, robot: Any, framing: Framing, fps: int = FPS,
                  size: tuple[int, int] = (WIDTH, HEIGHT)) -> None:
@@ -40,6 +39,7 @@ class VideoRecorder:
             raise UsageError("--video films the simulated cell; this robot has none")
         self.executive, self.robot, self.fps = executive, robot, fps
         self.frames = 0                                   #: frames written so far
+        self._listening: list[Any] = []                   #: the tick listeners of the robot filmed
         self.camera = OffscreenCamera(cell, *size)
         self.camera.aim(framing.lookat_m, framing.distance_m, framing.azimuth_deg, framing.elevation_deg)
         self.executive.tracing = True  # the caption follows every statement
@@ -59,8 +59,10 @@ class VideoRecorder:
         self._write()  # the cell as it stands before anything moves
 
     def monitor(self, robot: Any) -> Any:
-        """The robot the executive should drive: the same robot, whose ticks also film."""
-        return MonitoredRobot(robot, 1, self.on_tick)
+        """Film `robot`'s motion cycles from now on (it calls on_tick) until close(); the robot for the executive."""
+        robot.tick_listeners.append(self.on_tick)
+        self._listening = robot.tick_listeners
+        return robot
 
     def on_tick(self) -> None:
         while self.robot.time_s() >= self.frames / self.fps - CLOCK_EPS_S:
@@ -77,7 +79,9 @@ class VideoRecorder:
         self.frames += 1
 
     def close(self) -> None:
-        """Finish the file, put it in its place and free the renderer."""
+        """Stop filming, finish the file, put it in its place and free the renderer."""
+        if self.on_tick in self._listening:
+            self._listening.remove(self.on_tick)
         try:
             self._writer.close()
             os.chmod(self._temporary, _mode_for(self.path))

@@ -55,13 +55,12 @@ class Watchers:
             self._linger()
             self._linger = None
 
-    def monitor(self, robot: Any) -> Any:
-        """The robot for the executive to drive: its ticks feed the view and the video."""
+    def monitor(self, robot: Any) -> None:
+        """Let the view and the video listen to the robot's motion cycles until they are closed."""
         if self.live is not None:
-            robot = self.live.monitor(robot)
+            self.live.monitor(robot)
         if self.video is not None:
-            robot = self.video.monitor(robot)
-        return robot
+            self.video.monitor(robot)
 
 
 def world_of(program_path: str, world_option: str | None) -> World | None:

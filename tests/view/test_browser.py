@@ -24,8 +24,9 @@ from orc_rpl.executive.cell_robot import CellRobot  # noqa: E402
 from orc_rpl.executive.executive import Executive  # noqa: E402
 from orc_rpl.plant.shapes import cell_poses  # noqa: E402
 from orc_rpl.transform.loading import load_program  # noqa: E402
-from orc_rpl.view.live import LiveView, sim_cell  # noqa: E402
+from orc_rpl.view.live import sim_cell  # noqa: E402
 from orc_rpl.view.remote import ViewProcess  # noqa: E402
+from orc_rpl.view.streamed import StreamedView  # noqa: E402
 from orc_rpl.world.pose import shown_pose  # noqa: E402
 
 pytestmark = pytest.mark.sim
@@ -52,7 +53,7 @@ def test_browser_shows_the_run_where_the_recording_says() -> None:
     executive = Executive(program, robot, registry, path=str(PROGRAM), source=source, output=lambda line: None)
     server = ViewProcess("127.0.0.1", 0)  # the server in its own process, as `orc run --view` has it
     try:
-        view = LiveView(server.scene, executive, robot)
+        view = StreamedView(server.scene, executive, robot)
         view.attach(program)
         foreign: list[str] = []
         with sync_playwright() as p:
@@ -61,7 +62,7 @@ def test_browser_shows_the_run_where_the_recording_says() -> None:
             page.on("request", lambda r: None if urlsplit(r.url).hostname in (None, "127.0.0.1") else foreign.append(r.url))
             page.goto(server.url)
             page.get_by_text("t = ").first.wait_for(timeout=120_000)  # the page is connected: the caption arrived
-            executive.machine.robot = view.monitor(robot)
+            view.monitor(robot)
             assert executive.run() == "finished"
             view.finish()
             page.get_by_text(f"t = {robot.time_s():.2f} s").first.wait_for(timeout=120_000)  # the last update arrived

@@ -20,9 +20,10 @@ from orc_rpl.pendant.commands import run_line  # noqa: E402
 from orc_rpl.pendant.robot import PendantRobot  # noqa: E402
 from orc_rpl.pendant.session import PendantSession  # noqa: E402
 from orc_rpl.plant.shapes import cell_poses  # noqa: E402
-from orc_rpl.view.live import LiveView, sim_cell  # noqa: E402
-from orc_rpl.view.scene import HIGHLIGHT_RGB, HIGHLIGHT_SCALE, PATH_RGB, CellScene  # noqa: E402
-from orc_rpl.view.server import close_server, open_server  # noqa: E402
+from orc_rpl.view.live import sim_cell  # noqa: E402
+from orc_rpl.view.remote import ViewProcess  # noqa: E402
+from orc_rpl.view.scene import HIGHLIGHT_RGB, HIGHLIGHT_SCALE, PATH_RGB  # noqa: E402
+from orc_rpl.view.streamed import StreamedView  # noqa: E402
 
 pytestmark = pytest.mark.sim
 
@@ -47,28 +48,27 @@ def test_the_view_follows_the_pendant_in_a_browser(tmp_path: Path) -> None:
     path.write_text(FRAME_PROGRAM, encoding="utf-8")
     robot = PendantRobot.virtual()  # the servo backend: a MuJoCo cell to draw
     session = PendantSession(path, robot=robot)
-    server = open_server(port=0)
+    server = ViewProcess("127.0.0.1", 0)  # the server in its own process, as `orc pendant --view` has it
     try:
-        live = LiveView(CellScene(server), session.execution.executive(), robot)
+        live = StreamedView(server.scene, session.execution.executive(), robot)
         live.attach(session.editor.program)
         session.show_in(live)
-        scene = live.scene
         with sync_playwright() as p:
             browser = p.chromium.launch(executable_path=executable, args=CHROMIUM_ARGS)
             page = browser.new_page(viewport={"width": 640, "height": 480})
-            page.goto(f"http://127.0.0.1:{server.get_port()}")
+            page.goto(server.url)
             page.get_by_text("t = ").first.wait_for(timeout=120_000)
 
             # the cursor on a motion: its target is highlighted
             _say(session, f":goto {LINE_MOVE_POS1}")
-            live.sender.drain()
+            scene = server.scene.snapshot()
             assert scene.positions["pos1"].scale == pytest.approx(HIGHLIGHT_SCALE)
             assert scene.positions["pos0"].scale == pytest.approx(1.0)
 
             # stepping the statement: the robot's links follow the plant; the path it planned is drawn
             _say(session, ":pp")
             _say(session, ":step")
-            live.sender.drain()
+            scene = server.scene.snapshot()
             poses = cell_poses(sim_cell(robot))
             for index, node in scene.moving.items():
                 np.testing.assert_allclose(node.position, poses.position_m[index], atol=1e-6)
@@ -79,7 +79,7 @@ def test_the_view_follows_the_pendant_in_a_browser(tmp_path: Path) -> None:
             # the pointer back on that statement: its motion is the blue one
             _say(session, f":goto {LINE_MOVE_POS1}")
             _say(session, ":pp")
-            live.sender.drain()
+            scene = server.scene.snapshot()
             colours = scene.paths[step_move].colors
             assert tuple(colours[0, 0]) == HIGHLIGHT_RGB
             assert all(tuple(node.colors[0, 0]) == PATH_RGB for key, node in scene.paths.items() if key != step_move)
@@ -88,7 +88,7 @@ def test_the_view_follows_the_pendant_in_a_browser(tmp_path: Path) -> None:
             _say(session, ":jog world z +50mm")
             _say(session, ":goto 1")
             _say(session, ":teach corner")
-            live.sender.drain()
+            scene = server.scene.snapshot()
             poses = cell_poses(sim_cell(robot))
             for index, node in scene.moving.items():  # viser skips a move within 1e-5 relative: 10 um at 1 m
                 np.testing.assert_allclose(node.position, poses.position_m[index], atol=1e-4)
@@ -97,10 +97,10 @@ def test_the_view_follows_the_pendant_in_a_browser(tmp_path: Path) -> None:
             line = session.editor.text.splitlines().index(next(t for t in session.editor.text.splitlines()
                                                                if t.startswith("POS corner"))) + 1
             _say(session, f":goto {line}")
-            live.sender.drain()
+            scene = server.scene.snapshot()
             assert scene.positions["corner"].scale == pytest.approx(HIGHLIGHT_SCALE)
             _say(session, ":delete")
-            live.sender.drain()
+            scene = server.scene.snapshot()
             assert "corner" not in scene.positions
             assert {"pos0", "pos1", "pos2", "pos3", "base_plate"} <= set(scene.positions)
 
@@ -111,7 +111,7 @@ def test_the_view_follows_the_pendant_in_a_browser(tmp_path: Path) -> None:
     finally:
         session.close()
         live.finish()
-        close_server(server)
+        server.close()
     from io import BytesIO
 
     from PIL import Image

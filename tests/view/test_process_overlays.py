@@ -14,16 +14,16 @@ from orc_rpl.executive.cell_robot import CellRobot  # noqa: E402
 from orc_rpl.executive.executive import Executive  # noqa: E402
 from orc_rpl.executive.sim_io import load_script, script_path  # noqa: E402
 from orc_rpl.transform.loading import load_program  # noqa: E402
-from orc_rpl.view.live import LiveView  # noqa: E402
 from orc_rpl.view.process import TRACED, error_colours, process_record  # noqa: E402
-from orc_rpl.view.scene import BAD_RGB, GOOD_RGB, CellScene  # noqa: E402
-from orc_rpl.view.server import close_server, open_server  # noqa: E402
+from orc_rpl.view.remote import Picture, ViewProcess  # noqa: E402
+from orc_rpl.view.scene import BAD_RGB, GOOD_RGB  # noqa: E402
+from orc_rpl.view.streamed import StreamedView  # noqa: E402
 
 pytestmark = pytest.mark.sim
 
 
-def _watch(name: str) -> tuple[LiveView, Executive]:
-    """Run an on-line demo (its IO script installed) with the view watching; the view after the run."""
+def _watch(name: str) -> tuple[Picture, Executive]:
+    """Run an on-line demo (its IO script installed) with the view watching; what the view shows after the run."""
     path = ROOT / "programs" / "online" / name
     source, program = load_program(path)
     robot = CellRobot.virtual(plant="ideal")
@@ -31,32 +31,33 @@ def _watch(name: str) -> tuple[LiveView, Executive]:
     script = script_path(path)
     if script is not None:
         load_script(script, robot.io, lambda: robot.tcp_pose(executive.machine.last_tool))
-    server = open_server(port=0)
+    server = ViewProcess("127.0.0.1", 0)  # the server in its own process, as `orc run --view` has it
     try:
-        view = LiveView(CellScene(server), executive, robot)
+        view = StreamedView(server.scene, executive, robot)
         view.attach(program)
-        executive.machine.robot = view.monitor(robot)
+        view.monitor(robot)
         assert executive.run() == "finished", executive.report()
         view.finish()
+        shown = server.scene.snapshot()
     finally:
-        close_server(server)
-    return view, executive
+        server.close()
+    return shown, executive
 
 
 def test_weld_spots_are_drawn_where_the_gun_closed_with_their_quality() -> None:
-    view, executive = _watch("demo_spot_welding.rpl")
+    shown, executive = _watch("demo_spot_welding.rpl")
     welds = process_record(executive.machine.robot).welds
-    assert len(welds) == 6 and len(view.scene.welds) == 6
+    assert len(welds) == 6 and len(shown.welds) == 6
     for number, weld in enumerate(welds, start=1):
-        spot = view.scene.welds[number]
+        spot = shown.welds[number]
         np.testing.assert_allclose(spot.position, weld.position_m, atol=1e-9)
         assert tuple(spot.color) == (GOOD_RGB if weld.good else BAD_RGB)
-    assert "welds 6 good, 0 bad" in view.scene._caption.content
+    assert "welds 6 good, 0 bad" in shown.caption
 
 
 def test_the_ground_edge_is_drawn_coloured_by_the_error_along_the_normal() -> None:
-    view, executive = _watch("thesis_3_1_deburring.rpl")
-    points, colours = view.scene.process["normal_error_m"]
+    shown, executive = _watch("thesis_3_1_deburring.rpl")
+    points, colours = shown.process["normal_error_m"]
     assert len(points) > 50 and len(colours) == len(points)
     # each point is where the TCP was: on the edge the program grinds, between its two ends
     xyz = np.array(points)
@@ -66,4 +67,4 @@ def test_the_ground_edge_is_drawn_coloured_by_the_error_along_the_normal() -> No
     bulges = process_record(executive.machine.robot).bulges
     last = bulges[-1]
     assert f"bulge {1000 * last.caught_height_m:.2f} mm before, {1000 * last.left_m:.2f} mm after" \
-        in view.scene._caption.content
+        in shown.caption

@@ -6,6 +6,7 @@ import subprocess
 import sys
 import threading
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -79,7 +80,8 @@ pytest.importorskip("viser", reason="the 3D view is the [view] extra")
 from orc_rpl.application.standard_behaviour import runtime_registry  # noqa: E402
 from orc_rpl.executive.cell_robot import CellRobot  # noqa: E402
 from orc_rpl.executive.executive import Executive  # noqa: E402
-from orc_rpl.plant.shapes import cell_poses  # noqa: E402
+from orc_rpl.plant.posing import CellPoser  # noqa: E402
+from orc_rpl.plant.shapes import Shape, cell_poses  # noqa: E402
 from orc_rpl.transform.loading import load_program  # noqa: E402
 from orc_rpl.view.live import sim_cell  # noqa: E402
 from orc_rpl.view.remote import ViewProcess  # noqa: E402
@@ -95,6 +97,26 @@ MOVE gripper TO b
 """
 
 
+class Counted:
+    """A view's scene that remembers the messages sent through it (name and arguments) and passes them on."""
+
+    def __init__(self, scene: Any) -> None:
+        self.scene, self.sent = scene, []
+
+    def __getattr__(self, name: str) -> Any:
+        call = getattr(self.scene, name)
+
+        def counted(*args: Any) -> Any:
+            self.sent.append((name, args))
+            return call(*args)
+        return counted
+
+
+def _carries_the_cell(args: tuple[Any, ...]) -> bool:
+    """A message's arguments hold the compiled cell (a poser of it) or its geoms."""
+    return any(isinstance(a, CellPoser) or (isinstance(a, tuple) and a and isinstance(a[0], Shape)) for a in args)
+
+
 @pytest.mark.sim
 def test_the_views_process_draws_the_runs_latest_pose_from_the_stream(tmp_path: Path) -> None:
     path = tmp_path / "two.rpl"
@@ -105,8 +127,10 @@ def test_the_views_process_draws_the_runs_latest_pose_from_the_stream(tmp_path: 
     server = ViewProcess("127.0.0.1", 0)
     try:
         threads = threading.active_count()
-        view = StreamedView(server.scene, executive, robot)
+        scene = Counted(server.scene)
+        view = StreamedView(scene, executive, robot)
         view.attach(program)
+        assert sum(_carries_the_cell(args) for _, args in scene.sent) == 1, "the cell is sent once"
         assert view.monitor(robot) is robot, "the executive drives the robot itself, no wrapper"
         assert threading.active_count() == threads, "the view starts no thread in the run's process"
         assert executive.run() == "finished"
