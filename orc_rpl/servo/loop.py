@@ -171,7 +171,7 @@ class ServoLoop:
         servo, cell, law = self.servo, self.cell, self.state_feedback
         rnea, sel = servo._inverse_dynamics, law.joints
         law.friction = servo.friction_in_use()
-        law.schedule(cell.q)
+        law.schedule(cell.q, qd_ref[0])
         for i in range(len(q_ref)):
             q, qd = np.array(cell.q), np.array(cell.qd)   # copies: the cell overwrites its measurements
             tau_ff = np.array(rnea(q_ref[i], qd_ref[i], qdd_ref[i]))

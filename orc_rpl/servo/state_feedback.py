@@ -17,10 +17,9 @@ LINK_BANDWIDTH_RAD_S = 80.0
 #: The LQR's weight on the motor's angle and speed errors, as a share of the link's (the rotor's own mode is
 #: damped through them; the link's error is what the tool shows).
 MOTOR_WEIGHT = 0.1
-#: Link inertias the gains are designed for: this many values per joint, log-spaced from LINK_SPAN[0] times the
-#: model's smallest M_ii - J_rotor to LINK_SPAN[1] times its largest (payloads included), interpolated between.
-GRID_POINTS = 24
-LINK_SPAN = (0.5, 2.0)
+#: Riccati iterations (the LQR's and the Kalman filter's) per motion cycle on the model of the pose then, from the
+#: last cycle's solutions: the gains follow the pose (the filter's, one iteration a step, is the time-varying one).
+RICCATI_ITERATIONS = 4
 #: The Kalman observer's assumptions (1 sigma): torques on the rotor and on the link the model does not know,
 #: as white noise (N m sqrt(s)), the link's unknown torque as a random walk (N m / sqrt(s)), the encoder's angle
 #: (rad) and the drive's speed measurement (rad/s).
@@ -43,52 +42,57 @@ STATE_FEEDBACK_BELOW_RAD_S = 160.0
 FRICTION_POSITION_GAIN_1_S = 40.0
 
 
-def two_mass_model(rotor_kg_m2: float, link_kg_m2: float, stiffness_nm_rad: float, damping_nm_s: float,
-                   period_s: float, on_link: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """One joint's two-mass model sampled with the torque held over each period (zero-order hold).
+def slow_joints_model(rotor_kg_m2: np.ndarray, link_inertia: np.ndarray, stiffness_nm_rad: np.ndarray,
+                      damping_nm_s: np.ndarray, on_link: np.ndarray, period_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """The slow joints' two-mass model, their links coupled, sampled with the torques held over each period.
 
-    State (theta, theta', q, q', w): the rotor's angle and speed, the link's, and the link's unknown torque
-    w (constant in the model; on the rotor instead, `on_link=False`: J_r theta'' = ... + w). Inputs (u, b): the motor's torque less the rotor's friction, and the link's
-    torque other than its own inertia's (gravity, Coriolis, the other joints' accelerations):
-    J_r theta'' = u - k (theta - q) - d (theta' - q'),  J_l q'' = k (theta - q) + d (theta' - q') - b + w.
+    State blocks (m joints each): the rotors' angles theta and speeds, the links' q and speeds, and an
+    unknown torque w per joint (constant in the model), on the link where `on_link`, else on the rotor.
+    Inputs: the motors' torques u less the rotors' friction, and b, the links' torques other than their
+    inertia's (gravity, Coriolis, the other joints' accelerations):
+    J_r theta'' = u - K (theta - q) - D (theta' - q') [+ w],  M_l q'' = K (theta - q) + D (theta' - q') - b [+ w],
+    M_l the model's inertia matrix of the slow joints less the rotors (`link_inertia`).
     """
-    k, d, jr, jl = stiffness_nm_rad, damping_nm_s, rotor_kg_m2, link_kg_m2
-    a = np.zeros((7, 7))   # [A B; 0 0]: expm gives (Ad, Bd) at once
-    a[0, 1] = a[2, 3] = 1.0
-    a[1, :4] = (-k / jr, -d / jr, k / jr, d / jr)
-    a[3, :4] = (k / jl, d / jl, -k / jl, -d / jl)
-    a[3 if on_link else 1, 4] = 1.0 / (jl if on_link else jr)
-    a[1, 5], a[3, 6] = 1.0 / jr, -1.0 / jl
-    e = scipy.linalg.expm(a * period_s)
-    return e[:5, :5], e[:5, 5:]
+    m = len(rotor_kg_m2)
+    k, d, inv_rotor = np.diag(stiffness_nm_rad), np.diag(damping_nm_s), np.diag(1.0 / rotor_kg_m2)
+    inv_link = np.linalg.inv(link_inertia)
+    t, td, q, qd, w = (slice(i * m, (i + 1) * m) for i in range(5))
+    a = np.zeros((7 * m, 7 * m))   # [A B; 0 0]: its exponential holds (Ad, Bd)
+    a[t, td] = a[q, qd] = np.eye(m)
+    a[td, t], a[td, td], a[td, q], a[td, qd] = -inv_rotor @ k, -inv_rotor @ d, inv_rotor @ k, inv_rotor @ d
+    a[qd, t], a[qd, td], a[qd, q], a[qd, qd] = inv_link @ k, inv_link @ d, -inv_link @ k, -inv_link @ d
+    a[qd, w] = inv_link * on_link[None, :]
+    a[td, w] = inv_rotor * ~on_link[None, :]
+    a[td, 5 * m : 6 * m], a[qd, 6 * m :] = inv_rotor, -inv_link
+    e = _expm(a * period_s)
+    return e[: 5 * m, : 5 * m], e[: 5 * m, 5 * m :]
 
 
-def lqr_gain(ad: np.ndarray, bd: np.ndarray, rotor_kg_m2: float, link_kg_m2: float,
-             bandwidth_rad_s: float, motor_weight: float | None = None) -> np.ndarray:
-    """The discrete LQR's gain on (theta, theta', q, q') errors: link poles at about `bandwidth_rad_s`.
+def _expm(a: np.ndarray, terms: int = 8) -> np.ndarray:
+    """exp(a) by its series (a: a sampled model, |a| well below 1 per step: the terms fall fast)."""
+    result, term = np.eye(len(a)), np.eye(len(a))
+    for i in range(1, terms + 1):
+        term = term @ a / i
+        result = result + term
+    return result
 
-    The weights are a double integrator's of the whole joint's inertia J (its LQR with weights (J w^2)^2 on
-    the angle and 1 on the torque puts its poles at w with damping 0.7), on the link, and `motor_weight` of
-    it on the rotor.
-    """
-    motor_weight = MOTOR_WEIGHT if motor_weight is None else motor_weight
-    j, w = rotor_kg_m2 + link_kg_m2, bandwidth_rad_s
+
+def lqr_weights(rotor_kg_m2: np.ndarray, link_inertia: np.ndarray, bandwidth_rad_s: float) -> np.ndarray:
+    """The LQR's state weights on (theta, theta', q, q') errors: per joint a double integrator's of its whole inertia
+    J (weights (J w^2)^2 on the angle and 1 on the torque put its poles at w, damping 0.7), on the link, and
+    MOTOR_WEIGHT of it on the rotor."""
+    j, w = rotor_kg_m2 + np.diag(link_inertia), bandwidth_rad_s
     angle, speed = (j * w * w) ** 2, 0.5 * (j * w) ** 2
-    q = np.diag([motor_weight * angle, motor_weight * speed, angle, speed])
-    a4, b4, r = ad[:4, :4], bd[:4, :1], np.eye(1)
-    p = scipy.linalg.solve_discrete_are(a4, b4, q, r)
-    return np.linalg.solve(r + b4.T @ p @ b4, b4.T @ p @ a4)[0]
+    return np.diag(np.concatenate([MOTOR_WEIGHT * angle, MOTOR_WEIGHT * speed, angle, speed]))
 
 
-def kalman_gain(ad: np.ndarray, rotor_kg_m2: float, link_kg_m2: float, period_s: float) -> np.ndarray:
-    """The steady Kalman filter's correction gain (5 x 2) from the encoder's angle and the drive's speed."""
-    c = np.zeros((2, 5))
-    c[0, 0] = c[1, 1] = 1.0
-    qd = np.diag([0.0, (ROTOR_NOISE_NM / rotor_kg_m2) ** 2, 0.0, (LINK_NOISE_NM / link_kg_m2) ** 2,
-                  DISTURBANCE_WALK_NM ** 2]) * period_s
-    rd = np.diag([ANGLE_NOISE_RAD ** 2, SPEED_NOISE_RAD_S ** 2])
-    p = scipy.linalg.solve_discrete_are(ad.T, c.T, qd, rd)   # the prior's covariance
-    return p @ c.T @ np.linalg.inv(c @ p @ c.T + rd)
+def noise_covariances(rotor_kg_m2: np.ndarray, link_inertia: np.ndarray, period_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """The Kalman filter's process noise (per step) and measurement noise covariances (the angles, then the speeds)."""
+    m = len(rotor_kg_m2)
+    process = np.concatenate([np.zeros(m), (ROTOR_NOISE_NM / rotor_kg_m2) ** 2, np.zeros(m),
+                              (LINK_NOISE_NM / np.diag(link_inertia)) ** 2, np.full(m, DISTURBANCE_WALK_NM ** 2)])
+    measurement = np.concatenate([np.full(m, ANGLE_NOISE_RAD ** 2), np.full(m, SPEED_NOISE_RAD_S ** 2)])
+    return np.diag(process) * period_s, np.diag(measurement)
 
 
 def link_inertia_range(arm: ArmModel, rotor_kg_m2: np.ndarray, points: int = 7) -> tuple[np.ndarray, np.ndarray]:
@@ -105,165 +109,167 @@ def link_inertia_range(arm: ArmModel, rotor_kg_m2: np.ndarray, points: int = 7) 
 
 
 class TwoMassStateFeedback:
-    """State feedback for joints whose gear is a spring: the torque from the rotor's and the link's states.
+    """State feedback for joints whose gear is a spring: the torques from the rotors' and the links' states.
 
-    Each slow joint (anti-resonance below STATE_FEEDBACK_BELOW_RAD_S: `joints`) is a two-mass system
-    (`two_mass_model`) whose link inertia the model computes for the pose (M_ii less the rotor, every
-    `schedule`). The rotor's reference leads the link's by the twist the link torque needs (the model's,
-    less the observer's unknown torque w); the feed-forward is the model's torque, its friction estimate,
-    and -w; the feedback is the LQR's gain (`lqr_gain`) on the errors of the rotor's angle and speed and
-    of the link's, the link's as a Kalman observer (`kalman_gain`) estimates them from the encoder and
-    the drive's speed every 1 ms step. The observer's w is the integral action: a torque the model lacks
-    (an undeclared payload's weight) is estimated and fed forward, in the torque and in the twist. Gains
-    and observer are designed per joint from the controller's model (nominal stiffness, damping and
-    inertias) on a grid of link inertias and interpolated (`GRID_POINTS`); nothing of the plant's own
-    parameters. The other joints' rotors get the twist of the model's link torque (`twist_rad`) and keep
-    the cascade (ServoLoop runs it).
+    The slow joints (anti-resonance below STATE_FEEDBACK_BELOW_RAD_S: `joints`) are one two-mass system
+    (`slow_joints_model`) whose link inertia matrix the model computes for the pose (its block of M(q)
+    less the rotors, every `schedule`: the links are coupled, j2's and j3's strongly). The rotors'
+    references lead the links' by the twist the link torque needs (the model's, less the observer's
+    unknown link torque); the feed-forward is the model's torque, its friction estimate, and less the
+    unknown torques; the feedback is an LQR's gain on the errors of the rotors' angles and speeds and of
+    the links', the links' as a Kalman filter estimates them from the encoders and the drives' speeds
+    every 1 ms step. The unknown torques are the integral action: while a joint's reference moves, the
+    one the filter follows is the link's (an undeclared payload: it passes through the gear and twists
+    it), at rest the rotor's (there the motor side cannot tell static friction from link torque); the
+    other is held. Designed from the controller's model (nominal stiffness, damping and inertias),
+    nothing of the plant's own parameters. The other joints' rotors get the twist of the model's link
+    torque (`twist_rad`) and keep the cascade (ServoLoop runs it).
     """
 
     def __init__(self, arm: ArmModel, rotor_kg_m2: Any, stiffness_nm_rad: Any, damping_nm_s: Any, period_s: float,
-                 bandwidth_rad_s: float | None = None) -> None:
-        """bandwidth_rad_s: the links' closed-loop bandwidth (None: LINK_BANDWIDTH_RAD_S)."""
+                 bandwidth_rad_s: float | None = None, joints: Any = None) -> None:
+        """bandwidth_rad_s: the links' closed-loop bandwidth (None: LINK_BANDWIDTH_RAD_S); joints: the indices of
+        the joints under state feedback (None: those whose anti-resonance is below STATE_FEEDBACK_BELOW_RAD_S)."""
         self.arm, self.period_s = arm, float(period_s)
-        bandwidth_rad_s = LINK_BANDWIDTH_RAD_S if bandwidth_rad_s is None else float(bandwidth_rad_s)
+        self.bandwidth_rad_s = LINK_BANDWIDTH_RAD_S if bandwidth_rad_s is None else float(bandwidth_rad_s)
         n = arm.n_joints
         rotor = np.asarray(rotor_kg_m2, dtype=float)
         stiffness = np.asarray(stiffness_nm_rad, dtype=float)
         self.rotor_all, self.stiffness_all = rotor, stiffness
-        low, high = link_inertia_range(arm, rotor)
+        _, high = link_inertia_range(arm, rotor)
         #: the joints under state feedback (the slow gears), the others' indices in `cascade`
-        self.joints = np.flatnonzero(np.sqrt(stiffness / high) < STATE_FEEDBACK_BELOW_RAD_S)
+        self.joints = (np.flatnonzero(np.sqrt(stiffness / high) < STATE_FEEDBACK_BELOW_RAD_S) if joints is None
+                       else np.array(joints, dtype=int))
         self.cascade = np.setdiff1d(np.arange(n), self.joints)
         sel = self.joints
+        m = self.m = len(sel)
         self.rotor, self.stiffness = rotor[sel], stiffness[sel]
         self.damping = np.asarray(damping_nm_s, dtype=float)[sel]
         self.tau_max = np.array(arm.tau_max, dtype=float)[sel]
-        m = len(sel)
-        self.grid = np.exp(np.linspace(np.log(low[sel] * LINK_SPAN[0]), np.log(high[sel] * LINK_SPAN[1]), GRID_POINTS)).T
-        shape = (m, GRID_POINTS)
-        self._ad, self._bd = np.zeros(shape + (5, 5)), np.zeros(shape + (5, 2))
-        self._k, self._l = np.zeros(shape + (4,)), np.zeros(shape + (5, 2))
-        self._ad_m, self._l_m = np.zeros(shape + (5, 5)), np.zeros(shape + (5, 2))   #: w on the rotor (at rest)
-        for j in range(m):
-            for g, link in enumerate(self.grid[j]):
-                ad, bd = two_mass_model(self.rotor[j], link, self.stiffness[j], self.damping[j], self.period_s)
-                self._ad[j, g], self._bd[j, g] = ad, bd
-                self._k[j, g] = lqr_gain(ad, bd, self.rotor[j], link, bandwidth_rad_s)
-                self._l[j, g] = kalman_gain(ad, self.rotor[j], link, self.period_s)
-                ad, _ = two_mass_model(self.rotor[j], link, self.stiffness[j], self.damping[j], self.period_s, False)
-                self._ad_m[j, g], self._l_m[j, g] = ad, kalman_gain(ad, self.rotor[j], link, self.period_s)
-        self.link_kg_m2 = self.grid[:, GRID_POINTS // 2].copy()   #: the slow joints' link inertias the gains are for now
-        self.ad, self.bd, self.k, self.l = (self._ad[:, 0], self._bd[:, 0], self._k[:, 0], self._l[:, 0])
-        self.ad_m, self.l_m = self._ad_m[:, 0], self._l_m[:, 0]
-        #: per slow joint: True while its reference moves faster than MOVING_RAD_S (the observer's w is then the
+        self.c = np.zeros((2 * m, 5 * m))   # the filter measures the rotors' angles and speeds
+        self.c[:, : 2 * m] = np.eye(2 * m)
+        self.state = np.zeros(5 * m)             #: the filter's (theta, theta', q, q', w) blocks of the slow joints
+        self.twist_rad = np.zeros(n)             #: the twist of the last row commanded, every joint (rad)
+        self.friction: tuple[np.ndarray, np.ndarray] | None = None   #: the rotors' friction estimate (all joints)
+        #: per slow joint: True while its reference moves faster than MOVING_RAD_S (the filter's w is then the
         #: link's unknown torque, the rotor's held), False at rest (w the rotor's, the link's held)
         self.moving = np.zeros(m, dtype=bool)
         self.held_link_nm, self.held_rotor_nm = np.zeros(m), np.zeros(m)
-        self.state = np.zeros((m, 5))            #: the observer's (theta, theta', q, q', w) per slow joint
-        self.twist_rad = np.zeros(n)             #: the twist of the last row commanded, every joint (rad)
-        self.friction: tuple[np.ndarray, np.ndarray] | None = None   #: the rotors' friction estimate (all joints)
-        self._rows = np.arange(m)
+        self.link_inertia = np.eye(m)
         self._link_other = np.zeros(m)
+        self._p: np.ndarray | None = None   # the LQR's Riccati solution, the filter's prior covariance
+        self._s: np.ndarray | None = None
 
-    def schedule(self, q: np.ndarray) -> None:
-        """Gains and observer for the link inertias at pose q (the model's M_ii less the rotor), interpolated."""
-        link = np.asarray(self.arm.mass_matrix_diagonal_unchecked(q))[self.joints] - self.rotor
-        self.link_kg_m2 = link
-        at = np.empty(len(link))
-        for j in range(len(link)):
-            at[j] = np.interp(np.log(max(link[j], 1e-9)), np.log(self.grid[j]), np.arange(GRID_POINTS))
-        lo = np.minimum(np.floor(at).astype(int), GRID_POINTS - 2)
-        f = at - lo
-        rows = self._rows
-
-        def blend(table: np.ndarray) -> np.ndarray:
-            shape = (-1,) + (1,) * (table.ndim - 2)
-            return table[rows, lo] * (1.0 - f).reshape(shape) + table[rows, lo + 1] * f.reshape(shape)
-
-        self.ad, self.bd, self.k, self.l = blend(self._ad), blend(self._bd), blend(self._k), blend(self._l)
-        self.ad_m, self.l_m = blend(self._ad_m), blend(self._l_m)
+    def schedule(self, q: np.ndarray, qd_ref: np.ndarray | None = None, iterations: int | None = None) -> None:
+        """The model at pose q (the links' inertia matrix from the model's M(q)) and for the reference speeds qd_ref
+        (every joint's; which side each unknown torque is on: `switch`), and the gains for it: a few Riccati
+        iterations from the last solutions (`iterations`, None: RICCATI_ITERATIONS; 0: solved anew)."""
+        sel, m = self.joints, self.m
+        if qd_ref is not None:
+            self.switch(np.abs(np.asarray(qd_ref)[sel]) > MOVING_RAD_S)
+        payload = self.arm.payload   # (kg, com): the model keeps its payload
+        full = self.arm.mass_matrix(q, payload[0], payload[1:])
+        self.link_inertia = full[np.ix_(sel, sel)] - np.diag(self.rotor)
+        self.ad, self.bd = slow_joints_model(self.rotor, self.link_inertia, self.stiffness, self.damping, self.moving,
+                                             self.period_s)
+        a4, b4 = self.ad[: 4 * m, : 4 * m], self.bd[: 4 * m, :m]
+        weights = lqr_weights(self.rotor, self.link_inertia, self.bandwidth_rad_s)
+        process, measurement = noise_covariances(self.rotor, self.link_inertia, self.period_s)
+        r, a, c = np.eye(m), self.ad, self.c
+        count = RICCATI_ITERATIONS if iterations is None else iterations
+        if self._p is None or count == 0:
+            self._p = scipy.linalg.solve_discrete_are(a4, b4, weights, r)
+            self._s = scipy.linalg.solve_discrete_are(a.T, c.T, process, measurement)
+        p, s = self._p, self._s
+        for _ in range(count):
+            bp = b4.T @ p
+            gain = np.linalg.solve(r + bp @ b4, bp @ a4)
+            p = weights + a4.T @ p @ (a4 - b4 @ gain)
+            innovation = c @ s @ c.T + measurement
+            s = a @ (s - s @ c.T @ np.linalg.solve(innovation, c @ s)) @ a.T + process
+        self._p, self._s = p, s
+        bp = b4.T @ p
+        self.k = np.linalg.solve(r + bp @ b4, bp @ a4)                            #: the LQR's gain (m x 4m)
+        self.l = s @ c.T @ np.linalg.inv(c @ s @ c.T + measurement)              #: the filter's correction (5m x 2m)
 
     def reset(self, q_link: np.ndarray, link_torque_nm: np.ndarray) -> None:
         """At rest, the links at q_link carrying link_torque_nm (the model's weight): the rotors ahead by the twist."""
-        q_link = np.asarray(q_link, dtype=float)
-        self.schedule(q_link)
-        self.twist_rad = np.asarray(link_torque_nm, dtype=float) / self.stiffness_all
-        sel = self.joints
-        self.state[:] = 0.0
-        self.state[:, 0], self.state[:, 2] = q_link[sel] + self.twist_rad[sel], q_link[sel]
+        q_link, m = np.asarray(q_link, dtype=float), self.m
         self.moving[:] = False
         self.held_link_nm[:] = self.held_rotor_nm[:] = 0.0
+        self._p = self._s = None
+        self.schedule(q_link, None, 0)
+        self.twist_rad = np.asarray(link_torque_nm, dtype=float) / self.stiffness_all
+        sel, x = self.joints, self.state
+        x[:] = 0.0
+        x[:m], x[2 * m : 3 * m] = q_link[sel] + self.twist_rad[sel], q_link[sel]
 
     hold = reset   #: the name ServoLoop.reset calls a twist's (at rest, the rotors ahead of the links by it)
 
     @property
     def link_w_nm(self) -> np.ndarray:
         """The slow joints' unknown link torque w (N m; the model's link torque less it is the gear's)."""
-        return np.where(self.moving, self.state[:, 4], self.held_link_nm)
+        return np.where(self.moving, self.state[4 * self.m :], self.held_link_nm)
 
     @property
     def rotor_w_nm(self) -> np.ndarray:
         """The slow joints' unknown torque on the rotor (N m; the motor's torque less it drives the rotor)."""
-        return np.where(self.moving, self.held_rotor_nm, self.state[:, 4])
+        return np.where(self.moving, self.held_rotor_nm, self.state[4 * self.m :])
 
     @property
     def unknown_torque_nm(self) -> np.ndarray:
-        """The slow joints' torque the model lacks, as the observer estimates it (N m, added to the model's)."""
+        """The slow joints' torque the model lacks, as the filter estimates it (N m, added to the model's)."""
         return -(self.link_w_nm + self.rotor_w_nm)
 
-    def _switch(self, moving: np.ndarray) -> None:
-        """Joints whose reference starts or stops moving: w changes sides, the other side's held."""
+    def switch(self, moving: np.ndarray) -> bool:
+        """Joints whose reference starts or stops moving: w changes sides, the other side's held. True on a change
+        (the model changes: `schedule` again)."""
         change = moving != self.moving
         if not change.any():
-            return
-        w = self.state[:, 4]
+            return False
+        w = self.state[4 * self.m :]
         start, stop = change & moving, change & ~moving
         self.held_rotor_nm[start], w[start] = w[start], self.held_link_nm[start]
         self.held_link_nm[stop], w[stop] = w[stop], self.held_rotor_nm[stop]
         self.moving = moving.copy()
+        return True
 
     def references(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
                    tau_ff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The rotors' reference angles and speeds for one row of link references (every joint): the link's plus
-        the twist of the link torque (the slow joints' less the observer's w), its rate from the last row's."""
+        the twist of the link torque (the slow joints' less the unknown link torque), its rate from the last row's."""
         sel = self.joints
-        self._switch(np.abs(qd_ref[sel]) > MOVING_RAD_S)
         link_torque = tau_ff - self.rotor_all * qdd_ref
         w_link = self.link_w_nm
         link_torque[sel] -= w_link
         twist = link_torque / self.stiffness_all
         rate = (twist - self.twist_rad) / self.period_s
         self.twist_rad = twist
-        # the link's torque other than its inertia's, less the held unknown torque at rest (an input then)
-        self._link_other = link_torque[sel] + np.where(self.moving, w_link, 0.0) - self.link_kg_m2 * qdd_ref[sel]
+        # the links' torque other than their inertia's; the held unknown torque at rest is an input then
+        self._link_other = link_torque[sel] + np.where(self.moving, w_link, 0.0) - self.link_inertia @ qdd_ref[sel]
         return q_ref + twist, qd_ref + rate
 
     def update(self, q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, theta_d_ref: np.ndarray,
                tau_ff: np.ndarray, theta: np.ndarray, theta_d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """One 1 ms step of the slow joints (call `references` first, `applied` after): the demanded motor torque
-        (before the drive's limit) and its feed-forward. Arguments are every joint's: the link's and the
+        """One 1 ms step of the slow joints (call `references` first, `applied` after): the demanded motor torques
+        (before the drives' limits) and their feed-forward. Arguments are every joint's: the link's and the
         rotor's reference rows, the model's torque of the link reference (the rotor's inertia included), and
-        the encoder's angle and the drive's speed now."""
-        sel, x = self.joints, self.state
-        innovation = np.stack([theta[sel] - x[:, 0], theta_d[sel] - x[:, 1]], axis=1)
-        gain = np.where(self.moving[:, None, None], self.l, self.l_m)
-        x += np.einsum("jab,jb->ja", gain, innovation)
-        rotor, rotor_d = theta_ref[sel], theta_d_ref[sel]
-        error = np.stack([x[:, 0] - rotor, x[:, 1] - rotor_d, x[:, 2] - q_ref[sel], x[:, 3] - qd_ref[sel]], axis=1)
+        the encoders' angles and the drives' speeds now."""
+        sel, x, m = self.joints, self.state, self.m
+        x += self.l @ (np.concatenate([theta[sel], theta_d[sel]]) - x[: 2 * m])
+        reference = np.concatenate([theta_ref[sel], theta_d_ref[sel], q_ref[sel], qd_ref[sel]])
         ff = tau_ff[sel] - self.link_w_nm - self.rotor_w_nm
         if self.friction is not None:
-            coulomb, viscous = self.friction[0][sel], self.friction[1][sel]
+            rotor, rotor_d = theta_ref[sel], theta_d_ref[sel]
             demand_speed = rotor_d + FRICTION_POSITION_GAIN_1_S * (rotor - theta[sel])
-            ff = ff + coulomb * np.tanh(demand_speed / FRICTION_SMOOTH_RAD_S) + viscous * rotor_d
-        return ff - np.einsum("ja,ja->j", self.k, error), ff
+            ff = ff + self.friction[0][sel] * np.tanh(demand_speed / FRICTION_SMOOTH_RAD_S) + self.friction[1][sel] * rotor_d
+        return ff - self.k @ (x[: 4 * m] - reference), ff
 
     def applied(self, tau_nm: np.ndarray, theta_d: np.ndarray) -> None:
-        """The observer's prediction over the step the motors apply tau_nm (every joint's, after their limit) for;
-        theta_d: the drive's speed at the step's start (the friction estimate's)."""
-        sel, x = self.joints, self.state
+        """The filter's prediction over the step the motors apply tau_nm (every joint's, after their limit) for;
+        theta_d: the drives' speeds at the step's start (the friction estimate's)."""
+        sel = self.joints
         u = tau_nm[sel] + np.where(self.moving, self.held_rotor_nm, 0.0)   # the held rotor torque: an input while moving
         if self.friction is not None:
             u = u - friction_torque_nm(self.friction[0][sel], self.friction[1][sel], theta_d[sel], FRICTION_SMOOTH_RAD_S)
-        ad = np.where(self.moving[:, None, None], self.ad, self.ad_m)
-        x[:] = (np.einsum("jab,jb->ja", ad, x) + self.bd[:, :, 0] * u[:, None]
-                + self.bd[:, :, 1] * self._link_other[:, None])
+        self.state = self.ad @ self.state + self.bd @ np.concatenate([u, self._link_other])
