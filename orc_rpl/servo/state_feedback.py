@@ -16,16 +16,16 @@ from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S
 LINK_BANDWIDTH_RAD_S = 80.0
 #: The LQR's weight on the motor's angle and speed errors, as a share of the link's (the rotor's own mode is
 #: damped through them; the link's error is what the tool shows).
-MOTOR_WEIGHT = 0.1
+MOTOR_WEIGHT = 1.0
 #: Riccati iterations (the LQR's and the Kalman filter's) per motion cycle on the model of the pose then, from the
 #: last cycle's solutions: the gains follow the pose (the filter's, one iteration a step, is the time-varying one).
 RICCATI_ITERATIONS = 4
 #: The Kalman observer's assumptions (1 sigma): torques on the rotor and on the link the model does not know,
 #: as white noise (N m sqrt(s)), the link's unknown torque as a random walk (N m / sqrt(s)), the encoder's angle
 #: (rad) and the drive's speed measurement (rad/s).
-ROTOR_NOISE_NM = 2.0
+ROTOR_NOISE_NM = 50.0
 LINK_NOISE_NM = 2.0
-DISTURBANCE_WALK_NM = 150.0
+DISTURBANCE_WALK_NM = 400.0
 ANGLE_NOISE_RAD = 1e-4
 SPEED_NOISE_RAD_S = 2e-2
 #: A joint's reference moving faster than this (rad/s): the observer's unknown torque is the link's (an undeclared
