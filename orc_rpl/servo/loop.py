@@ -102,6 +102,10 @@ class ServoLoop:
         self.drives_on = on
         if on:   # braked, the rotors' momentum changed without the observer: it starts afresh at rest
             self._reset_observer()
+            if self.state_feedback is not None:   # and the state feedback's filter, the links as the model's twist puts them
+                zero = np.zeros(self._n)
+                rest = np.array(self.servo._inverse_dynamics(self.cell.q, zero, zero))
+                self.state_feedback.reset(self.cell.q - rest / self.state_feedback.stiffness_all, rest)
 
     def use_compiled_law(self, on: bool) -> None:
         """Run the servo law in the drives (C) or in Python, from the next step; a bumpless hand-over."""

@@ -26,6 +26,9 @@ RICCATI_ITERATIONS = 4
 ROTOR_NOISE_NM = 50.0
 LINK_NOISE_NM = 2.0
 DISTURBANCE_WALK_NM = 400.0
+#: The same for a joint at rest, its unknown torque on the rotor (static friction): slower, or the rotor hunts
+#: (stick-slip) after a move: swings of the links of 0.12 mrad with 400, 0.003 with 100 (short moves, zones).
+REST_WALK_NM = 100.0
 ANGLE_NOISE_RAD = 1e-4
 SPEED_NOISE_RAD_S = 2e-2
 #: A joint's reference moving faster than this (rad/s): the observer's unknown torque is the link's (an undeclared
@@ -86,11 +89,14 @@ def lqr_weights(rotor_kg_m2: np.ndarray, link_inertia: np.ndarray, bandwidth_rad
     return np.diag(np.concatenate([MOTOR_WEIGHT * angle, MOTOR_WEIGHT * speed, angle, speed]))
 
 
-def noise_covariances(rotor_kg_m2: np.ndarray, link_inertia: np.ndarray, period_s: float) -> tuple[np.ndarray, np.ndarray]:
-    """The Kalman filter's process noise (per step) and measurement noise covariances (the angles, then the speeds)."""
+def noise_covariances(rotor_kg_m2: np.ndarray, link_inertia: np.ndarray, moving: np.ndarray,
+                      period_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """The Kalman filter's process noise (per step) and measurement noise covariances (the angles, then the speeds);
+    `moving`: the joints whose unknown torque is the link's (the others' walks at REST_WALK_NM)."""
     m = len(rotor_kg_m2)
     process = np.concatenate([np.zeros(m), (ROTOR_NOISE_NM / rotor_kg_m2) ** 2, np.zeros(m),
-                              (LINK_NOISE_NM / np.diag(link_inertia)) ** 2, np.full(m, DISTURBANCE_WALK_NM ** 2)])
+                              (LINK_NOISE_NM / np.diag(link_inertia)) ** 2,
+                              np.where(moving, DISTURBANCE_WALK_NM, REST_WALK_NM) ** 2])
     measurement = np.concatenate([np.full(m, ANGLE_NOISE_RAD ** 2), np.full(m, SPEED_NOISE_RAD_S ** 2)])
     return np.diag(process) * period_s, np.diag(measurement)
 
@@ -174,7 +180,7 @@ class TwoMassStateFeedback:
                                              self.period_s)
         a4, b4 = self.ad[: 4 * m, : 4 * m], self.bd[: 4 * m, :m]
         weights = lqr_weights(self.rotor, self.link_inertia, self.bandwidth_rad_s)
-        process, measurement = noise_covariances(self.rotor, self.link_inertia, self.period_s)
+        process, measurement = noise_covariances(self.rotor, self.link_inertia, self.moving, self.period_s)
         r, a, c = np.eye(m), self.ad, self.c
         count = RICCATI_ITERATIONS if iterations is None else iterations
         if self._p is None or count == 0:
