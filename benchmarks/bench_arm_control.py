@@ -24,7 +24,9 @@ the slow joints under the two-mass state feedback (servo/state_feedback.py, opt-
 make_virtual_motion_layer(..., state_feedback=True)). --load-at-rest: the carried load is on the plant
 from the reset (the gears wound under it) and the drives hold the arm REST_S before the first move, as
 after a brake release (the default hangs it on at time 0, as the first move starts; the load-at-rest run
-is measured from its first move, the hold not counted). A warm plant (warm_up) is a robot known to have run a while: the
+is measured from its first move, the hold not counted). links_swing_after_{short,zone,stop}_moves_mrad: ringing
+or hunting at rest after moves that are not averaged (two short moves; zone blends; a stop from full speed), the
+largest swing of j1..j3 (the links' own angles on elastic gears) from where they settle, from 0.1 s after the end. A warm plant (warm_up) is a robot known to have run a while: the
 controller's gearbox estimate is told so too (GearFriction.warm_up).
 """
 
@@ -171,6 +173,43 @@ def nominal_equals_actual(robot: str, seed: int) -> bool:
     return same
 
 
+#: Moves that are not averaged (docs/robots.md, "Elastic gears"): short moves, zone blends, a stop from full speed.
+SHORT_MOVES_RAD = ((0.01, -0.005, 0.008, 0.0, 0.0, 0.0), (-0.003, 0.004, -0.002, 0.01, 0.0, 0.0))
+ZONE_TARGETS_DEG = ((40, -20, -30, 0, 30, 0), (-40, 20, -10, 30, 0, 0))
+STOP_TARGET_DEG, STOP_AFTER_CYCLES = (120, 40, -30, 0, 30, 0), 200
+SWING_FROM_S, SWING_CYCLES = 0.1, 250   #: the links' swing is measured from this long after the moves' end, this long
+
+
+def swing_after(robot: str, seed: int, case: str) -> float:
+    """The largest swing (mrad) of j1..j3's links from where they settle, from SWING_FROM_S after the moves of `case`
+    ("short", "zone", "stop") end: ringing or hunting at rest. Cold plant, the load undeclared as in run_moves."""
+    layer = _layer(robot, seed)
+    loop, cell = layer.backend.loop, layer.backend.loop.cell
+    loop.set_payload(CARRIED_KG, known=False)
+    home, params = np.array(layer.reference_q()), Params(load_kg=DECLARED_KG)
+    if case == "short":
+        handles = [layer.move(JointMotion(tuple(home + np.array(d))), params) for d in SHORT_MOVES_RAD]
+    elif case == "zone":
+        handles = [layer.move(JointMotion(tuple(np.radians(t))), Params(load_kg=DECLARED_KG, zone_m=0.1))
+                   for t in ZONE_TARGETS_DEG]
+        handles.append(layer.move(JointMotion(tuple(home)), params))
+    else:
+        handles = [layer.move(JointMotion(tuple(np.radians(STOP_TARGET_DEG))), params)]
+        for _ in range(STOP_AFTER_CYCLES):
+            layer.tick()
+        layer.stop_move()
+    for h in handles:
+        layer.wait(h)
+    end_s, after = cell.time_s, []
+    link_q = (lambda: cell.link_q) if ELASTIC[0] else (lambda: cell.true_q)
+    loop.on_step.append(lambda: after.append((link_q() - layer.reference_q())[:3].copy())
+                        if cell.time_s > end_s + SWING_FROM_S else None)
+    for _ in range(SWING_CYCLES):
+        layer.tick()
+    errors = np.array(after)
+    return float(np.abs(errors - errors[-50:].mean(axis=0)).max()) * 1000.0
+
+
 DUTY_CYCLES = 6   #: the thermal duty cycle: the fast moves this many times over, payload declared right
 
 
@@ -220,6 +259,7 @@ def main() -> None:
     with_pvc = run_moves(args.robot, args.seed, True, True, CARRIED_KG)
     without = run_moves(args.robot, args.seed, False, True, CARRIED_KG)
     same = nominal_equals_actual(args.robot, args.seed)
+    swings = {case: swing_after(args.robot, args.seed, case) for case in ("short", "zone", "stop")}
     thermal_pct, plant_rise, estimated_rise = thermal_estimate(args.robot, args.seed)
     model_only_pct, _, model_only_rise = thermal_estimate(args.robot, args.seed, corrected=False)
     print(f"robot={args.robot}")
@@ -230,6 +270,10 @@ def main() -> None:
         print(f"state_feedback={args.state_feedback}")
         layer = _layer(args.robot, args.seed)
         print(f"smoothing_windows_s={' '.join(f'{v:.3f}' for v in layer.smoothing_s) or 'none'}")
+        law = layer.backend.loop.state_feedback
+        if law is not None:
+            print(f"state_feedback_joints={' '.join(str(j + 1) for j in law.joints)}")
+            print(f"state_feedback_link_bw_rad_s={law.bandwidth_rad_s:.1f}")
         gains = layer.backend.loop.servo.gains
         print(f"servo_velocity_bw_rad_s={' '.join(f'{v:.1f}' for v in gains.per_joint(len(gains.joint_velocity_bw_rad_s))[1])}")
         print(f"servo_position_gain_1_s={' '.join(f'{v:.1f}' for v in gains.per_joint(len(gains.joint_velocity_bw_rad_s))[0])}")
@@ -248,6 +292,8 @@ def main() -> None:
     print(f"duration_ratio={with_pvc['duration_ratio']:.3f}")
     print(f"moves_duration_s={with_pvc['duration_s']:.3f}")
     print(f"nominal_equals_actual_when_feasible={same}")
+    for case, swing in swings.items():
+        print(f"links_swing_after_{case}_moves_mrad={swing:.4f}")
     print(f"plant_winding_rise_k={' '.join(f'{v:.2f}' for v in plant_rise)}")
     print(f"model_only_winding_rise_k={' '.join(f'{v:.2f}' for v in model_only_rise)}")
     print(f"thermal_estimate_error_pct_model_only={model_only_pct:.2f}")

@@ -213,7 +213,10 @@ def make_virtual_motion_layer(
     the velocity loops, and the servo's friction feed-forward following the controller's gearbox
     estimate (`layer.gear_friction`: cold-start friction, falling as the gearboxes warm; docs/robots.md,
     "Elastic gears"); `gear_observer` (opt-in on top) takes the torque the model lacks in the twist from a
-    gear-torque observer (servo/gear_observer.py) instead of the servo's averaged integral.
+    gear-torque observer (servo/gear_observer.py) instead of the servo's averaged integral;
+    `state_feedback` (opt-in on top, instead of the observer) controls the slow joints by state feedback
+    designed for the two-mass joints (servo/state_feedback.py: an LQR on the rotors' and the links' states,
+    a Kalman filter every 1 ms step, the unknown torques its integral action), the wrist by the cascade.
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
