@@ -19,7 +19,14 @@ bandwidth instead of 0.8), friction (the servo's friction feed-forward the nomin
 controller's gearbox estimate's), integral (the twist from the model's torque alone: neither the
 servo's averaged integral nor, with --observer, the observer's excess). --observer: the torque the
 model lacks in the twist from the gear-torque observer (servo/gear_observer.py) instead of the
-servo's averaged integral (opt-in: make_virtual_motion_layer(..., gear_observer=True)). A warm plant (warm_up) is a robot known to have run a while: the
+servo's averaged integral (opt-in: make_virtual_motion_layer(..., gear_observer=True)). --state-feedback:
+the slow joints under the two-mass state feedback (servo/state_feedback.py, opt-in:
+make_virtual_motion_layer(..., state_feedback=True)). --load-at-rest: the carried load is on the plant
+from the reset (the gears wound under it) and the drives hold the arm REST_S before the first move, as
+after a brake release (the default hangs it on at time 0, as the first move starts; the load-at-rest run
+is measured from its first move, the hold not counted). links_swing_after_{short,zone,stop}_moves_mrad: ringing
+or hunting at rest after moves that are not averaged (two short moves; zone blends; a stop from full speed), the
+largest swing of j1..j3 (the links' own angles on elastic gears) from where they settle, from 0.1 s after the end. A warm plant (warm_up) is a robot known to have run a while: the
 controller's gearbox estimate is told so too (GearFriction.warm_up).
 """
 
@@ -37,6 +44,9 @@ ELASTIC = [False]   #: the plant's elastic gears (--elastic)
 WITHOUT: set[str] = set()   #: elastic gears' features switched off (--without)
 FEATURES = ("twist", "smoothing", "gain", "friction", "integral")
 OBSERVER = [False]   #: the gears' torque observer for the twist's extra torque (--observer)
+STATE_FEEDBACK = [False]   #: the two-mass joints' state feedback instead of the cascade (--state-feedback)
+LOAD_AT_REST = [False]   #: the carried load hung on before the reset, the drives holding it first (--load-at-rest)
+REST_S = 1.0   #: --load-at-rest: how long the drives hold the arm under its load before the first move (s)
 
 #: The fast motions: joint moves (MOVE) at full speed, FINE, between these configurations (deg),
 #: the first from home; the arm swings stretched out, where gravity and inertia use most of the torque.
@@ -64,7 +74,8 @@ def _layer(robot: str, seed: int) -> MotionLayer:
     if "gain" in WITHOUT:
         two_mass.TWIST_POSITION_OVER_VELOCITY = two_mass.POSITION_OVER_VELOCITY
     layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0],
-                                      gear_feedforward=ELASTIC[0], gear_observer=OBSERVER[0])
+                                      gear_feedforward=ELASTIC[0], gear_observer=OBSERVER[0],
+                                      state_feedback=STATE_FEEDBACK[0])
     if "twist" in WITHOUT:
         layer.backend.loop.set_gear_twist(None)
         layer.backend.reset(np.array(layer.reference_q()))  # the rotors at the links' angles again
@@ -98,6 +109,10 @@ def run_moves(robot: str, seed: int, pvc: bool, cold: bool, carried_kg: float) -
     if not cold:
         _warm_up(layer)
     loop.set_payload(carried_kg, known=False)
+    if LOAD_AT_REST[0]:   # as after a brake release: the gears wound under the load, the drives holding it
+        layer.backend.reset(np.array(layer.reference_q()))
+        for _ in range(round(REST_S / layer.dt_s)):
+            layer.tick()   # no move: the motion cycle holds the reference
     worst, worst_moving, worst_encoder, steps, saturated = 0.0, 0.0, 0.0, 0, 0
     segments: list[np.ndarray] = []
 
@@ -158,6 +173,43 @@ def nominal_equals_actual(robot: str, seed: int) -> bool:
     return same
 
 
+#: Moves that are not averaged (docs/robots.md, "Elastic gears"): short moves, zone blends, a stop from full speed.
+SHORT_MOVES_RAD = ((0.01, -0.005, 0.008, 0.0, 0.0, 0.0), (-0.003, 0.004, -0.002, 0.01, 0.0, 0.0))
+ZONE_TARGETS_DEG = ((40, -20, -30, 0, 30, 0), (-40, 20, -10, 30, 0, 0))
+STOP_TARGET_DEG, STOP_AFTER_CYCLES = (120, 40, -30, 0, 30, 0), 200
+SWING_FROM_S, SWING_CYCLES = 0.1, 250   #: the links' swing is measured from this long after the moves' end, this long
+
+
+def swing_after(robot: str, seed: int, case: str) -> float:
+    """The largest swing (mrad) of j1..j3's links from where they settle, from SWING_FROM_S after the moves of `case`
+    ("short", "zone", "stop") end: ringing or hunting at rest. Cold plant, the load undeclared as in run_moves."""
+    layer = _layer(robot, seed)
+    loop, cell = layer.backend.loop, layer.backend.loop.cell
+    loop.set_payload(CARRIED_KG, known=False)
+    home, params = np.array(layer.reference_q()), Params(load_kg=DECLARED_KG)
+    if case == "short":
+        handles = [layer.move(JointMotion(tuple(home + np.array(d))), params) for d in SHORT_MOVES_RAD]
+    elif case == "zone":
+        handles = [layer.move(JointMotion(tuple(np.radians(t))), Params(load_kg=DECLARED_KG, zone_m=0.1))
+                   for t in ZONE_TARGETS_DEG]
+        handles.append(layer.move(JointMotion(tuple(home)), params))
+    else:
+        handles = [layer.move(JointMotion(tuple(np.radians(STOP_TARGET_DEG))), params)]
+        for _ in range(STOP_AFTER_CYCLES):
+            layer.tick()
+        layer.stop_move()
+    for h in handles:
+        layer.wait(h)
+    end_s, after = cell.time_s, []
+    link_q = (lambda: cell.link_q) if ELASTIC[0] else (lambda: cell.true_q)
+    loop.on_step.append(lambda: after.append((link_q() - layer.reference_q())[:3].copy())
+                        if cell.time_s > end_s + SWING_FROM_S else None)
+    for _ in range(SWING_CYCLES):
+        layer.tick()
+    errors = np.array(after)
+    return float(np.abs(errors - errors[-50:].mean(axis=0)).max()) * 1000.0
+
+
 DUTY_CYCLES = 6   #: the thermal duty cycle: the fast moves this many times over, payload declared right
 
 
@@ -188,6 +240,10 @@ def main() -> None:
     ap.add_argument("--elastic", action="store_true", help="elastic gears in the plant, the servo tuned for them")
     ap.add_argument("--observer", action="store_true",
                     help="with --elastic: the twist's extra torque from the gear-torque observer")
+    ap.add_argument("--state-feedback", action="store_true",
+                    help="with --elastic: the two-mass joints' state feedback (servo/state_feedback.py) instead of the cascade")
+    ap.add_argument("--load-at-rest", action="store_true",
+                    help="the carried load on the plant from the reset, the drives holding it REST_S before the moves")
     ap.add_argument("--without", action="append", default=[], choices=FEATURES,
                     help="with --elastic: switch off one of the elastic gears' features (repeatable)")
     args = ap.parse_args()
@@ -195,10 +251,15 @@ def main() -> None:
     if args.observer and not args.elastic:
         ap.error("--observer is for elastic gears (--elastic)")
     OBSERVER[0] = args.observer
+    if args.state_feedback and not args.elastic:
+        ap.error("--state-feedback is for elastic gears (--elastic)")
+    STATE_FEEDBACK[0] = args.state_feedback
+    LOAD_AT_REST[0] = args.load_at_rest
     WITHOUT.update(args.without)
     with_pvc = run_moves(args.robot, args.seed, True, True, CARRIED_KG)
     without = run_moves(args.robot, args.seed, False, True, CARRIED_KG)
     same = nominal_equals_actual(args.robot, args.seed)
+    swings = {case: swing_after(args.robot, args.seed, case) for case in ("short", "zone", "stop")}
     thermal_pct, plant_rise, estimated_rise = thermal_estimate(args.robot, args.seed)
     model_only_pct, _, model_only_rise = thermal_estimate(args.robot, args.seed, corrected=False)
     print(f"robot={args.robot}")
@@ -206,11 +267,17 @@ def main() -> None:
     if args.elastic:
         print(f"without={','.join(sorted(WITHOUT)) or 'none'}")
         print(f"observer={args.observer}")
+        print(f"state_feedback={args.state_feedback}")
         layer = _layer(args.robot, args.seed)
         print(f"smoothing_windows_s={' '.join(f'{v:.3f}' for v in layer.smoothing_s) or 'none'}")
+        law = layer.backend.loop.state_feedback
+        if law is not None:
+            print(f"state_feedback_joints={' '.join(str(j + 1) for j in law.joints)}")
+            print(f"state_feedback_link_bw_rad_s={law.bandwidth_rad_s:.1f}")
         gains = layer.backend.loop.servo.gains
         print(f"servo_velocity_bw_rad_s={' '.join(f'{v:.1f}' for v in gains.per_joint(len(gains.joint_velocity_bw_rad_s))[1])}")
         print(f"servo_position_gain_1_s={' '.join(f'{v:.1f}' for v in gains.per_joint(len(gains.joint_velocity_bw_rad_s))[0])}")
+    print(f"load_at_rest={args.load_at_rest}")
     print(f"declared_load_kg={DECLARED_KG:g}")
     print(f"carried_load_kg={CARRIED_KG:g}")
     print(f"pvc_scaled_cycles={with_pvc['scaled_cycles']:.0f}")
@@ -225,6 +292,8 @@ def main() -> None:
     print(f"duration_ratio={with_pvc['duration_ratio']:.3f}")
     print(f"moves_duration_s={with_pvc['duration_s']:.3f}")
     print(f"nominal_equals_actual_when_feasible={same}")
+    for case, swing in swings.items():
+        print(f"links_swing_after_{case}_moves_mrad={swing:.4f}")
     print(f"plant_winding_rise_k={' '.join(f'{v:.2f}' for v in plant_rise)}")
     print(f"model_only_winding_rise_k={' '.join(f'{v:.2f}' for v in model_only_rise)}")
     print(f"thermal_estimate_error_pct_model_only={model_only_pct:.2f}")

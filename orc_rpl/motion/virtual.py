@@ -196,6 +196,7 @@ def make_virtual_motion_layer(
     elastic: bool = False,
     gear_feedforward: bool = False,
     gear_observer: bool = False,
+    state_feedback: bool = False,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
@@ -212,7 +213,10 @@ def make_virtual_motion_layer(
     the velocity loops, and the servo's friction feed-forward following the controller's gearbox
     estimate (`layer.gear_friction`: cold-start friction, falling as the gearboxes warm; docs/robots.md,
     "Elastic gears"); `gear_observer` (opt-in on top) takes the torque the model lacks in the twist from a
-    gear-torque observer (servo/gear_observer.py) instead of the servo's averaged integral.
+    gear-torque observer (servo/gear_observer.py) instead of the servo's averaged integral;
+    `state_feedback` (opt-in on top, instead of the observer) controls the slow joints by state feedback
+    designed for the two-mass joints (servo/state_feedback.py: an LQR on the rotors' and the links' states,
+    a Kalman filter every 1 ms step, the unknown torques its integral action), the wrist by the cascade.
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
@@ -220,6 +224,8 @@ def make_virtual_motion_layer(
         raise UsageError(f"elastic gears are part of the realistic plant, not of the {plant} one")
     if gear_feedforward and not elastic:
         raise UsageError("gear_feedforward is for elastic gears (elastic=True)")
+    if state_feedback and not gear_feedforward:
+        raise UsageError("state_feedback is a part of the gears' feed-forward (gear_feedforward=True)")
     if gear_observer and not gear_feedforward:
         raise UsageError("gear_observer is a part of the gears' feed-forward (gear_feedforward=True)")
     from orc_rpl.robot import load_robot, solve_ik
@@ -275,6 +281,12 @@ def make_virtual_motion_layer(
                 loop.set_gear_observer(observer)
                 twist.excess_of = lambda: observer.excess_nm
             smoothing = smoothing_windows_s(arm, rotor, k_gear)
+            if state_feedback:   # the two-mass joints' state feedback instead of the cascade and its twist
+                from orc_rpl.servo.state_feedback import TwoMassStateFeedback
+
+                loop.set_gear_observer(None)
+                loop.set_state_feedback(TwoMassStateFeedback(servo.arm, rotor, k_gear, sim.plant.gear_damping_nm_s,
+                                                             loop.period_s))
         loop.reset(start)
         be: Any = ServoBackend(loop)
     elif backend == "kinematic":

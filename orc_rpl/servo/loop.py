@@ -56,6 +56,8 @@ class ServoLoop:
         self.drives_on = True  #: False: no torque, the brakes hold the joints (set_drives)
         self.twist: Any = None  #: the elastic gears' twist feed-forward (set_gear_twist), None: rigid gears
         self.observer: Any = None  #: the elastic gears' torque observer (set_gear_observer), None: none
+        #: elastic gears' state feedback (set_state_feedback: a `servo.state_feedback.TwoMassStateFeedback`), None: the cascade
+        self.state_feedback: Any = None
         self._torque_sum_nm = np.zeros(self._n)   #: the motors' torque summed over the last call (the observer's input)
         self._kernels: Any = compiled.kernels("orc_rpl.servo.drive_kernels")   #: None where numba is not
 
@@ -73,6 +75,19 @@ class ServoLoop:
         if self.drives is not None:
             self.drives.observed = observer is not None
 
+    def set_state_feedback(self, law: Any) -> None:
+        """Control elastic gears by state feedback (a `servo.state_feedback.TwoMassStateFeedback`, in Python, every
+        step, the drives as torque motors) instead of the cascade; it also gives the twist `state().q` takes off.
+        None: the cascade again (with rigid gears' references: set a twist again where there was one)."""
+        if self.drives is not None:
+            self.drives.release()
+        self.state_feedback = law
+        self.twist = law
+        if law is not None:
+            self.compiled_law = False
+            if self.drives is not None:
+                self.drives.twist = None
+
     def set_drives(self, on: bool) -> None:
         """Switch the drives off (no torque, the brakes engaged) or on again (brakes released, the servo
         starts afresh from where the arm is: the caller's next references should start there)."""
@@ -87,6 +102,10 @@ class ServoLoop:
         self.drives_on = on
         if on:   # braked, the rotors' momentum changed without the observer: it starts afresh at rest
             self._reset_observer()
+            if self.state_feedback is not None:   # and the state feedback's filter, the links as the model's twist puts them
+                zero = np.zeros(self._n)
+                rest = np.array(self.servo._inverse_dynamics(self.cell.q, zero, zero))
+                self.state_feedback.reset(self.cell.q - rest / self.state_feedback.stiffness_all, rest)
 
     def use_compiled_law(self, on: bool) -> None:
         """Run the servo law in the drives (C) or in Python, from the next step; a bumpless hand-over."""
@@ -108,6 +127,8 @@ class ServoLoop:
                 for callback in callbacks:
                     callback()
             return self.state()
+        if self.state_feedback is not None:
+            return self._run_state_feedback(q_ref, qd_ref, qdd_ref)
         if self.compiled_law:
             self.drives.run(q_ref, qd_ref, qdd_ref, self._each_step if callbacks else None)  # type: ignore[union-attr]
             if self.observer is not None:
@@ -146,6 +167,30 @@ class ServoLoop:
                 callback()
         if self.observer is not None:
             self._observe(torque_sum / len(q_m), len(q_m))
+        return self.state()
+
+    def _run_state_feedback(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> ServoState:
+        """Elastic gears under state feedback (servo/state_feedback.py), step by step, the drives as torque motors:
+        the slow joints' torque from the state feedback, the others' from the cascade on the twisted references."""
+        servo, cell, law = self.servo, self.cell, self.state_feedback
+        rnea, sel = servo._inverse_dynamics, law.joints
+        law.friction = servo.friction_in_use()
+        law.schedule(cell.q, qd_ref[0])
+        for i in range(len(q_ref)):
+            q, qd = np.array(cell.q), np.array(cell.qd)   # copies: the cell overwrites its measurements
+            tau_ff = np.array(rnea(q_ref[i], qd_ref[i], qdd_ref[i]))
+            theta_ref, theta_d_ref = law.references(q_ref[i], qd_ref[i], qdd_ref[i], tau_ff)
+            tau = servo.update(theta_ref, theta_d_ref, qdd_ref[i], q, qd).copy()   # the cascade, every joint
+            demand, ff = law.update(q_ref[i], qd_ref[i], theta_ref, theta_d_ref, tau_ff, q, qd)
+            demand += servo.torque_offset[sel]
+            tau[sel] = np.clip(demand, -law.tau_max, law.tau_max)
+            servo.saturated[sel] = tau[sel] != demand
+            servo.torque[sel] = tau[sel]
+            cell.step(tau)
+            law.applied(tau, qd)
+            for callback in self.on_step:
+                callback()
+        servo.integral[sel] = law.unknown_torque_nm   # what the path velocity controller adds to the model's torque
         return self.state()
 
     def _observe(self, mean_torque_nm: np.ndarray, n_steps: int) -> None:
