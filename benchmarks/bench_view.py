@@ -143,7 +143,8 @@ def browser_cpu_s(root: int) -> dict[str, float]:
 
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
-            helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ) -> dict[str, Any]:
+            helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ,
+            after_run: Any = None) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
     memory), "sender" (the server in its own process, each update sent by the run's sending thread, as before),
     "in-process" (the server in the run's process, as before that) or "none"; with a page, it is (re)loaded and connected before the run.
@@ -194,6 +195,8 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     view_cpu_s = process_cpu_s(view_pid) - view_cpu if view_pid is not None else 0.0
     browser_kinds = {kind: cpu - browser_before[kind] for kind, cpu in browser_cpu_s(os.getpid()).items()}
     frames = page.evaluate("window.orcFrames || 0") - frames if page is not None and live is not None else 0
+    if after_run is not None:
+        after_run()
     if live is not None:
         live.finish()
     if server is not None:
@@ -387,14 +390,14 @@ def main() -> None:
         def before_run(options: dict[str, Any]) -> None:  # once the page drew
             gpus = gpu_processes(drawing)
             idle_threads(gpus)
-            if autogrouped():
-                grouped = idle_group(gpus, options.get("gpu_idle_group", False))
-                if options.get("gpu_idle_group"):
-                    idle_groups.append(grouped)
+            if options.get("gpu_idle_group"):
+                idle_groups.append(autogrouped() and idle_group(gpus, True))
 
         def run(path: Path, page: str | None, paced: bool, view: str, options: dict[str, Any]) -> dict[str, Any]:
             one = {key: value for key, value in options.items() if key != "gpu_idle_group"}
-            return one_run(path, pages[page], paced, view, **one, before_run=lambda: before_run(options))
+            # out of the idle group before the page is left: starved there, the GPU process may keep it from loading
+            return one_run(path, pages[page], paced, view, **one, before_run=lambda: before_run(options),
+                           after_run=lambda: idle_group(gpu_processes(drawing), False) if autogrouped() else None)
 
         # interleaved, so a change of the machine's load between them touches every variant alike
         paced_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in PACED}
