@@ -358,7 +358,17 @@ def main() -> None:
     parser.add_argument("--browser-nice", type=int, default=0,
                         help="run the browser at this nice value (a user's browser on the controller's own machine "
                              "started with `nice -n 10`); 0: as a browser normally runs")
+    parser.add_argument("--fast-only", metavar="SUFFIXES",
+                        help="a quick look: no paced runs, and of the fast variants only these (comma-separated "
+                             "suffixes, e.g. ',_gpu_idle_group'; the run without a view is always made)")
     args = parser.parse_args()
+    paced_variants, fast_variants = PACED, FAST
+    if args.fast_only is not None:
+        chosen = set(args.fast_only.split(",")) | {"_without_view"}
+        unknown = chosen - set(FAST)
+        if unknown:
+            parser.error(f"--fast-only: no such fast variant: {', '.join(sorted(unknown))}")
+        paced_variants, fast_variants = {}, {suffix: FAST[suffix] for suffix in FAST if suffix in chosen}
     load_before = os.getloadavg()[0]
     from playwright.sync_api import sync_playwright
 
@@ -400,13 +410,13 @@ def main() -> None:
                            after_run=lambda: idle_group(gpu_processes(drawing), False) if autogrouped() else None)
 
         # interleaved, so a change of the machine's load between them touches every variant alike
-        paced_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in PACED}
+        paced_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in paced_variants}
         for _ in range(args.runs):
-            for suffix, (page, view, options) in PACED.items():
+            for suffix, (page, view, options) in paced_variants.items():
                 paced_runs[suffix].append(run(paced, page, True, view, options))
-        fast_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in FAST}
+        fast_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in fast_variants}
         for _ in range(args.repeats):
-            for suffix, (page, view, options) in FAST.items():
+            for suffix, (page, view, options) in fast_variants.items():
                 fast_runs[suffix].append(run(fast, page, False, view, options))
         own_session = all(os.getsid(pid) != os.getsid(0) for pid in drawing)
         benchmark.close()
@@ -421,11 +431,12 @@ def main() -> None:
     print(f"sched_autogroup={int(autogrouped())}")
     print(f"browser_own_session={int(own_session)}")
     print(f"gpu_idle_group_placed={int(bool(idle_groups) and all(idle_groups))}")
-    print(f"realtime_priority={int(all(r['realtime'] for r in paced_runs['']))}")
-    print(f"paced_simulated_s={paced_runs[''][0]['sim_s']:.3f}")
+    if paced_runs:
+        print(f"realtime_priority={int(all(r['realtime'] for r in paced_runs['']))}")
+        print(f"paced_simulated_s={paced_runs[''][0]['sim_s']:.3f}")
     for suffix, runs in paced_runs.items():
         _paced_figures(runs, suffix, PACED[suffix][0] is not None)
-    print(f"fast_simulated_s={fast_runs[''][0]['sim_s']:.3f}")
+    print(f"fast_simulated_s={fast_runs['_without_view'][0]['sim_s']:.3f}")
     baseline = fast_runs.pop("_without_view")
     print(f"fast_wall_s_without_view={np.median([r['wall_s'] for r in baseline]):.3f}")
     print(f"fast_motion_thread_cpu_s_without_view={np.median([r['motion_cpu_s'] for r in baseline]):.3f}")
