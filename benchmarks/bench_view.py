@@ -8,21 +8,27 @@
 * `fast_slowdown_pct`: wall time of a `--view --fast` run against the same run without a view (the median of the
   ratios of N interleaved rounds); target at most 10 %.
 * The benchmark browser: headless Chromium drawing WebGL with SwiftShader, whose GPU process (SwiftShader: the
-  pixels a user's graphics card draws) runs at SCHED_IDLE, on the CPU time nothing else wants; the page's JavaScript
+  pixels a user's graphics card draws) runs at SCHED_IDLE, meant to run on the CPU time nothing else wants (with
+  autogroup, only against the browser's own session: see `_gpu_idle_group`); the page's JavaScript
   (the renderer process, what a browser costs any machine) and the browser's own process run as usual and count.
   Every figure is printed for a small page (320x240, no suffix) and a large one (800x600, `_large_page`), and for the
   same Chromium as it runs by itself (`_plain_browser`, `_plain_browser_small_page`): what the view costs a machine
   without a graphics card.
 * What the figures are made of, steadier than wall time on a shared machine: the CPU time the view adds to the run's
-  process per update (`view_cpu_ms_per_update`, `fast_cpu_slowdown_pct`), the CPU time of the view's own server
+  process per update (`view_cpu_ms_per_update`, `fast_cpu_slowdown_pct`), the time the motion thread was ready to
+  run but waited for a core (`fast_motion_thread_waited_for_cpu_s`), the CPU time of the view's own server
   process per update (`view_process_cpu_ms_per_update`), and the browser's: its share of the cores, its frames per
   second, its CPU per frame, and its parts: the page's JavaScript (`renderer_cpu_share`, `renderer_cpu_ms_per_update`)
   and the drawing (`gpu_cpu_share`, `gpu_cpu_ms_per_frame`).
 * Baselines in the same run: no view (`_without_view`), the view's server with no browser
   (`_view_without_browser`), the run's process sending each update through the view's sending thread as before the
   shared-memory stream (`_sender`, and `_sender_view_without_browser`), the view drawing 30 states a second instead of
-  40 (`_30_updates_per_s`), the server inside the run's process as it was before it got a process of its own
-  (`_in_process`), the default light casting shadows (`_with_shadows`), and the paced motion cycle at normal
+  40 (`_30_updates_per_s`) or 2 (`_2_updates_per_s`: below the 4 a second under which the page stops rendering
+  between updates), the server inside the run's process as it was before it got a process of its own
+  (`_in_process`), the default light casting shadows (`_with_shadows`), the benchmark browser's GPU process in a
+  cgroup marked idle (`_gpu_idle_group`: idle against every session, see idle_group; `sched_autogroup`,
+  `browser_own_session` and `gpu_idle_group_placed` say whether that differs from SCHED_IDLE here and whether it could
+  be done), and the paced motion cycle at normal
   priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority with the threads it waits on
   through the interpreter lock left at normal priority (`_helpers_normal`), as before those changes.
 
@@ -98,6 +104,11 @@ def process_cpu_s(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
+def waited_for_cpu_s() -> float:
+    """Seconds the calling thread has been ready to run but waiting for a core (Linux schedstat: run delay)."""
+    return int(Path("/proc/thread-self/schedstat").read_text().split()[1]) / 1e9
+
+
 def browser_cpu_s(root: int) -> dict[str, float]:
     """CPU seconds (user and system) of every Chromium process below `root` now, by kind (Linux /proc): "renderer" (the
     page's JavaScript, three.js, the WebGL calls: what a browser on any machine spends), "gpu" (the GPU process: here
@@ -133,7 +144,8 @@ def browser_cpu_s(root: int) -> dict[str, float]:
 
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
-            helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ) -> dict[str, Any]:
+            helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ,
+            after_run: Any = None) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
     memory), "sender" (the server in its own process, each update sent by the run's sending thread, as before),
     "in-process" (the server in the run's process, as before that) or "none"; with a page, it is (re)loaded and connected before the run.
@@ -169,7 +181,7 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     view_cpu = process_cpu_s(view_pid) if view_pid is not None else 0.0
     frames = page.evaluate("window.orcFrames || 0") if page is not None and live is not None else 0
     browser_before = browser_cpu_s(os.getpid())
-    wall, cpu, thread_cpu = time.perf_counter(), time.process_time(), time.thread_time()
+    wall, cpu, thread_cpu, waited = time.perf_counter(), time.process_time(), time.thread_time(), waited_for_cpu_s()
     follow = scheduling.follow_paced
     if not helpers:
         scheduling.follow_paced = lambda below=1: None
@@ -180,9 +192,12 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
         scheduling.follow_paced = follow
     wall_s, cpu_s = time.perf_counter() - wall, time.process_time() - cpu
     motion_cpu_s = time.thread_time() - thread_cpu  # this thread runs the motion cycle
+    motion_waited_s = waited_for_cpu_s() - waited
     view_cpu_s = process_cpu_s(view_pid) - view_cpu if view_pid is not None else 0.0
     browser_kinds = {kind: cpu - browser_before[kind] for kind, cpu in browser_cpu_s(os.getpid()).items()}
     frames = page.evaluate("window.orcFrames || 0") - frames if page is not None and live is not None else 0
+    if after_run is not None:
+        after_run()
     if live is not None:
         live.finish()
     if server is not None:
@@ -190,7 +205,8 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
             page.goto("about:blank")
         server.close() if view in ("process", "sender") else close_server(server)
     assert status == "finished", status
-    return {"wall_s": wall_s, "cpu_s": cpu_s, "motion_cpu_s": motion_cpu_s, "browser_cpu_s": sum(browser_kinds.values()), "view_cpu_s": view_cpu_s,
+    return {"wall_s": wall_s, "cpu_s": cpu_s, "motion_cpu_s": motion_cpu_s, "motion_waited_s": motion_waited_s,
+            "browser_cpu_s": sum(browser_kinds.values()), "view_cpu_s": view_cpu_s,
             "renderer_cpu_s": browser_kinds["renderer"], "gpu_cpu_s": browser_kinds["gpu"], "frames": frames,
             "sim_s": robot.time_s(), "late_s": np.array(probe.late_s),
             "updates": live.updates if live is not None else 0,
@@ -232,9 +248,11 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_view_without_browser": (None, "process", {}),
     "_sender": ("small", "sender", {}),
     "_30_updates_per_s": ("small", "process", {"rate_hz": 30.0}),
+    "_2_updates_per_s": ("small", "process", {"rate_hz": 2.0}),
     "_sender_view_without_browser": (None, "sender", {}),
     "_in_process": ("small", "in-process", {}),
     "_with_shadows": ("small", "process", {"shadows": True}),
+    "_gpu_idle_group": ("small", "process", {"gpu_idle_group": True}),
 }
 #: The pages' sizes (CSS pixels). SwiftShader's cost per frame grows with the pixels, but far less than in proportion.
 SMALL_PAGE = (320, 240)
@@ -288,6 +306,41 @@ def idle_threads(pids: set[int]) -> None:
                 pass
 
 
+#: A cgroup of the cpu controller (cgroup v1, as this machine mounts it) whose tasks run only on CPU time nothing else
+#: on the machine wants (`cpu.idle`), whichever session they belong to. See idle_group.
+IDLE_CGROUP = Path("/sys/fs/cgroup/cpu/orc_bench_view_idle")
+
+
+def autogrouped() -> bool:
+    """The kernel groups processes by session and shares the processor fairly between the groups (autogroup)."""
+    try:
+        return Path("/proc/sys/kernel/sched_autogroup_enabled").read_text().strip() == "1"
+    except OSError:
+        return False
+
+
+def idle_group(pids: set[int], idle: bool) -> bool:
+    """Move every thread of these processes into IDLE_CGROUP (`idle`) or back to the root cgroup; False when the system
+    does not allow it (no such controller, not root).
+
+    Why: with autogroup, a policy set on threads (SCHED_IDLE, nice) orders them only against the threads of their own
+    session, and Chromium starts a session of its own: its group takes a fair share of the processor against the
+    run's session however idle its GPU threads are. A cgroup marked idle is idle against every other group."""
+    root = IDLE_CGROUP.parent
+    try:
+        if idle:
+            IDLE_CGROUP.mkdir(exist_ok=True)
+            (IDLE_CGROUP / "cpu.idle").write_text("1")
+        target = (IDLE_CGROUP if idle else root) / "tasks"
+        for pid in pids:
+            for task in os.listdir(f"/proc/{pid}/task"):
+                with contextlib.suppress(ProcessLookupError):  # the thread has ended
+                    target.write_text(task)
+    except OSError:
+        return False
+    return True
+
+
 def _size(text: str) -> tuple[int, int]:
     width, _, height = text.partition("x")
     return int(width), int(height)
@@ -306,7 +359,17 @@ def main() -> None:
     parser.add_argument("--browser-nice", type=int, default=0,
                         help="run the browser at this nice value (a user's browser on the controller's own machine "
                              "started with `nice -n 10`); 0: as a browser normally runs")
+    parser.add_argument("--fast-only", metavar="SUFFIXES",
+                        help="a quick look: no paced runs, and of the fast variants only these (comma-separated "
+                             "suffixes, e.g. ',_gpu_idle_group'; the run without a view is always made)")
     args = parser.parse_args()
+    paced_variants, fast_variants = PACED, FAST
+    if args.fast_only is not None:
+        chosen = set(args.fast_only.split(",")) | {"_without_view"}
+        unknown = chosen - set(FAST)
+        if unknown:
+            parser.error(f"--fast-only: no such fast variant: {', '.join(sorted(unknown))}")
+        paced_variants, fast_variants = {}, {suffix: FAST[suffix] for suffix in FAST if suffix in chosen}
     load_before = os.getloadavg()[0]
     from playwright.sync_api import sync_playwright
 
@@ -333,34 +396,52 @@ def main() -> None:
             if page is not None:
                 page.add_init_script(COUNT_FRAMES)
 
+        idle_groups: list[bool] = []  # whether the "_gpu_idle_group" variant could be placed
+
+        def before_run(options: dict[str, Any]) -> None:  # once the page drew
+            gpus = gpu_processes(drawing)
+            idle_threads(gpus)
+            if options.get("gpu_idle_group"):
+                idle_groups.append(autogrouped() and idle_group(gpus, True))
+
         def run(path: Path, page: str | None, paced: bool, view: str, options: dict[str, Any]) -> dict[str, Any]:
-            return one_run(path, pages[page], paced, view, **options,
-                           before_run=lambda: idle_threads(gpu_processes(drawing)))  # once the page drew
+            one = {key: value for key, value in options.items() if key != "gpu_idle_group"}
+            # out of the idle group before the page is left: starved there, the GPU process may keep it from loading
+            return one_run(path, pages[page], paced, view, **one, before_run=lambda: before_run(options),
+                           after_run=lambda: idle_group(gpu_processes(drawing), False) if autogrouped() else None)
 
         # interleaved, so a change of the machine's load between them touches every variant alike
-        paced_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in PACED}
+        paced_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in paced_variants}
         for _ in range(args.runs):
-            for suffix, (page, view, options) in PACED.items():
+            for suffix, (page, view, options) in paced_variants.items():
                 paced_runs[suffix].append(run(paced, page, True, view, options))
-        fast_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in FAST}
+        fast_runs: dict[str, list[dict[str, Any]]] = {suffix: [] for suffix in fast_variants}
         for _ in range(args.repeats):
-            for suffix, (page, view, options) in FAST.items():
+            for suffix, (page, view, options) in fast_variants.items():
                 fast_runs[suffix].append(run(fast, page, False, view, options))
+        own_session = all(os.getsid(pid) != os.getsid(0) for pid in drawing)
         benchmark.close()
         plain.close()
+    with contextlib.suppress(OSError):  # empty now that the browser is closed
+        IDLE_CGROUP.rmdir()
     print(f"load_average_1min_before={load_before:.2f}")
     print(f"load_average_1min={os.getloadavg()[0]:.2f}")
     print(f"browser_nice={args.browser_nice}")
     print(f"small_page={'x'.join(map(str, args.small_page))}")
     print(f"large_page={'x'.join(map(str, args.large_page))}")
-    print(f"realtime_priority={int(all(r['realtime'] for r in paced_runs['']))}")
-    print(f"paced_simulated_s={paced_runs[''][0]['sim_s']:.3f}")
+    print(f"sched_autogroup={int(autogrouped())}")
+    print(f"browser_own_session={int(own_session)}")
+    print(f"gpu_idle_group_placed={int(bool(idle_groups) and all(idle_groups))}")
+    if paced_runs:
+        print(f"realtime_priority={int(all(r['realtime'] for r in paced_runs['']))}")
+        print(f"paced_simulated_s={paced_runs[''][0]['sim_s']:.3f}")
     for suffix, runs in paced_runs.items():
         _paced_figures(runs, suffix, PACED[suffix][0] is not None)
-    print(f"fast_simulated_s={fast_runs[''][0]['sim_s']:.3f}")
+    print(f"fast_simulated_s={fast_runs['_without_view'][0]['sim_s']:.3f}")
     baseline = fast_runs.pop("_without_view")
     print(f"fast_wall_s_without_view={np.median([r['wall_s'] for r in baseline]):.3f}")
     print(f"fast_motion_thread_cpu_s_without_view={np.median([r['motion_cpu_s'] for r in baseline]):.3f}")
+    print(f"fast_motion_thread_waited_for_cpu_s_without_view={np.median([r['motion_waited_s'] for r in baseline]):.3f}")
     for suffix, runs in fast_runs.items():
         _fast_figures(list(zip(runs, baseline)), suffix, FAST[suffix][0] is not None)
 
@@ -407,6 +488,8 @@ def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: st
     print(f"fast_motion_thread_cpu_s{suffix}={median([v['motion_cpu_s'] for v, _ in pairs]):.3f}")
     print(f"fast_motion_thread_cpu_slowdown_pct{suffix}="
           f"{100 * median([v['motion_cpu_s'] / b['motion_cpu_s'] - 1 for v, b in pairs]):.1f}")
+    # ready to run, but no core free for it: what a program competing for the cores costs the run
+    print(f"fast_motion_thread_waited_for_cpu_s{suffix}={median([v['motion_waited_s'] for v, _ in pairs]):.3f}")
     slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in pairs]
     print(f"fast_slowdown_pct_runs{suffix}={','.join(f'{x:.1f}' for x in slowdowns)}")
     print(f"fast_slowdown_pct{suffix}={median(slowdowns):.1f}")
