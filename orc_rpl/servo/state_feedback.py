@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
+from orc_rpl.plant import compiled
 from orc_rpl.robot.friction import friction_torque_nm
 from orc_rpl.robot.model import ArmModel
 from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S
@@ -77,7 +78,11 @@ def slow_joints_model(rotor_kg_m2: np.ndarray, link_inertia: np.ndarray, stiffne
     return e[: 5 * m, : 5 * m], e[: 5 * m, 5 * m :]
 
 
-def _expm(a: np.ndarray, terms: int = 8) -> np.ndarray:
+#: Terms of the series of the sampled model's exponential.
+EXPM_TERMS = 8
+
+
+def _expm(a: np.ndarray, terms: int = EXPM_TERMS) -> np.ndarray:
     """exp(a) by its series (a: a sampled model, |a| well below 1 per step: the terms fall fast)."""
     result, term = np.eye(len(a)), np.eye(len(a))
     for i in range(1, terms + 1):
@@ -171,6 +176,8 @@ class TwoMassStateFeedback:
         self._link_other = np.zeros(m)
         self._p: np.ndarray | None = None   # the LQR's Riccati solution, the filter's prior covariance
         self._s: np.ndarray | None = None
+        #: the compiled schedule (servo/state_feedback_kernels.py), None where numba is not; `compiled.ON` picks
+        self._kernels: Any = compiled.kernels("orc_rpl.servo.state_feedback_kernels")
 
     def schedule(self, q: np.ndarray, qd_ref: np.ndarray | None = None, iterations: int | None = None) -> None:
         """The model at pose q (the links' inertia matrix from the model's M(q)) and for the reference speeds qd_ref
@@ -182,13 +189,16 @@ class TwoMassStateFeedback:
         payload = self.arm.payload   # (kg, com): the model keeps its payload
         full = self.arm.mass_matrix(q, payload[0], payload[1:])
         self.link_inertia = full[np.ix_(sel, sel)] - np.diag(self.rotor)
+        count = RICCATI_ITERATIONS if iterations is None else iterations
+        if self._kernels is not None and compiled.ON and self._p is not None and count > 0:
+            self._schedule_compiled(count)
+            return
         self.ad, self.bd = slow_joints_model(self.rotor, self.link_inertia, self.stiffness, self.damping, self.moving,
                                              self.period_s)
         a4, b4 = self.ad[: 4 * m, : 4 * m], self.bd[: 4 * m, :m]
         weights = lqr_weights(self.rotor, self.link_inertia, self.bandwidth_rad_s)
         process, measurement = noise_covariances(self.rotor, self.link_inertia, self.moving, self.period_s)
         r, a, c = np.eye(m), self.ad, self.c
-        count = RICCATI_ITERATIONS if iterations is None else iterations
         if self._p is None or count == 0:
             self._p = scipy.linalg.solve_discrete_are(a4, b4, weights, r)
             self._s = scipy.linalg.solve_discrete_are(a.T, c.T, process, measurement)
@@ -203,6 +213,22 @@ class TwoMassStateFeedback:
         bp = b4.T @ p
         self.k = np.linalg.solve(r + bp @ b4, bp @ a4)                            #: the LQR's gain (m x 4m)
         self.l = s @ c.T @ np.linalg.inv(c @ s @ c.T + measurement)              #: the filter's correction (5m x 2m)
+
+    def _schedule_compiled(self, count: int) -> None:
+        """`schedule`'s model, weights, Riccati iterations and gains for self.link_inertia, compiled (the numpy code
+        above is the reference); p and s are new arrays each cycle, as the numpy code's."""
+        m, kernels = self.m, self._kernels
+        tuning = np.zeros(kernels.TUNING_SIZE)
+        tuning[[kernels.BANDWIDTH, kernels.MOTOR_WEIGHT, kernels.ROTOR_NOISE, kernels.LINK_NOISE, kernels.WALK,
+                kernels.REST_WALK, kernels.ANGLE_NOISE, kernels.SPEED_NOISE, kernels.PERIOD, kernels.EXPM_TERMS]] = (
+            self.bandwidth_rad_s, MOTOR_WEIGHT, ROTOR_NOISE_NM, LINK_NOISE_NM, DISTURBANCE_WALK_NM, REST_WALK_NM,
+            ANGLE_NOISE_RAD, SPEED_NOISE_RAD_S, self.period_s, EXPM_TERMS)
+        p, s = self._p.copy(), self._s.copy()   # type: ignore[union-attr]
+        self.ad, self.bd = np.empty((5 * m, 5 * m)), np.empty((5 * m, 2 * m))
+        self.k, self.l = np.empty((m, 4 * m)), np.empty((5 * m, 2 * m))
+        kernels.schedule_gains(self.link_inertia, self.rotor, self.stiffness, self.damping, self.moving, tuning, count,
+                               p, s, self.ad, self.bd, self.k, self.l)
+        self._p, self._s = p, s
 
     def reset(self, q_link: np.ndarray, link_torque_nm: np.ndarray) -> None:
         """At rest, the links at q_link carrying link_torque_nm (the model's weight): the rotors ahead by the twist."""
