@@ -1,4 +1,4 @@
-"""The state feedback's compiled schedule (numba) computes what the numpy code it was written from computes."""
+"""The state feedback's compiled schedule and step (numba) compute what the numpy code they were written from computes."""
 
 from __future__ import annotations
 
@@ -72,15 +72,53 @@ def test_the_compiled_schedule_gives_the_numpy_schedules_model_and_gains_over_a_
     assert worst[0] <= 1e-10, worst[0]
 
 
-def _final_links(schedule_kernel: bool) -> np.ndarray:
+def test_the_compiled_step_gives_the_numpy_steps_references_torques_and_filter_over_a_recorded_run() -> None:
+    layer = _layer()
+    law = layer.backend.loop.state_feedback
+    worst, steps = [0.0], [0]
+
+    def compare(got: Any, want: Any) -> None:
+        got, want = np.asarray(got, dtype=float), np.asarray(want, dtype=float)
+        assert got.shape == want.shape
+        worst[0] = max(worst[0], float(np.max(np.abs(got - want)) / max(float(np.max(np.abs(want))), 1e-300)))
+
+    def twice(method: Any, saved: tuple[str, ...], outputs: tuple[str, ...]) -> Any:
+        """The step's method from the same state with numpy (the reference), then compiled (which goes on)."""
+        def both(*args: Any) -> Any:
+            before = {name: np.array(getattr(law, name)) for name in saved}
+            compiled.use_kernels(False)
+            want = method(*[np.array(a) for a in args])
+            want_state = [np.array(getattr(law, name)) for name in outputs]
+            for name, value in before.items():
+                setattr(law, name, value.copy())
+            compiled.use_kernels(True)
+            got = method(*args)
+            for name, value in zip(outputs, want_state):
+                compare(getattr(law, name), value)
+            if want is not None:
+                for g, w in zip(got, want):
+                    compare(g, w)
+            steps[0] += 1
+            return got
+        return both
+
+    law.references = twice(law.references, ("twist_rad", "_link_other"), ("twist_rad", "_link_other"))
+    law.update = twice(law.update, ("state",), ("state",))
+    law.applied = twice(law.applied, ("state",), ("state",))
+    _moves(layer)
+    assert steps[0] > 3 * 2000   # every 1 ms step of the moves, three calls each
+    assert worst[0] <= 1e-10, worst[0]
+
+
+def _final_links(law_kernels: bool) -> np.ndarray:
     layer = _layer()
     loop = layer.backend.loop
-    if not schedule_kernel:
-        loop.state_feedback._kernels = None   # the numpy schedule; the plant's kernels the same in both runs
+    if not law_kernels:
+        loop.state_feedback._kernels = None   # the numpy law; the plant's kernels the same in both runs
     _moves(layer)
     return np.array(loop.cell.true_q)
 
 
-def test_a_run_with_the_compiled_schedule_ends_where_the_numpy_schedules_run_ends() -> None:
+def test_a_run_with_the_compiled_law_ends_where_the_numpy_laws_run_ends() -> None:
     # the last bits differ, and the encoder's rounding (a count is 2.5e-8 rad) can turn that into a count
     np.testing.assert_allclose(_final_links(True), _final_links(False), rtol=0.0, atol=1e-6)
