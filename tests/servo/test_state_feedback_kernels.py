@@ -12,7 +12,7 @@ from orc_rpl.motion import CartesianMotion, JointMotion, Params, make_virtual_mo
 from orc_rpl.plant import compiled
 from orc_rpl.world.pose import Pose
 
-pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason="numba is not installed")]
+pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason="the kernels are off (numba not installed, or ORC_RPL_NO_JIT=1)")]
 
 #: What a schedule leaves that the steps use: the sampled model, the gains, the Riccati solutions carried on.
 OUTPUTS = ("ad", "bd", "k", "l", "_p", "_s")
