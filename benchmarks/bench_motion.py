@@ -9,6 +9,9 @@ payload declared right. sim_vs_raw_mujoco_ratio_python_servo_law is the same sta
 law in Python (the reference the drives' law in C is tested against), measured alike;
 sim_vs_raw_mujoco_ratio_numpy_bookkeeping is the stack with the per-cycle bookkeeping in numpy
 instead of the compiled kernels (numba, orc_rpl/plant/compiled.py), measured alike.
+sim_vs_raw_mujoco_ratio_elastic_gear_feedforward and _elastic_state_feedback are the same stack on the
+elastic gears (opt-in: the cascade with the gears' twist fed forward; the slow joints under state
+feedback, servo/state_feedback.py), measured alike.
 """
 
 from __future__ import annotations
@@ -84,23 +87,25 @@ def warm_realistic(robot: str) -> MotionLayer:
     return layer
 
 
-def bench_speed(robot: str, seconds: float, compiled: bool = True, kernels: bool = True) -> tuple[float, float, float, float]:
+def bench_speed(robot: str, seconds: float, compiled: bool = True, kernels: bool = True,
+                **plant: bool) -> tuple[float, float, float, float]:
     """(x real time of the whole stack, x real time of raw mj_step, their ratio, share of wall time in servo+plant).
 
     `compiled`: the servo law in the drives (C, the default); False: the Python law it is written from.
     `kernels`: the per-cycle bookkeeping compiled (the default where numba is installed); False: numpy.
+    `plant`: make_virtual_motion_layer's elastic-gear keywords (elastic, gear_feedforward, state_feedback).
     """
     before = use_kernels(kernels)
     try:
-        return _bench_speed(robot, seconds, compiled)
+        return _bench_speed(robot, seconds, compiled, plant)
     finally:
         use_kernels(before)
 
 
-def _bench_speed(robot: str, seconds: float, compiled: bool) -> tuple[float, float, float, float]:
-    layer = make_virtual_motion_layer(robot, backend="servo", record=True, plant="realistic")
+def _bench_speed(robot: str, seconds: float, compiled: bool, plant: dict[str, bool]) -> tuple[float, float, float, float]:
+    layer = make_virtual_motion_layer(robot, backend="servo", record=True, plant="realistic", **plant)
     program_step(layer, 0)  # warm-up: imports (toppra pulls in matplotlib), caches
-    layer = make_virtual_motion_layer(robot, backend="servo", record=True, plant="realistic")
+    layer = make_virtual_motion_layer(robot, backend="servo", record=True, plant="realistic", **plant)
     layer.backend.loop.use_compiled_law(compiled)
     below = [0.0]
     advance = layer.backend.advance
@@ -225,6 +230,10 @@ def main() -> None:
     ours, raw, ratio, servo_share = runs[2]
     python_law = sorted(bench_speed(args.robot, args.seconds / 5, compiled=False)[2] for _ in range(5))[2]
     numpy_bookkeeping = sorted(bench_speed(args.robot, args.seconds / 5, kernels=False)[2] for _ in range(5))[2]
+    # the elastic gears (opt-in): the cascade with the twist fed forward, and the state feedback (slow joints)
+    elastic = {"elastic": True, "gear_feedforward": True}
+    elastic_ff = sorted(bench_speed(args.robot, args.seconds / 5, **elastic)[2] for _ in range(5))[2]
+    elastic_sf = sorted(bench_speed(args.robot, args.seconds / 5, **elastic, state_feedback=True)[2] for _ in range(5))[2]
     worst, mean, naive, naive_short, naive_long = bench_optimality(args.robot)
     dev = bench_lmove_deviation(args.robot)
     print(f"robot={args.robot}")
@@ -238,6 +247,8 @@ def main() -> None:
     print(f"sim_vs_raw_mujoco_ratio_python_servo_law={python_law:.3f}")
     print(f"sim_vs_raw_mujoco_ratio_numpy_bookkeeping={numpy_bookkeeping:.3f}")
     print(f"sim_vs_raw_mujoco_ratio={ratio:.3f}")
+    print(f"sim_vs_raw_mujoco_ratio_elastic_gear_feedforward={elastic_ff:.3f}")
+    print(f"sim_vs_raw_mujoco_ratio_elastic_state_feedback={elastic_sf:.3f}")
     print(f"time_optimality_ratio={worst:.4f}")
     print(f"vs_naive_ratio={naive:.3f}")
     print(f"lmove_path_deviation_mm={dev:.3f}")

@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
+from orc_rpl.plant import compiled
 from orc_rpl.robot.friction import friction_torque_nm
 from orc_rpl.robot.model import ArmModel
 from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S
@@ -77,7 +78,11 @@ def slow_joints_model(rotor_kg_m2: np.ndarray, link_inertia: np.ndarray, stiffne
     return e[: 5 * m, : 5 * m], e[: 5 * m, 5 * m :]
 
 
-def _expm(a: np.ndarray, terms: int = 8) -> np.ndarray:
+#: Terms of the series of the sampled model's exponential.
+EXPM_TERMS = 8
+
+
+def _expm(a: np.ndarray, terms: int = EXPM_TERMS) -> np.ndarray:
     """exp(a) by its series (a: a sampled model, |a| well below 1 per step: the terms fall fast)."""
     result, term = np.eye(len(a)), np.eye(len(a))
     for i in range(1, terms + 1):
@@ -169,8 +174,20 @@ class TwoMassStateFeedback:
         self.held_link_nm, self.held_rotor_nm = np.zeros(m), np.zeros(m)
         self.link_inertia = np.eye(m)
         self._link_other = np.zeros(m)
+        self._no_friction = np.zeros(n)
         self._p: np.ndarray | None = None   # the LQR's Riccati solution, the filter's prior covariance
         self._s: np.ndarray | None = None
+        #: the compiled schedule (servo/state_feedback_kernels.py), None where numba is not; `compiled.ON` picks
+        self._kernels: Any = compiled.kernels("orc_rpl.servo.state_feedback_kernels")
+        if self._kernels is not None:   # the design's constants, as the kernels read them
+            kernels = self._kernels
+            self._tuning = np.zeros(kernels.TUNING_SIZE)
+            self._tuning[[kernels.BANDWIDTH, kernels.MOTOR_WEIGHT, kernels.ROTOR_NOISE, kernels.LINK_NOISE, kernels.WALK,
+                          kernels.REST_WALK, kernels.ANGLE_NOISE, kernels.SPEED_NOISE, kernels.PERIOD, kernels.EXPM_TERMS,
+                          kernels.FRICTION_GAIN, kernels.FRICTION_SMOOTH]] = (
+                self.bandwidth_rad_s, MOTOR_WEIGHT, ROTOR_NOISE_NM, LINK_NOISE_NM, DISTURBANCE_WALK_NM, REST_WALK_NM,
+                ANGLE_NOISE_RAD, SPEED_NOISE_RAD_S, self.period_s, EXPM_TERMS, FRICTION_POSITION_GAIN_1_S,
+                FRICTION_SMOOTH_RAD_S)
 
     def schedule(self, q: np.ndarray, qd_ref: np.ndarray | None = None, iterations: int | None = None) -> None:
         """The model at pose q (the links' inertia matrix from the model's M(q)) and for the reference speeds qd_ref
@@ -182,13 +199,16 @@ class TwoMassStateFeedback:
         payload = self.arm.payload   # (kg, com): the model keeps its payload
         full = self.arm.mass_matrix(q, payload[0], payload[1:])
         self.link_inertia = full[np.ix_(sel, sel)] - np.diag(self.rotor)
+        count = RICCATI_ITERATIONS if iterations is None else iterations
+        if self._kernels is not None and compiled.ON and self._p is not None and count > 0:
+            self._schedule_compiled(count)
+            return
         self.ad, self.bd = slow_joints_model(self.rotor, self.link_inertia, self.stiffness, self.damping, self.moving,
                                              self.period_s)
         a4, b4 = self.ad[: 4 * m, : 4 * m], self.bd[: 4 * m, :m]
         weights = lqr_weights(self.rotor, self.link_inertia, self.bandwidth_rad_s)
         process, measurement = noise_covariances(self.rotor, self.link_inertia, self.moving, self.period_s)
         r, a, c = np.eye(m), self.ad, self.c
-        count = RICCATI_ITERATIONS if iterations is None else iterations
         if self._p is None or count == 0:
             self._p = scipy.linalg.solve_discrete_are(a4, b4, weights, r)
             self._s = scipy.linalg.solve_discrete_are(a.T, c.T, process, measurement)
@@ -203,6 +223,17 @@ class TwoMassStateFeedback:
         bp = b4.T @ p
         self.k = np.linalg.solve(r + bp @ b4, bp @ a4)                            #: the LQR's gain (m x 4m)
         self.l = s @ c.T @ np.linalg.inv(c @ s @ c.T + measurement)              #: the filter's correction (5m x 2m)
+
+    def _schedule_compiled(self, count: int) -> None:
+        """`schedule`'s model, weights, Riccati iterations and gains for self.link_inertia, compiled (the numpy code
+        above is the reference); p and s are new arrays each cycle, as the numpy code's."""
+        m, kernels = self.m, self._kernels
+        p, s = self._p.copy(), self._s.copy()   # type: ignore[union-attr]
+        self.ad, self.bd = np.empty((5 * m, 5 * m)), np.empty((5 * m, 2 * m))
+        self.k, self.l = np.empty((m, 4 * m)), np.empty((5 * m, 2 * m))
+        kernels.schedule_gains(self.link_inertia, self.rotor, self.stiffness, self.damping, self.moving, self._tuning, count,
+                               p, s, self.ad, self.bd, self.k, self.l)
+        self._p, self._s = p, s
 
     def reset(self, q_link: np.ndarray, link_torque_nm: np.ndarray) -> None:
         """At rest, the links at q_link carrying link_torque_nm (the model's weight): the rotors ahead by the twist."""
@@ -251,6 +282,12 @@ class TwoMassStateFeedback:
                    tau_ff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The rotors' reference angles and speeds for one row of link references (every joint): the link's plus
         the twist of the link torque (the slow joints' less the unknown link torque), its rate from the last row's."""
+        if self._kernels is not None and compiled.ON:   # the same, compiled
+            theta_ref, theta_d_ref, self._link_other = np.empty(len(q_ref)), np.empty(len(q_ref)), np.empty(self.m)
+            self._kernels.law_references(q_ref, qd_ref, qdd_ref, tau_ff, self.joints, self.rotor_all, self.stiffness_all,
+                                         self.state, self.moving, self.held_link_nm, self.link_inertia, self._tuning,
+                                         self.twist_rad, self._link_other, theta_ref, theta_d_ref)
+            return theta_ref, theta_d_ref
         sel = self.joints
         link_torque = tau_ff - self.rotor_all * qdd_ref
         w_link = self.link_w_nm
@@ -268,6 +305,13 @@ class TwoMassStateFeedback:
         (before the drives' limits) and their feed-forward. Arguments are every joint's: the link's and the
         rotor's reference rows, the model's torque of the link reference (the rotor's inertia included), and
         the encoders' angles and the drives' speeds now."""
+        if self._kernels is not None and compiled.ON:   # the same, compiled
+            demand, ff = np.empty(self.m), np.empty(self.m)
+            coulomb, viscous = self._friction_rows()
+            self._kernels.law_update(q_ref, qd_ref, theta_ref, theta_d_ref, tau_ff, theta, theta_d, self.joints, self.state,
+                                     self.l, self.k, self.moving, self.held_link_nm, self.held_rotor_nm,
+                                     self.friction is not None, coulomb, viscous, self._tuning, demand, ff)
+            return demand, ff
         sel, x, m = self.joints, self.state, self.m
         x += self.l @ (np.concatenate([theta[sel], theta_d[sel]]) - x[: 2 * m])
         reference = np.concatenate([theta_ref[sel], theta_d_ref[sel], q_ref[sel], qd_ref[sel]])
@@ -281,8 +325,20 @@ class TwoMassStateFeedback:
     def applied(self, tau_nm: np.ndarray, theta_d: np.ndarray) -> None:
         """The filter's prediction over the step the motors apply tau_nm (every joint's, after their limit) for;
         theta_d: the drives' speeds at the step's start (the friction estimate's)."""
+        if self._kernels is not None and compiled.ON:   # the same, compiled
+            coulomb, viscous = self._friction_rows()
+            self._kernels.law_predict(tau_nm, theta_d, self.joints, self.state, self.ad, self.bd, self.moving,
+                                      self.held_rotor_nm, self._link_other, self.friction is not None, coulomb, viscous,
+                                      self._tuning)
+            return
         sel = self.joints
         u = tau_nm[sel] + np.where(self.moving, self.held_rotor_nm, 0.0)   # the held rotor torque: an input while moving
         if self.friction is not None:
             u = u - friction_torque_nm(self.friction[0][sel], self.friction[1][sel], theta_d[sel], FRICTION_SMOOTH_RAD_S)
         self.state = self.ad @ self.state + self.bd @ np.concatenate([u, self._link_other])
+
+    def _friction_rows(self) -> tuple[np.ndarray, np.ndarray]:
+        """The friction estimate's Coulomb and viscous rows (every joint) for the kernels; zeros where there is none."""
+        if self.friction is None:
+            return self._no_friction, self._no_friction
+        return np.asarray(self.friction[0], dtype=float), np.asarray(self.friction[1], dtype=float)

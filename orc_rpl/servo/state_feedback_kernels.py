@@ -1,0 +1,181 @@
+"""The servo room's state feedback compiled: a motion cycle's model and gains, and the 1 ms step's law, in numba.
+
+The numpy code in servo/state_feedback.py is the reference: the kernels build the same sampled
+model, the same weights and noises, run the same Riccati iterations, and the step's references,
+torques and filter the same expressions (the sums of the matrix products in their own order:
+tests/servo/test_state_feedback_kernels.py compares the two on a recorded run, to 1e-10). Profiled on
+bench_motion's program (elastic, state feedback): the schedule was about half of the servo's time, a
+hundred small numpy calls a motion cycle on matrices of 15 x 15 at most; the step's three calls
+(`references`, `update`, `applied`) about a fifth, some forty numpy calls a step.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from orc_rpl.plant.compiled import kernel
+
+#: Entries of the `tuning` array (`TwoMassStateFeedback._tuning`): the kernel reads the design's constants by these.
+(BANDWIDTH, MOTOR_WEIGHT, ROTOR_NOISE, LINK_NOISE, WALK, REST_WALK, ANGLE_NOISE, SPEED_NOISE, PERIOD, EXPM_TERMS,
+ FRICTION_GAIN, FRICTION_SMOOTH) = range(12)
+TUNING_SIZE = 12
+
+
+@kernel
+def schedule_gains(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.ndarray, damping: np.ndarray,
+                   moving: np.ndarray, tuning: np.ndarray, iterations: int, p: np.ndarray, s: np.ndarray,
+                   ad: np.ndarray, bd: np.ndarray, k: np.ndarray, l: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`schedule` after the link inertia matrix: `slow_joints_model`, `lqr_weights`, `noise_covariances`, then
+    `iterations` Riccati iterations from p (the LQR's, 4m x 4m) and s (the filter's, 5m x 5m), both updated in
+    place, and the gains: ad (5m x 5m) and bd (5m x 2m) the sampled model, k (m x 4m), l (5m x 2m)."""
+    m = rotor.shape[0]
+    period = tuning[PERIOD]
+    # slow_joints_model: [A B; 0 0], its exponential by the series
+    k_mat, d_mat, inv_rotor = np.diag(stiffness), np.diag(damping), np.diag(1.0 / rotor)
+    inv_link = np.linalg.inv(link_inertia)
+    a = np.zeros((7 * m, 7 * m))
+    eye = np.eye(m)
+    a[0:m, m : 2 * m] = eye
+    a[2 * m : 3 * m, 3 * m : 4 * m] = eye
+    a[m : 2 * m, 0:m] = -inv_rotor @ k_mat
+    a[m : 2 * m, m : 2 * m] = -inv_rotor @ d_mat
+    a[m : 2 * m, 2 * m : 3 * m] = inv_rotor @ k_mat
+    a[m : 2 * m, 3 * m : 4 * m] = inv_rotor @ d_mat
+    a[3 * m : 4 * m, 0:m] = inv_link @ k_mat
+    a[3 * m : 4 * m, m : 2 * m] = inv_link @ d_mat
+    a[3 * m : 4 * m, 2 * m : 3 * m] = -inv_link @ k_mat
+    a[3 * m : 4 * m, 3 * m : 4 * m] = -inv_link @ d_mat
+    for j in range(m):
+        for i in range(m):
+            a[3 * m + i, 4 * m + j] = inv_link[i, j] * (1.0 if moving[j] else 0.0)
+            a[m + i, 4 * m + j] = inv_rotor[i, j] * (0.0 if moving[j] else 1.0)
+    a[m : 2 * m, 5 * m : 6 * m] = inv_rotor
+    a[3 * m : 4 * m, 6 * m :] = -inv_link
+    a = a * period
+    e, term = np.eye(7 * m), np.eye(7 * m)
+    for i in range(1, int(tuning[EXPM_TERMS]) + 1):
+        term = term @ a / i
+        e = e + term
+    ad[:, :] = e[: 5 * m, : 5 * m]
+    bd[:, :] = e[: 5 * m, 5 * m :]
+    # lqr_weights and noise_covariances
+    w = tuning[BANDWIDTH]
+    weights = np.zeros((4 * m, 4 * m))
+    process = np.zeros((5 * m, 5 * m))
+    measurement = np.zeros((2 * m, 2 * m))
+    for j in range(m):
+        whole = rotor[j] + link_inertia[j, j]
+        angle, speed = (whole * w * w) ** 2, 0.5 * (whole * w) ** 2
+        weights[j, j], weights[m + j, m + j] = tuning[MOTOR_WEIGHT] * angle, tuning[MOTOR_WEIGHT] * speed
+        weights[2 * m + j, 2 * m + j], weights[3 * m + j, 3 * m + j] = angle, speed
+        process[m + j, m + j] = (tuning[ROTOR_NOISE] / rotor[j]) ** 2 * period
+        process[3 * m + j, 3 * m + j] = (tuning[LINK_NOISE] / link_inertia[j, j]) ** 2 * period
+        process[4 * m + j, 4 * m + j] = (tuning[WALK] if moving[j] else tuning[REST_WALK]) ** 2 * period
+        measurement[j, j] = tuning[ANGLE_NOISE] ** 2
+        measurement[m + j, m + j] = tuning[SPEED_NOISE] ** 2
+    # the Riccati iterations (the filter measures the rotors' angles and speeds: c = [I 0])
+    a4, b4 = np.ascontiguousarray(ad[: 4 * m, : 4 * m]), np.ascontiguousarray(bd[: 4 * m, :m])
+    ad_c = np.ascontiguousarray(ad)
+    c = np.zeros((2 * m, 5 * m))
+    c[:, : 2 * m] = np.eye(2 * m)
+    r = np.eye(m)
+    p_now, s_now = p.copy(), s.copy()
+    for _ in range(iterations):
+        bp = b4.T @ p_now
+        gain = np.linalg.solve(r + bp @ b4, bp @ a4)
+        p_now = weights + a4.T @ p_now @ (a4 - b4 @ gain)
+        innovation = c @ s_now @ c.T + measurement
+        s_now = ad_c @ (s_now - s_now @ c.T @ np.linalg.solve(innovation, c @ s_now)) @ ad_c.T + process
+    p[:, :] = p_now
+    s[:, :] = s_now
+    bp = b4.T @ p_now
+    k[:, :] = np.linalg.solve(r + bp @ b4, bp @ a4)
+    l[:, :] = s_now @ c.T @ np.linalg.inv(c @ s_now @ c.T + measurement)
+
+
+@kernel
+def law_references(q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, tau_ff: np.ndarray, joints: np.ndarray,
+                   rotor_all: np.ndarray, stiffness_all: np.ndarray, state: np.ndarray, moving: np.ndarray,
+                   held_link: np.ndarray, link_inertia: np.ndarray, tuning: np.ndarray, twist_rad: np.ndarray,
+                   link_other: np.ndarray, theta_ref: np.ndarray, theta_d_ref: np.ndarray) -> None:  # pragma: no cover
+    """`references`: the rotors' reference row into theta_ref and theta_d_ref, the twist into twist_rad (in place,
+    its last row's read first), the slow joints' other link torques into link_other."""
+    n, m = q_ref.shape[0], joints.shape[0]
+    link_torque = np.empty(n)
+    for j in range(n):
+        link_torque[j] = tau_ff[j] - rotor_all[j] * qdd_ref[j]
+    for i in range(m):
+        w_link = state[4 * m + i] if moving[i] else held_link[i]
+        link_torque[joints[i]] = link_torque[joints[i]] - w_link
+    for j in range(n):
+        twist = link_torque[j] / stiffness_all[j]
+        rate = (twist - twist_rad[j]) / tuning[PERIOD]
+        twist_rad[j] = twist
+        theta_ref[j], theta_d_ref[j] = q_ref[j] + twist, qd_ref[j] + rate
+    for i in range(m):
+        inertia = 0.0
+        for c in range(m):
+            inertia += link_inertia[i, c] * qdd_ref[joints[c]]
+        w_link = state[4 * m + i] if moving[i] else 0.0
+        link_other[i] = (link_torque[joints[i]] + w_link) - inertia
+
+
+@kernel
+def law_update(q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, theta_d_ref: np.ndarray,
+               tau_ff: np.ndarray, theta: np.ndarray, theta_d: np.ndarray, joints: np.ndarray, state: np.ndarray,
+               l: np.ndarray, k: np.ndarray, moving: np.ndarray, held_link: np.ndarray, held_rotor: np.ndarray,
+               friction: bool, coulomb: np.ndarray, viscous: np.ndarray, tuning: np.ndarray, demand: np.ndarray,
+               ff: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`update`: the filter's correction of `state` (in place), the demanded torques and their feed-forward
+    (the slow joints') into demand and ff."""
+    m = joints.shape[0]
+    innovation = np.empty(2 * m)
+    for i in range(m):
+        innovation[i] = theta[joints[i]] - state[i]
+        innovation[m + i] = theta_d[joints[i]] - state[m + i]
+    for r in range(5 * m):
+        correction = 0.0
+        for c in range(2 * m):
+            correction += l[r, c] * innovation[c]
+        state[r] = state[r] + correction
+    error = np.empty(4 * m)
+    for i in range(m):
+        j = joints[i]
+        error[i] = state[i] - theta_ref[j]
+        error[m + i] = state[m + i] - theta_d_ref[j]
+        error[2 * m + i] = state[2 * m + i] - q_ref[j]
+        error[3 * m + i] = state[3 * m + i] - qd_ref[j]
+    for i in range(m):
+        j, w = joints[i], state[4 * m + i]
+        total = (tau_ff[j] - (w if moving[i] else held_link[i])) - (held_rotor[i] if moving[i] else w)
+        if friction:
+            demand_speed = theta_d_ref[j] + tuning[FRICTION_GAIN] * (theta_ref[j] - theta[j])
+            total = (total + coulomb[j] * np.tanh(demand_speed / tuning[FRICTION_SMOOTH])) + viscous[j] * theta_d_ref[j]
+        feedback = 0.0
+        for c in range(4 * m):
+            feedback += k[i, c] * error[c]
+        ff[i] = total
+        demand[i] = total - feedback
+
+
+@kernel
+def law_predict(tau: np.ndarray, theta_d: np.ndarray, joints: np.ndarray, state: np.ndarray, ad: np.ndarray,
+                bd: np.ndarray, moving: np.ndarray, held_rotor: np.ndarray, link_other: np.ndarray, friction: bool,
+                coulomb: np.ndarray, viscous: np.ndarray, tuning: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`applied`: the filter's prediction over the step, `state` in place."""
+    m = joints.shape[0]
+    inputs = np.empty(2 * m)
+    for i in range(m):
+        j = joints[i]
+        u = tau[j] + (held_rotor[i] if moving[i] else 0.0)
+        if friction:
+            u = u - (coulomb[j] * np.tanh(theta_d[j] / tuning[FRICTION_SMOOTH]) + viscous[j] * theta_d[j])
+        inputs[i], inputs[m + i] = u, link_other[i]
+    before = state.copy()
+    for r in range(5 * m):
+        total = 0.0
+        for c in range(5 * m):
+            total += ad[r, c] * before[c]
+        for c in range(2 * m):
+            total += bd[r, c] * inputs[c]
+        state[r] = total
