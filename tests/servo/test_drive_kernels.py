@@ -13,7 +13,7 @@ from orc_rpl.plant import compiled
 from orc_rpl.robot.model import load_robot
 from orc_rpl.world.pose import Pose
 
-pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason="numba is not installed")]
+pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason="the kernels are off (numba not installed, or ORC_RPL_NO_JIT=1)")]
 
 
 @pytest.fixture(autouse=True)
