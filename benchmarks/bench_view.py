@@ -253,7 +253,6 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_in_process": ("small", "in-process", {}),
     "_with_shadows": ("small", "process", {"shadows": True}),
     "_gpu_idle_group": ("small", "process", {"gpu_idle_group": True}),
-    "_gpu_idle_group_10_updates_per_s": ("small", "process", {"gpu_idle_group": True, "rate_hz": 10.0}),
 }
 #: The pages' sizes (CSS pixels). SwiftShader's cost per frame grows with the pixels, but far less than in proportion.
 SMALL_PAGE = (320, 240)
