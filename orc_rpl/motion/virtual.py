@@ -276,7 +276,7 @@ def make_virtual_motion_layer(
             twist.integral_of = lambda: servo.integral   # the torque the model lacks twists the gears too
             loop.set_gear_twist(twist)
             if gear_observer:   # what the model lacks as the gears' torque shows it, not as the integral holds it
-                observer = GearTorqueObserver(rotor, k_gear, servo._inverse_dynamics)
+                observer = GearTorqueObserver(rotor, k_gear, servo.inverse_dynamics)
                 observer.friction_of = servo.friction_in_use
                 loop.set_gear_observer(observer)
                 twist.excess_of = lambda: observer.excess_nm

@@ -126,7 +126,9 @@ class JointServo:
         kp, velocity_bw = gains.per_joint(n)
         self._kv = np.diag(arm.mass_matrix(arm.home_q)) * velocity_bw
         self._ki_dt = self._kv * (gains.integral_bw_rad_s * period_s)
-        self._inverse_dynamics = arm.inverse_dynamics_function()
+        #: the model's inverse dynamics, (q, qd, qdd) -> tau: the servo's feed-forward, also read by the gears' observer
+        #: and the state feedback (the same model, not a second one)
+        self.inverse_dynamics = arm.inverse_dynamics_function()
         self._steps = 0
         self._inertia_every = gains.inertia_every_steps
         # Scalar gains as arrays: numpy multiplies two arrays faster than an array and a Python float,
@@ -197,9 +199,9 @@ class JointServo:
         load_kg = self._control_load_kg + (tuning.load_kg if tuning is not None else 0.0)
         if q is not None and load_kg != self.arm.payload[0]:
             q_now, zero = np.array(q, dtype=float), np.zeros(n)
-            weight_before = np.array(self._inverse_dynamics(q_now, zero, zero))
+            weight_before = np.array(self.inverse_dynamics(q_now, zero, zero))
             self.arm.set_payload(load_kg)
-            integral -= np.array(self._inverse_dynamics(q_now, zero, zero)) - weight_before
+            integral -= np.array(self.inverse_dynamics(q_now, zero, zero)) - weight_before
         np.clip(integral, self._integral_min, self._integral_max, out=integral)
         self.integral = integral
         self._kp, self._velocity_bw, self._integral_bw_dt = kp, bw, ibw * self.period_s
@@ -247,7 +249,7 @@ class JointServo:
 
     def model_torque(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
         """The model's torque for a motion state: rigid-body dynamics with the control payload, plus nominal friction."""
-        tau = np.array(self._inverse_dynamics(q, qd, qdd))
+        tau = np.array(self.inverse_dynamics(q, qd, qdd))
         friction = self.model_friction(qd)
         if friction is not None:
             tau += friction
@@ -319,7 +321,7 @@ class JointServo:
         # out= by keyword: numpy 2.4 takes a slow path for minimum/maximum with a positional out (5x)
         minimum(integral, self._integral_max, out=integral)
         maximum(integral, self._integral_min, out=integral)
-        tau_ff = self._inverse_dynamics(q_ref, qd_ref, qdd_ref)
+        tau_ff = self.inverse_dynamics(q_ref, qd_ref, qdd_ref)
         demand, tau, saturated = self._demand, self.torque, self.saturated
         multiply(kv, velocity_error, demand)
         add(demand, tau_ff, demand)

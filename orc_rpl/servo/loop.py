@@ -104,7 +104,7 @@ class ServoLoop:
             self._reset_observer()
             if self.state_feedback is not None:   # and the state feedback's filter, the links as the model's twist puts them
                 zero = np.zeros(self._n)
-                rest = np.array(self.servo._inverse_dynamics(self.cell.q, zero, zero))
+                rest = np.array(self.servo.inverse_dynamics(self.cell.q, zero, zero))
                 self.state_feedback.reset(self.cell.q - rest / self.state_feedback.stiffness_all, rest)
 
     def use_compiled_law(self, on: bool) -> None:
@@ -155,7 +155,7 @@ class ServoLoop:
         servo, cell = self.servo, self.cell
         q_m, qd_m = q_ref, qd_ref
         if self.twist is not None:
-            rnea = servo._inverse_dynamics
+            rnea = servo.inverse_dynamics
             tau_ff = np.array([rnea(*row) for row in zip(q_ref, qd_ref, qdd_ref)])
             q_m, qd_m = self.twist.motor_references(q_ref, qd_ref, qdd_ref, tau_ff)
         torque_sum = self._torque_sum_nm
@@ -173,7 +173,7 @@ class ServoLoop:
         """Elastic gears under state feedback (servo/state_feedback.py), step by step, the drives as torque motors:
         the slow joints' torque from the state feedback, the others' from the cascade on the twisted references."""
         servo, cell, law = self.servo, self.cell, self.state_feedback
-        rnea, sel = servo._inverse_dynamics, law.joints
+        rnea, sel = servo.inverse_dynamics, law.joints
         law.friction = servo.friction_in_use()
         law.schedule(cell.q, qd_ref[0])
         for i in range(len(q_ref)):
@@ -262,7 +262,7 @@ class ServoLoop:
         if self.twist is not None:
             # q is the links': the rotors rest ahead of them by the twist the model's weight torques give
             q_link, zero = np.array(self.arm.home_q if q is None else q, dtype=float), np.zeros(self._n)
-            self.twist.hold(q_link, np.array(self.servo._inverse_dynamics(q_link, zero, zero)))
+            self.twist.hold(q_link, np.array(self.servo.inverse_dynamics(q_link, zero, zero)))
             q = q_link + self.twist.twist_rad
         self.cell.reset(q)
         self.servo.reset()
@@ -275,7 +275,7 @@ class ServoLoop:
             return
         zero = np.zeros(self._n)
         self.observer.reset(self.twist.twist_rad / self.observer.compliance_rad_nm if self.twist is not None
-                            else np.array(self.servo._inverse_dynamics(self.cell.q, zero, zero)))
+                            else np.array(self.servo.inverse_dynamics(self.cell.q, zero, zero)))
 
     def set_payload(self, mass_kg: float, com_m: Any = (0.0, 0.0, 0.0), known: bool = True) -> None:
         """Put a payload on the flange; `known` also tells the feed-forward (False: the plant only, for identification)."""

@@ -55,7 +55,7 @@ def test_an_observer_on_its_own_reads_every_calls_mean_torque() -> None:
     layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True)   # no feed-forward: no twist
     loop = layer.backend.loop
     k = np.array(loop.cell.plant.gear_stiffness_nm_rad)
-    observer = GearTorqueObserver(loop.cell.motor_inertia_kg_m2, k, loop.servo._inverse_dynamics)
+    observer = GearTorqueObserver(loop.cell.motor_inertia_kg_m2, k, loop.servo.inverse_dynamics)
     observer.friction_of = loop.servo.friction_in_use   # the nominal friction: right for a warm plant
     loop.set_gear_observer(observer)
     loop.reset(np.array(layer.reference_q()))
