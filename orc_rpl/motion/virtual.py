@@ -326,10 +326,12 @@ def attach_recorder(layer: MotionLayer) -> None:
 
     arm, be = layer.kin.arm, layer.backend
     log = Logger(layer.now_s)
-    log.submit("q_ref", layer.reference_q)
-    log.submit("q", layer.current_q)
+    # the getters hand over the arrays as they are (no copies): the logger copies them into its rows
+    log.submit("q_ref", lambda: layer._q_ref)
+    log.submit("q", be.q)
     log.submit("tau", be.torque)
-    # the measured q is a float array of n_joints: fk need not check it every cycle
-    log.submit("tcp", lambda: arm.fk_unchecked(be.q())[:3, 3])
+    # the TCP of the measured q, computed from the recorded q when a recording is made (the same numbers,
+    # no kinematics in the cycle); q is a float array of n_joints: fk need not check it
+    log.derive("tcp", "q", lambda q: arm.fk_unchecked(q)[:3, 3])
     log.submit("s", layer.progress_s)
     layer.logger = log
