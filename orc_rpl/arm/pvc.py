@@ -19,6 +19,8 @@ PathFunction = Callable[[Any, int], np.ndarray]
 PathDynamics = Callable[[np.ndarray, np.ndarray, np.ndarray, float], tuple[np.ndarray, np.ndarray]]
 #: (q, dq/dx, d2q/dx2, dx/dt as rows) -> row i -> (b1, b2): the same at many points of the path, computed in batches.
 PathDynamicsRows = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], Callable[[int], tuple[np.ndarray, np.ndarray]]]
+#: x (1-D) -> (f(x), f'(x), f''(x)): the path and its two derivatives at many points at once.
+PathOrders = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 #: Back in step with the nominal trajectory when this close to it (path parameter, rad; its speed, rad/s).
 RESYNC_X, RESYNC_SD = 1e-7, 1e-5
@@ -54,9 +56,11 @@ class PathVelocityController:
 
     def __init__(self, path: PathFunction, x_f: np.ndarray, sd_f: np.ndarray, sub: int, servo_period_s: float,
                  dynamics: PathDynamics, tau_max: np.ndarray, settings: PvcSettings = PvcSettings(),
-                 dynamics_rows: PathDynamicsRows | None = None) -> None:
-        """`dynamics_rows`: the same dynamics for many path points at once (optional, faster, the same numbers)."""
+                 dynamics_rows: PathDynamicsRows | None = None, path_orders: PathOrders | None = None) -> None:
+        """`dynamics_rows`: the same dynamics for many path points at once; `path_orders`: the path's three orders
+        at once (both optional, faster, the same numbers)."""
         self.path, self.sub, self.h = path, sub, servo_period_s
+        self._orders: PathOrders = path_orders or (lambda x: (path(x, 0), path(x, 1), path(x, 2)))
         self.x_f, self.sd_f = x_f, sd_f
         self._sdd_f = np.append(np.diff(sd_f) / servo_period_s, 0.0)   #: nominal s'' over row i -> i+1
         self.dynamics = dynamics
@@ -73,7 +77,7 @@ class PathVelocityController:
         # the path at the nominal trajectory's motion-cycle rows, evaluated once: the in-step check of
         # every cycle then costs the model's torques only
         cycle_rows = np.arange(0, self.last_row + 1, sub)
-        self._q_rows, self._d1_rows, self._d2_rows = (path(x_f[cycle_rows], order) for order in (0, 1, 2))
+        self._q_rows, self._d1_rows, self._d2_rows = self._orders(x_f[cycle_rows])
         self._at_cycle = None if dynamics_rows is None else dynamics_rows(self._q_rows, self._d1_rows, self._d2_rows,
                                                                           sd_f[cycle_rows])
         self.x, self.sd = float(x_f[0]), float(sd_f[0])   #: the commanded path parameter and speed
@@ -97,8 +101,8 @@ class PathVelocityController:
         """The range of s'' the torque limits allow at (x, sd) (lo > hi when none does); at the nominal
         trajectory's motion-cycle row `cycle` when given (x is then that row's)."""
         if cycle is None:
-            path = self.path
-            b1, b2 = self.dynamics(path(x, 0), path(x, 1), path(x, 2), sd)
+            q, d1, d2 = self._orders(np.array([x]))
+            b1, b2 = self.dynamics(q[0], d1[0], d2[0], sd)
         elif self._at_cycle is not None:
             b1, b2 = self._at_cycle(cycle)
         else:
@@ -186,10 +190,9 @@ class PathVelocityController:
         self.x, self.sd = x_end, sd_end
         if not nominal_ended and abs(x_end - x_n) < RESYNC_X and abs(sd_end - sd_n) < RESYNC_SD:
             self.in_sync, self.x, self.sd = True, x_n, sd_n  # back in step: the nominal rows from the next cycle
-        path = self.path
-        d1, d2 = path(xs, 1), path(xs, 2)
+        q, d1, d2 = self._orders(xs)
         qdd = d2 * (sds * sds)[:, None] + d1 * np.where(sds > 0.0, sdd, 0.0)[:, None]
         qd = d1 * sds[:, None]
         if self.done:
             qd[-1], qdd[-1] = 0.0, 0.0
-        return path(xs, 0), qd, qdd
+        return q, qd, qdd

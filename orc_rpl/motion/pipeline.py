@@ -154,14 +154,16 @@ class MotionPipeline:
         arm_control = self.path_velocity_control if wanted is None else wanted
         if self._stages:  # external axes in the same path coordinate: the combined range (thesis fig. 5.6)
             return StagedPathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
-                                                dynamics if arm_control else None, self.kin.arm.tau_max, self._stages)
+                                                dynamics if arm_control else None, self.kin.arm.tau_max, self._stages,
+                                                path_orders=traj.path.orders)
         if traj.kind != "path" or dynamics is None or not handles:
             return None
         if not arm_control:
             return None
         return PathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
                                       dynamics, self.kin.arm.tau_max,
-                                      dynamics_rows=getattr(self.backend, "path_dynamics_rows", None))
+                                      dynamics_rows=getattr(self.backend, "path_dynamics_rows", None),
+                                      path_orders=traj.path.orders)
 
     def _try_blend(self, nxt: MoveHandle) -> bool:
         """Replan from the current state through a blended corner onto `nxt`; False if too late or not a zone move."""

@@ -4,16 +4,28 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.interpolate import CubicSpline
 
 from orc_rpl.errors import PlanningError
 from orc_rpl.motion.paths import DensePath
+from orc_rpl.plant import compiled
 
 
 #: grids up to this many points have their spline values kept (toppra's; not the servo-rate samples)
 GRID_CACHE_MAX = 512
+
+
+_loaded_kernels: list[Any] = []
+
+
+def _spline_kernels() -> Any:
+    """The spline kernel's module (motion/spline_kernels.py), imported when first needed; None where the kernels are off."""
+    if not _loaded_kernels:
+        _loaded_kernels.append(compiled.kernels("orc_rpl.motion.spline_kernels"))
+    return _loaded_kernels[0]
 
 
 class SplinePath:
@@ -48,6 +60,16 @@ class SplinePath:
         if values is None:
             values = self._on_grid[order] = self.spline(x, order)
         return values.copy()
+
+    def orders(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The path and its first two derivatives at the points x (1-D, float), at once: `self(x, order)`'s
+        numbers (compiled where the kernels are on: the motion cycle of a time-scaled trajectory calls this)."""
+        kernels = _spline_kernels()
+        if compiled.ON and kernels is not None:
+            out = kernels.spline_orders(self.spline.x, self.spline.c, x)
+            return out[0], out[1], out[2]
+        spline = self.spline
+        return spline(x, 0), spline(x, 1), spline(x, 2)
 
     def owner_and_s(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The owning motion id and its path coordinate s at path parameters x."""

@@ -9,6 +9,8 @@ import numpy as np
 import pytest
 
 from orc_rpl.motion import JointMotion, Params, make_virtual_motion_layer
+from orc_rpl.motion.paths import DensePath
+from orc_rpl.motion.trajectory import SplinePath
 from orc_rpl.plant import compiled
 
 pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason="the kernels are off (numba not installed, or ORC_RPL_NO_JIT=1)")]
@@ -51,3 +53,16 @@ def test_the_compiled_winding_sample_calibrates_and_corrects_as_the_python_code_
     assert compared[0] > 100 and corrected[0] > 5, (compared, corrected)
     assert np.all(winding._flags[0, :3]), "the large motors calibrate during the run"
     assert worst[0] <= 1e-10, worst
+
+
+@pytest.mark.parametrize("points", [2, 3, 40])
+def test_the_compiled_spline_gives_scipys_values_and_derivatives_on_and_between_the_knots_and_beyond(points: int) -> None:
+    rng = np.random.default_rng(points)
+    q = np.cumsum(rng.normal(size=(points, 6)), axis=0)
+    path = SplinePath(DensePath(q, q[:, :3], np.ones(points, dtype=int), np.linspace(0.0, 1.0, points)))
+    x = np.concatenate([path.x_knots, rng.uniform(-0.3, path.length + 0.3, 300), [0.0, path.length]])
+    compiled_orders = path.orders(x)
+    for order, got in enumerate(compiled_orders):
+        want = path.spline(x, order)
+        assert got.shape == want.shape
+        assert float(np.max(np.abs(got - want))) <= 1e-10 * max(1.0, float(np.max(np.abs(want))))
