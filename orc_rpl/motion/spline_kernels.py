@@ -20,10 +20,18 @@ def spline_orders(breaks: np.ndarray, c: np.ndarray, x: np.ndarray) -> np.ndarra
     last = breaks.shape[0] - 2
     for p in range(x.shape[0]):
         xval = x[p]
-        if xval >= breaks[last + 1]:
-            i = last   # the last piece is closed on the right (and extrapolates)
-        else:
-            i = min(max(np.searchsorted(breaks, xval, side="right") - 1, 0), last)
+        # the piece: breaks[i] <= xval < breaks[i + 1], the end pieces extrapolating (the last one closed)
+        lo, hi = 0, last
+        if xval >= breaks[last]:
+            lo = last
+        elif xval >= breaks[1]:
+            while hi - lo > 1:   # breaks[lo] <= xval < breaks[hi]
+                mid = (lo + hi) // 2
+                if xval < breaks[mid]:
+                    hi = mid
+                else:
+                    lo = mid
+        i = lo
         s = xval - breaks[i]
         for dx in range(3):
             for j in range(n):

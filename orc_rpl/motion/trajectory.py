@@ -45,6 +45,9 @@ class SplinePath:
         else:
             self.spline = CubicSpline(self.x_knots, q, bc_type="not-a-knot")
         self.dof = q.shape[1]
+        # the spline's breakpoints and coefficients as the compiled evaluation reads them (scipy's properties
+        # check them at every access)
+        self._breaks, self._coefficients = np.ascontiguousarray(self.spline.x), np.ascontiguousarray(self.spline.c)
         # toppra's constraints and our speed bound evaluate the same grid eight times per timing:
         # keep the last grid's values (by content) and hand out copies
         self._grid_key: bytes | None = None
@@ -66,7 +69,7 @@ class SplinePath:
         numbers (compiled where the kernels are on: the motion cycle of a time-scaled trajectory calls this)."""
         kernels = _spline_kernels()
         if compiled.ON and kernels is not None:
-            out = kernels.spline_orders(self.spline.x, self.spline.c, x)
+            out = kernels.spline_orders(self._breaks, self._coefficients, x)
             return out[0], out[1], out[2]
         spline = self.spline
         return spline(x, 0), spline(x, 1), spline(x, 2)
