@@ -75,8 +75,16 @@ class MotionPipeline:
     #: the cell's external axes (motion.external.ExternalAxes), None when it has none
     external: Any = None
     _stages: list[Any] = []
-    #: windows (s) over which a path trajectory from rest has its time scaling averaged (elastic gears), () none
-    smoothing_s: tuple[float, ...] = ()
+
+    @property
+    def smoothing_s(self) -> tuple[float, ...]:
+        """Windows (s) over which a path trajectory from rest has its time scaling averaged (elastic gears), () none:
+        the planner's (it averages what it times; a trajectory timed elsewhere is averaged when it starts)."""
+        return self.planner.smoothing_s
+
+    @smoothing_s.setter
+    def smoothing_s(self, windows_s: tuple[float, ...]) -> None:
+        self.planner.smoothing_s = tuple(windows_s)
 
     def now_s(self) -> float:
         """The controller clock (simulated time on the virtual robot)."""
@@ -123,7 +131,8 @@ class MotionPipeline:
                                     min(caps) if caps else None)
         elif plan.timed is not None:
             traj = plan.timed
-        elif plan.saved_first is not None and len(h.pieces_left) == len(plan.pieces) - 1:
+        elif (plan.saved_first is not None and len(h.pieces_left) == len(plan.pieces) - 1
+              and plan.saved_first.smoothing_s in ((), self.planner.smoothing_s)):  # (averaged as this layer wants)
             traj = plan.saved_first
         else:
             traj = self.planner.time(piece, plan.limits, 0.0, h.params.time_s if len(plan.pieces) == 1 else None)
@@ -134,8 +143,9 @@ class MotionPipeline:
     def _set_traj(self, traj: Trajectory, handles: list[MoveHandle]) -> None:
         if traj.kind != "brake":
             self._track_dq = None  # a new move starts from the (corrected) reference; a stop keeps the correction
-        if self.smoothing_s and traj.kind == "path" and traj.sd_f[0] == 0.0:
-            traj = smoothed(traj, self.smoothing_s)  # no torque steps into elastic gears
+        windows = self.planner.smoothing_s
+        if windows and traj.kind == "path" and traj.sd_f[0] == 0.0 and traj.smoothing_s != windows:
+            traj = smoothed(traj, windows)  # no torque steps into elastic gears (the planner's own are averaged)
         self._traj, self._k, self._traj_t0 = traj, 0, self.now_s()
         self._in_traj = handles
         owners = traj.owner

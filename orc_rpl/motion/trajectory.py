@@ -110,6 +110,7 @@ class Trajectory:
     exact_duration_s: float   #: the profile's duration before rounding up to whole cycles
     blendable: bool = True    #: a zone motion may replan from inside it
     kind: str = "path"        #: "path" (timed along path), "short" (ruckig), "timed" (function of t), "brake"
+    smoothing_s: tuple[float, ...] = ()   #: the windows its time scaling was averaged over (`smoothed`), () none
 
     @property
     def cycles(self) -> int:
@@ -150,8 +151,10 @@ def segment_times(x_grid: np.ndarray, sd_grid: np.ndarray) -> np.ndarray:
     return 2.0 * dx / vsum
 
 
-def sample(path: SplinePath, x_grid: np.ndarray, sd_grid: np.ndarray, dt_s: float, sub: int) -> Trajectory:
-    """Sample a piecewise constant-acceleration profile (x_grid, sd_grid) at every servo step."""
+def sample(path: SplinePath, x_grid: np.ndarray, sd_grid: np.ndarray, dt_s: float, sub: int,
+           smoothing_s: tuple[float, ...] = ()) -> Trajectory:
+    """Sample a piecewise constant-acceleration profile (x_grid, sd_grid) at every servo step; with `smoothing_s`
+    and a profile from rest, the `smoothed` trajectory (the path evaluated once, for the averaged time scaling)."""
     seg_t = segment_times(x_grid, sd_grid)
     t_grid = np.concatenate([[0.0], np.cumsum(seg_t)])
     total = float(t_grid[-1])
@@ -165,14 +168,11 @@ def sample(path: SplinePath, x_grid: np.ndarray, sd_grid: np.ndarray, dt_s: floa
     sdd = acc[i].copy()
     ended = t >= total
     x[ended], sd[ended] = x_grid[-1], sd_grid[-1]
+    if smoothing_s and sd[0] == 0.0:
+        return _averaged(path, x, sd, dt_s, sub, smoothing_s, True, "path")
     if sd_grid[-1] == 0.0:
         sdd[ended] = 0.0
-    d1, d2 = path(x, 1), path(x, 2)
-    q = path(x)
-    qd = d1 * sd[:, None]
-    qdd = d2 * (sd**2)[:, None] + d1 * sdd[:, None]
-    owner, s = path.owner_and_s(x[::sub])
-    return Trajectory(dt_s, sub, path, x, sd, q, qd, qdd, owner, s, total)
+    return _evaluated(path, x, sd, sdd, dt_s, sub, total, True, "path", ())
 
 
 def smoothed(traj: Trajectory, windows_s: tuple[float, ...]) -> Trajectory:
@@ -181,10 +181,16 @@ def smoothed(traj: Trajectory, windows_s: tuple[float, ...]) -> Trajectory:
     A moving average of x(t) over T leaves the path f(x) as it is, starts and ends at rest where the
     original does, bounds the path acceleration by the original's and makes it continuous (two
     windows: its rate too), and lasts T longer; an average over the period of a resonance does not
-    excite it (elastic gears: servo/two_mass.py).
+    excite it (elastic gears: servo/two_mass.py). `sample(..., smoothing_s=windows_s)` gives the same
+    trajectory without evaluating the path for the unaveraged one first (the planner's way).
     """
-    h = traj.dt_s / traj.sub
-    x, sd = traj.x_f, traj.sd_f
+    return _averaged(traj.path, traj.x_f, traj.sd_f, traj.dt_s, traj.sub, windows_s, traj.blendable, traj.kind)
+
+
+def _averaged(path: SplinePath, x: np.ndarray, sd: np.ndarray, dt_s: float, sub: int, windows_s: tuple[float, ...],
+              blendable: bool, kind: str) -> Trajectory:
+    """`smoothed`'s work on the servo-step samples of x(t) and its speed."""
+    h = dt_s / sub
     sdd = np.append(np.diff(sd) / h, 0.0)
     for window_s in windows_s:
         n = max(1, int(round(window_s / h)))
@@ -194,12 +200,17 @@ def smoothed(traj: Trajectory, windows_s: tuple[float, ...]) -> Trajectory:
         sd = np.convolve(np.concatenate([np.zeros(pad), sd, np.zeros(pad)]), box, "valid")
         sdd = np.convolve(np.concatenate([np.zeros(pad), sdd, np.zeros(pad)]), box, "valid")
     rows = len(x)
-    cycles = max(1, math.ceil((rows - 1) / traj.sub))
-    extra = cycles * traj.sub + 1 - rows
+    cycles = max(1, math.ceil((rows - 1) / sub))
+    extra = cycles * sub + 1 - rows
     x = np.concatenate([x, np.full(extra, x[-1])])
     sd, sdd = np.concatenate([sd, np.zeros(extra)]), np.concatenate([sdd, np.zeros(extra)])
-    path = traj.path
-    d1, d2 = path(x, 1), path(x, 2)
-    owner, s = path.owner_and_s(x[:: traj.sub])
-    return Trajectory(traj.dt_s, traj.sub, path, x, sd, path(x), d1 * sd[:, None],
-                      d2 * (sd * sd)[:, None] + d1 * sdd[:, None], owner, s, (rows - 1) * h, traj.blendable, traj.kind)
+    return _evaluated(path, x, sd, sdd, dt_s, sub, (rows - 1) * h, blendable, kind, tuple(windows_s))
+
+
+def _evaluated(path: SplinePath, x: np.ndarray, sd: np.ndarray, sdd: np.ndarray, dt_s: float, sub: int, duration_s: float,
+               blendable: bool, kind: str, smoothing_s: tuple[float, ...]) -> Trajectory:
+    """The trajectory of the time scaling x(t), x', x'' at every servo step: the path and its derivatives there."""
+    q, d1, d2 = path.orders(x)
+    owner, s = path.owner_and_s(x[::sub])
+    return Trajectory(dt_s, sub, path, x, sd, q, d1 * sd[:, None], d2 * (sd * sd)[:, None] + d1 * sdd[:, None],
+                      owner, s, duration_s, blendable, kind, smoothing_s)

@@ -296,7 +296,7 @@ def make_virtual_motion_layer(
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
     layer.smoothing_s = smoothing  # elastic gears: no torque steps into them (trajectories averaged over their periods)
     # the next move is planned on a worker thread, over an arm model of its own (made when first needed)
-    layer.ahead = PlanAhead(lambda: Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub), paced=realtime)
+    layer.ahead = PlanAhead(lambda: _ahead_planner(layer, robot), paced=realtime)
     if backend == "servo" and plant == "realistic" and not servo_arm:
         layer.planner.friction_reserve_nm = reserve_nm
         layer.winding = WindingTemperature(nominal.torque_per_amp_nm_a, nominal.winding_resistance_ohm,
@@ -318,6 +318,15 @@ def make_virtual_motion_layer(
     if record and logger is None:
         attach_recorder(layer)
     return layer
+
+
+def _ahead_planner(layer: MotionLayer, robot: str) -> Planner:
+    """The plan-ahead worker's planner: an arm model of its own, the layer's averaging of trajectories from rest."""
+    from orc_rpl.robot import load_robot, solve_ik
+
+    planner = Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub)
+    planner.smoothing_s = layer.smoothing_s
+    return planner
 
 
 def attach_recorder(layer: MotionLayer) -> None:
