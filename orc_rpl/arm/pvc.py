@@ -80,6 +80,13 @@ class PathVelocityController:
         self._q_rows, self._d1_rows, self._d2_rows = self._orders(x_f[cycle_rows])
         self._at_cycle = None if dynamics_rows is None else dynamics_rows(self._q_rows, self._d1_rows, self._d2_rows,
                                                                           sd_f[cycle_rows])
+        # what the in-step check of cycle k reads, as Python numbers (index k): the path parameter and its speed at
+        # the cycle's end, the least and the largest nominal s'' of its first and last step
+        self._x_rows, self._sd_rows = x_f[cycle_rows].tolist(), sd_f[cycle_rows].tolist()
+        ends = self.last_row // sub * sub
+        first, last = self._sdd_f[0:ends:sub], self._sdd_f[sub - 1:ends:sub]
+        self._sdd_low = [0.0, *np.minimum(first, last).tolist()]
+        self._sdd_high = [0.0, *np.maximum(first, last).tolist()]
         self.x, self.sd = float(x_f[0]), float(sd_f[0])   #: the commanded path parameter and speed
         self.in_sync = True
         self.done = False
@@ -127,17 +134,17 @@ class PathVelocityController:
     def cycle(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """Motion cycle k (1, 2, ...) of the trajectory: None to command the nominal rows, else the rows."""
         self.cycles = k
-        row = min(k * self.sub, self.last_row)
-        if self.in_sync and k * self.sub <= self.last_row:
-            first = (k - 1) * self.sub  # the state the cycle starts from, and its nominal s''
-            lo, hi = self.admissible(float(self.x_f[row]), float(self.sd_f[row]), k)
-            sdd = float(self._sdd_f[first]), float(self._sdd_f[row - 1])
-            if lo <= min(sdd) and max(sdd) <= hi:
-                self.x, self.sd = float(self.x_f[row]), float(self.sd_f[row])
-                self.done = row == self.last_row
+        end_row = k * self.sub
+        if self.in_sync and end_row <= self.last_row:
+            # in step when the nominal s'' of the cycle's steps (from its first to its last) is admissible
+            x, sd = self._x_rows[k], self._sd_rows[k]
+            lo, hi = self.admissible(x, sd, k)
+            if lo <= self._sdd_low[k] and self._sdd_high[k] <= hi:
+                self.x, self.sd = x, sd
+                self.done = end_row == self.last_row
                 return None
             self.in_sync = False
-        return self._scaled(row, k * self.sub > self.last_row)
+        return self._scaled(min(end_row, self.last_row), end_row > self.last_row)
 
     def _scaled(self, row: int, nominal_ended: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x, sd, t_cycle = self.x, self.sd, self.sub * self.h

@@ -15,6 +15,7 @@ from orc_rpl.motion import scheduling
 from orc_rpl.motion.actions import Actions, MotionData
 from orc_rpl.motion.backend import Backend
 from orc_rpl.motion.blending import blend
+from orc_rpl.motion.gear_friction import update_estimates
 from orc_rpl.motion.handle import MoveHandle
 from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.paths import DensePath
@@ -251,13 +252,8 @@ class MotionPipeline:
             self._collision_stop(hit)
             traj = None
         if self.thermal is not None:
-            tau = self.backend.torque()
-            self.thermal.update(tau)
-            if self.winding is not None:
-                self.winding.update(tau)
-            if self.gear_friction is not None:
-                self.gear_friction.update(tau, self.backend.qd(),
-                                          None if self.winding is None else self.winding.rise_k)
+            gear = self.gear_friction
+            update_estimates(self.thermal, self.winding, gear, self.backend.torque(), None if gear is None else self.backend.qd())
         if hit is None:  # a collision stop has set the reference where the robot is
             self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
         self.cycles += 1

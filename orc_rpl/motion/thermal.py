@@ -144,6 +144,11 @@ class WindingTemperature:
             multiply(work, heat, work)
             multiply(rise, self._decay, rise)
             add(rise, work, rise)
+        self.measure()
+
+    def measure(self) -> None:
+        """The drives' measurement's part of a cycle (`update` runs it; so does the motion cycle's fused update of
+        the estimates, gear_friction.update_estimates, after the model's part)."""
         if self.measurement is not None:
             self._cycles += 1
             if self._cycles % SAMPLE_EVERY_CYCLES == 0:

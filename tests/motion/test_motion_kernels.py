@@ -66,3 +66,37 @@ def test_the_compiled_spline_gives_scipys_values_and_derivatives_on_and_between_
         want = path.spline(x, order)
         assert got.shape == want.shape
         assert float(np.max(np.abs(got - want))) <= 1e-10 * max(1.0, float(np.max(np.abs(want))))
+
+
+def _estimates() -> tuple[Any, Any, Any]:
+    """The realistic irb2400's three per-cycle estimates, as the virtual robot makes them (no drive measurement)."""
+    from orc_rpl.motion.gear_friction import GearFriction
+    from orc_rpl.motion.thermal import ThermalModel, WindingTemperature
+    from orc_rpl.robot import load_robot
+    from orc_rpl.robot.plants import COPPER_TEMPCO_1_K, plant_spec
+
+    n = plant_spec("irb2400")
+    thermal = ThermalModel.for_arm(load_robot("irb2400").tau_max, 0.004)
+    winding = WindingTemperature(n.torque_per_amp_nm_a, n.winding_resistance_ohm, n.winding_rth_k_w,
+                                 n.winding_time_constant_s, n.ambient_c, 0.004, COPPER_TEMPCO_1_K)
+    gear = GearFriction(n.coulomb_nm, n.viscous_nm_s, n.gear_rth_k_w, n.gear_time_constant_s, n.cold_friction_factor,
+                        n.warm_rise_k, n.gear_motor_heat_share, n.torque_per_amp_nm_a, n.winding_resistance_ohm,
+                        COPPER_TEMPCO_1_K, n.ambient_c, 0.004)
+    return thermal, winding, gear
+
+
+def test_the_fused_update_of_the_three_estimates_gives_each_ones_own_update() -> None:
+    from orc_rpl.motion.gear_friction import update_estimates
+
+    rng = np.random.default_rng(5)
+    fused, reference = _estimates(), _estimates()
+    for _ in range(300):   # 12 gearbox integrations
+        tau, qd = rng.normal(0.0, 200.0, 6), rng.normal(0.0, 1.5, 6)
+        compiled.use_kernels(True)
+        update_estimates(*fused, tau, qd)
+        compiled.use_kernels(False)
+        update_estimates(*reference, tau, qd)
+    for got, want in zip((fused[0].load, fused[1].rise_k, fused[2].rise_k),
+                         (reference[0].load, reference[1].rise_k, reference[2].rise_k)):
+        assert np.all(want > 0.0)
+        assert float(np.max(np.abs(got - want) / want)) <= 1e-10
