@@ -277,8 +277,7 @@ class MotionPipeline:
         if pvc is None or pvc.in_sync and self._k <= traj.cycles:
             owner, s_now = traj.owner.item(self._k), traj.s.item(self._k)  # item(): Python numbers
         else:  # the time scale was changed: the move and its s where the command really is
-            owners, ss = traj.path.owner_and_s(np.array([pvc.x]))
-            owner, s_now = int(owners[0]), float(ss[0])
+            owner, s_now = traj.path.owner_and_s_at(pvc.x)
         active = self._active
         if active is None or active.id != owner:
             if active is not None and not active.done and active.id != owner:

@@ -84,6 +84,17 @@ class SplinePath:
         s_x = np.where(same, s[i] + frac * (s[i + 1] - s[i]), s[i])
         return own[i], s_x
 
+    def owner_and_s_at(self, x: float) -> tuple[int, float]:
+        """`owner_and_s` at one path parameter, in Python numbers (the motion cycle of a time-scaled trajectory
+        asks every cycle): the same operations on the same numbers."""
+        k = self.x_knots
+        i = min(max(int(k.searchsorted(x, side="right")) - 1, 0), len(k) - 2)
+        k0, k1 = k.item(i), k.item(i + 1)
+        frac = min(max((x - k0) / max(k1 - k0, 1e-15), 0.0), 1.0)
+        own, s = self.dense.owner, self.dense.s
+        owner, s0 = int(own.item(i)), s.item(i)
+        return owner, (s0 + frac * (s.item(i + 1) - s0) if owner == own.item(i + 1) else s0)
+
     def x_of_index(self, idx: int) -> float:
         """The parameter x of dense sample idx."""
         return float(self.x_knots[idx])
