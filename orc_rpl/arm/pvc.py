@@ -94,6 +94,9 @@ class PathVelocityController:
         self.cycles = 0
         kernels = compiled.kernels("orc_rpl.arm.pvc_kernels")   # numba's import only where a controller runs
         self._range: Any = None if kernels is None else kernels.admissible_range   #: the compiled range from b1, b2
+        # the rows' b2 in two terms (`parts(i)`: the model's, the servo's integral), summed inside the compiled range
+        self._parts: Any = None if kernels is None else getattr(self._at_cycle, "parts", None)
+        self._range_sum: Any = None if kernels is None else kernels.admissible_range_sum
 
     # -- what the motion layer reads ----------------------------------------------------
 
@@ -111,6 +114,8 @@ class PathVelocityController:
             q, d1, d2 = self._orders(np.array([x]))
             b1, b2 = self.dynamics(q[0], d1[0], d2[0], sd)
         elif self._at_cycle is not None:
+            if self._parts is not None and compiled.ON:
+                return self._range_sum(*self._parts(cycle), self.limit)  # type: ignore[no-any-return]
             b1, b2 = self._at_cycle(cycle)
         else:
             b1, b2 = self.dynamics(self._q_rows[cycle], self._d1_rows[cycle], self._d2_rows[cycle], sd)

@@ -136,6 +136,12 @@ class PathDynamicsBlocks:
 
     def __call__(self, i: int) -> tuple[np.ndarray, np.ndarray]:
         """(b1, b2) at row i (b1 a view of the block: read, do not write)."""
+        b1, b2, integral = self.parts(i)
+        return b1, b2 + integral
+
+    def parts(self, i: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(b1, b2 without the servo's integral, the integral) at row i: b2 is their sum (views: read, do not write;
+        the path velocity controller adds them inside its compiled range, without an array for the sum)."""
         servo = self._servo
         # the payload's tuple and the friction's arrays are new objects when they change
         if not self._start <= i < self._stop or self._payload is not servo.arm.payload:
@@ -143,7 +149,7 @@ class PathDynamicsBlocks:
         elif self._coulomb is not servo._coulomb:
             self._friction()
         i -= self._start
-        return self._b1[i], self._b2[i] + servo.integral
+        return self._b1[i], self._b2[i], servo.integral
 
     def _block(self, start: int) -> None:
         """The model's b1 and b2 (without the integral) at rows start .. start + ROWS_BLOCK."""

@@ -100,3 +100,25 @@ def test_the_fused_update_of_the_three_estimates_gives_each_ones_own_update() ->
                          (reference[0].load, reference[1].rise_k, reference[2].rise_k)):
         assert np.all(want > 0.0)
         assert float(np.max(np.abs(got - want) / want)) <= 1e-10
+
+
+def test_the_path_velocity_controllers_compiled_range_from_the_rows_parts_is_the_numpy_range() -> None:
+    from orc_rpl.arm.pvc import PathVelocityController
+
+    layer = make_virtual_motion_layer("irb2400", plant="realistic")
+    backend, servo = layer.backend, layer.backend.loop.servo
+    rng = np.random.default_rng(3)
+    x_f = np.linspace(0.0, 1.0, 4 * 150 + 1)
+    sd_f = np.full(len(x_f), 0.8)
+    targets = rng.normal(0.0, 0.6, (2, 6))
+    path = lambda x, order: (targets[0] + np.multiply.outer(x, targets[1]) if order == 0
+                             else np.broadcast_to(targets[1] if order == 1 else 0.0 * targets[1], np.shape(x) + (6,)).copy())
+    pvc = PathVelocityController(path, x_f, sd_f, 4, 0.001, backend.path_dynamics, layer.kin.arm.tau_max,
+                                 dynamics_rows=backend.path_dynamics_rows)
+    assert pvc._parts is not None
+    for cycle in (0, 1, 40, 99, 100, 150):
+        servo.integral = rng.normal(0.0, 30.0, 6)
+        compiled.use_kernels(False)
+        want = pvc.admissible(0.0, 0.0, cycle)
+        compiled.use_kernels(True)
+        assert pvc.admissible(0.0, 0.0, cycle) == want, cycle
