@@ -54,6 +54,10 @@ class PathVelocityController:
     path point; the references stay on the path f(s) whatever the time scale does.
     """
 
+    #: the rows' (b1, model's b2, servo's integral) and the compiled range of their sum, where both are there
+    _parts: Any = None
+    _range_sum: Any = None
+
     def __init__(self, path: PathFunction, x_f: np.ndarray, sd_f: np.ndarray, sub: int, servo_period_s: float,
                  dynamics: PathDynamics, tau_max: np.ndarray, settings: PvcSettings = PvcSettings(),
                  dynamics_rows: PathDynamicsRows | None = None, path_orders: PathOrders | None = None) -> None:
