@@ -13,17 +13,19 @@ from orc_rpl.motion.paths import DensePath
 from orc_rpl.motion.trajectory import SplinePath
 from orc_rpl.plant import compiled
 
-pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason="the kernels are off (numba not installed, or ORC_RPL_NO_JIT=1)")]
+pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason="no kernels to compare: numba is not installed or ORC_RPL_NO_JIT=1")]
 
 
 @pytest.fixture(autouse=True)
-def _kernels_back_on() -> Iterator[None]:
-    before = compiled.use_kernels(True)
+def _setting_kept() -> Iterator[None]:
+    """The tests switch the kernels on and off (each says which it starts with); the process' setting comes back."""
+    setting = compiled.ON
     yield
-    compiled.use_kernels(before)
+    compiled.use_kernels(setting)
 
 
 def test_the_compiled_winding_sample_calibrates_and_corrects_as_the_python_code_over_a_run() -> None:
+    compiled.use_kernels(True)
     layer = make_virtual_motion_layer("irb2400", plant="realistic", seed=4)
     layer.backend.loop.set_payload(10.0, known=False)
     winding = layer.winding
@@ -57,6 +59,7 @@ def test_the_compiled_winding_sample_calibrates_and_corrects_as_the_python_code_
 
 @pytest.mark.parametrize("points", [2, 3, 40])
 def test_the_compiled_spline_gives_scipys_values_and_derivatives_on_and_between_the_knots_and_beyond(points: int) -> None:
+    compiled.use_kernels(True)
     rng = np.random.default_rng(points)
     q = np.cumsum(rng.normal(size=(points, 6)), axis=0)
     path = SplinePath(DensePath(q, q[:, :3], np.ones(points, dtype=int), np.linspace(0.0, 1.0, points)))
