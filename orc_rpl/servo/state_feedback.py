@@ -43,6 +43,13 @@ MOVING_RAD_S = 0.2
 #: 0.7, 1 gave 1.423, 0.995, 0.811, 0.859, 0.908 mm (the encoders 0.460 every time; saturated 0.0016 to 0.0057).
 REST_TORQUE_TO_LINK = 0.5
 
+#: The model and gains are made again at a motion cycle only when the links' inertia matrix has moved by more than this
+#: share since they were made (any entry, over sqrt(M_ii M_jj)), a joint started or stopped moving, or the last Riccati
+#: iterations still moved the gains (k or l) by more than GAINS_SETTLED of their largest entry; otherwise the steps
+#: keep them (the schedule cost some 60 us a 4 ms cycle, more than the rest of the servo and plant together).
+INERTIA_TOLERANCE = 0.01
+GAINS_SETTLED = 1e-2
+
 #: Joints whose anti-resonance at the links' largest inertia is above this (rad/s) keep the cascade (servo/control.py)
 #: on the twisted references: the rigid tuning's velocity loop is below their anti-resonance anyway (two_mass.py).
 STATE_FEEDBACK_BELOW_RAD_S = 160.0
@@ -177,6 +184,12 @@ class TwoMassStateFeedback:
         self._no_friction = np.zeros(n)
         self._p: np.ndarray | None = None   # the LQR's Riccati solution, the filter's prior covariance
         self._s: np.ndarray | None = None
+        self.k, self.l = np.zeros((m, 4 * m)), np.zeros((5 * m, 2 * m))   #: the gains (`schedule` makes them)
+        self._settling = True   #: the last schedule's iterations still moved the gains by more than GAINS_SETTLED
+        self.scheduled = self.kept = 0   #: motion cycles whose schedule made the gains again, and kept them
+        self._body: Any = None   #: the model's rows for the compiled M(q) (None: Pinocchio's), made for `_body_of`
+        self._body_of: Any = None
+        self._mass_block = np.zeros((m, m))
         #: the compiled schedule (servo/state_feedback_kernels.py), None where numba is not; `compiled.ON` picks
         self._kernels: Any = compiled.kernels("orc_rpl.servo.state_feedback_kernels")
         if self._kernels is not None:   # the design's constants, as the kernels read them
@@ -192,17 +205,32 @@ class TwoMassStateFeedback:
     def schedule(self, q: np.ndarray, qd_ref: np.ndarray | None = None, iterations: int | None = None) -> None:
         """The model at pose q (the links' inertia matrix from the model's M(q)) and for the reference speeds qd_ref
         (every joint's; which side each unknown torque is on: `switch`), and the gains for it: a few Riccati
-        iterations from the last solutions (`iterations`, None: RICCATI_ITERATIONS; 0: solved anew)."""
+        iterations from the last solutions (`iterations`, None: RICCATI_ITERATIONS; 0: solved anew). With
+        `iterations` None the model and gains are kept while the inertia has moved less than INERTIA_TOLERANCE
+        since they were made, no joint started or stopped, and the last iterations had settled (GAINS_SETTLED)."""
         sel, m = self.joints, self.m
+        switched = False
         if qd_ref is not None:
-            self.switch(np.abs(np.asarray(qd_ref)[sel]) > MOVING_RAD_S)
-        payload = self.arm.payload   # (kg, com): the model keeps its payload
-        full = self.arm.mass_matrix(q, payload[0], payload[1:])
-        self.link_inertia = full[np.ix_(sel, sel)] - np.diag(self.rotor)
+            switched = self.switch(np.abs(np.asarray(qd_ref)[sel]) > MOVING_RAD_S)
+        inertia, moved = self._link_inertia_at(q)
+        if iterations is None and self._p is not None and not (switched or self._settling or moved > INERTIA_TOLERANCE):
+            self.kept += 1
+            return
+        self.link_inertia = inertia
+        gains_before = (self.k, self.l)
         count = RICCATI_ITERATIONS if iterations is None else iterations
         if self._kernels is not None and compiled.ON and self._p is not None and count > 0:
             self._schedule_compiled(count)
-            return
+        else:
+            self._schedule_numpy(count)
+        self.scheduled += 1
+        change = max(np.max(np.abs(self.k - gains_before[0])) / np.max(np.abs(self.k)),
+                     np.max(np.abs(self.l - gains_before[1])) / np.max(np.abs(self.l)))
+        self._settling = bool(change > GAINS_SETTLED)
+
+    def _schedule_numpy(self, count: int) -> None:
+        """`schedule`'s model, weights, Riccati iterations and gains for self.link_inertia, in numpy (the reference)."""
+        m = self.m
         self.ad, self.bd = slow_joints_model(self.rotor, self.link_inertia, self.stiffness, self.damping, self.moving,
                                              self.period_s)
         a4, b4 = self.ad[: 4 * m, : 4 * m], self.bd[: 4 * m, :m]
@@ -223,6 +251,22 @@ class TwoMassStateFeedback:
         bp = b4.T @ p
         self.k = np.linalg.solve(r + bp @ b4, bp @ a4)                            #: the LQR's gain (m x 4m)
         self.l = s @ c.T @ np.linalg.inv(c @ s @ c.T + measurement)              #: the filter's correction (5m x 2m)
+
+    def _link_inertia_at(self, q: np.ndarray) -> tuple[np.ndarray, float]:
+        """The links' inertia matrix at q (the slow joints' block of the model's M(q) less the rotors), and how far it
+        has moved from the one the gains were made for: its largest change over sqrt(M_ii M_jj) of the latter."""
+        sel, arm = self.joints, self.arm
+        if self._kernels is not None and compiled.ON:
+            if self._body_of is not arm.payload:   # the payload's tuple is a new object when it changes
+                self._body, self._body_of = arm.rigid_body_rows(), arm.payload
+            if self._body is not None:   # compiled (servo/rnea_kernel.py): a new array each cycle, as Pinocchio's
+                inertia = np.empty((self.m, self.m))
+                moved = self._kernels.link_inertia_at(self._body, q, sel, self.rotor, self.link_inertia, inertia)
+                return inertia, moved
+        payload = arm.payload   # (kg, com): the model keeps its payload
+        inertia = arm.mass_matrix(q, payload[0], payload[1:])[np.ix_(sel, sel)] - np.diag(self.rotor)
+        scale = np.sqrt(np.outer(np.diag(self.link_inertia), np.diag(self.link_inertia)))
+        return inertia, float(np.max(np.abs(inertia - self.link_inertia) / scale))
 
     def _schedule_compiled(self, count: int) -> None:
         """`schedule`'s model, weights, Riccati iterations and gains for self.link_inertia, compiled (the numpy code

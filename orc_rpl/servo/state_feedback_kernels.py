@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from orc_rpl.plant.compiled import kernel
+from orc_rpl.servo.rnea_kernel import mass_matrix_block
 
 #: Entries of the `tuning` array (`TwoMassStateFeedback._tuning`): the kernel reads the design's constants by these.
 (BANDWIDTH, MOTOR_WEIGHT, ROTOR_NOISE, LINK_NOISE, WALK, REST_WALK, ANGLE_NOISE, SPEED_NOISE, PERIOD, EXPM_TERMS,
@@ -91,6 +92,21 @@ def schedule_gains(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.nd
     bp = b4.T @ p_now
     k[:, :] = np.linalg.solve(r + bp @ b4, bp @ a4)
     l[:, :] = s_now @ c.T @ np.linalg.inv(c @ s_now @ c.T + measurement)
+
+
+@kernel
+def link_inertia_at(body: np.ndarray, q: np.ndarray, joints: np.ndarray, rotor: np.ndarray, scheduled: np.ndarray,
+                    inertia: np.ndarray) -> float:  # pragma: no cover - compiled
+    """`_link_inertia_at`: the slow joints' block of M(q) less the rotors into inertia; returns its largest change from
+    `scheduled` over sqrt(M_ii M_jj) of the latter."""
+    mass_matrix_block(body, q, joints, inertia)
+    m, moved = joints.shape[0], 0.0
+    for i in range(m):
+        inertia[i, i] = inertia[i, i] - rotor[i]
+    for i in range(m):
+        for j in range(m):
+            moved = max(moved, abs(inertia[i, j] - scheduled[i, j]) / np.sqrt(scheduled[i, i] * scheduled[j, j]))
+    return moved
 
 
 @kernel
