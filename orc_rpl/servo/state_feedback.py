@@ -213,29 +213,44 @@ class TwoMassStateFeedback:
         if qd_ref is not None:
             switched = self.switch(np.abs(np.asarray(qd_ref)[sel]) > MOVING_RAD_S)
         inertia, moved = self._link_inertia_at(q)
-        if iterations is None and self._p is not None and not (switched or self._settling or moved > INERTIA_TOLERANCE):
+        remodel = iterations is not None or self._p is None or switched or moved > INERTIA_TOLERANCE
+        if not (remodel or self._settling):
             self.kept += 1
             return
-        self.link_inertia = inertia
         gains_before = (self.k, self.l)
         count = RICCATI_ITERATIONS if iterations is None else iterations
-        if self._kernels is not None and compiled.ON and self._p is not None and count > 0:
-            self._schedule_compiled(count)
+        compiled_now = self._kernels is not None and compiled.ON and self._p is not None and count > 0
+        if remodel:   # else the iterations go on for the model they were started on (the inertia has not moved)
+            self.link_inertia = inertia
+            self._model(compiled_now)
+        if compiled_now:
+            self._iterate_compiled(count)
         else:
-            self._schedule_numpy(count)
+            self._iterate_numpy(count)
         self.scheduled += 1
         change = max(np.max(np.abs(self.k - gains_before[0])) / np.max(np.abs(self.k)),
                      np.max(np.abs(self.l - gains_before[1])) / np.max(np.abs(self.l)))
         self._settling = bool(change > GAINS_SETTLED)
 
-    def _schedule_numpy(self, count: int) -> None:
-        """`schedule`'s model, weights, Riccati iterations and gains for self.link_inertia, in numpy (the reference)."""
+    def _model(self, compiled_now: bool) -> None:
+        """The sampled model, the LQR's weights and the filter's noises for self.link_inertia and self.moving."""
         m = self.m
+        if compiled_now:   # servo/state_feedback_kernels.py: the same, compiled
+            self.ad, self.bd = np.empty((5 * m, 5 * m)), np.empty((5 * m, 2 * m))
+            self._weights, self._process, self._measurement = np.empty((4 * m, 4 * m)), np.empty((5 * m, 5 * m)), np.empty((2 * m, 2 * m))
+            self._kernels.sampled_model(self.link_inertia, self.rotor, self.stiffness, self.damping, self.moving,
+                                        self._tuning, self.ad, self.bd, self._weights, self._process, self._measurement)
+            return
         self.ad, self.bd = slow_joints_model(self.rotor, self.link_inertia, self.stiffness, self.damping, self.moving,
                                              self.period_s)
+        self._weights = lqr_weights(self.rotor, self.link_inertia, self.bandwidth_rad_s)
+        self._process, self._measurement = noise_covariances(self.rotor, self.link_inertia, self.moving, self.period_s)
+
+    def _iterate_numpy(self, count: int) -> None:
+        """`count` Riccati iterations from the last solutions on the model (0: solved anew), and the gains; numpy."""
+        m = self.m
         a4, b4 = self.ad[: 4 * m, : 4 * m], self.bd[: 4 * m, :m]
-        weights = lqr_weights(self.rotor, self.link_inertia, self.bandwidth_rad_s)
-        process, measurement = noise_covariances(self.rotor, self.link_inertia, self.moving, self.period_s)
+        weights, process, measurement = self._weights, self._process, self._measurement
         r, a, c = np.eye(m), self.ad, self.c
         if self._p is None or count == 0:
             self._p = scipy.linalg.solve_discrete_are(a4, b4, weights, r)
@@ -268,15 +283,13 @@ class TwoMassStateFeedback:
         scale = np.sqrt(np.outer(np.diag(self.link_inertia), np.diag(self.link_inertia)))
         return inertia, float(np.max(np.abs(inertia - self.link_inertia) / scale))
 
-    def _schedule_compiled(self, count: int) -> None:
-        """`schedule`'s model, weights, Riccati iterations and gains for self.link_inertia, compiled (the numpy code
-        above is the reference); p and s are new arrays each cycle, as the numpy code's."""
-        m, kernels = self.m, self._kernels
+    def _iterate_compiled(self, count: int) -> None:
+        """`_iterate_numpy` compiled (the numpy code is the reference); p and s are new arrays each cycle, as numpy's."""
+        m = self.m
         p, s = self._p.copy(), self._s.copy()   # type: ignore[union-attr]
-        self.ad, self.bd = np.empty((5 * m, 5 * m)), np.empty((5 * m, 2 * m))
         self.k, self.l = np.empty((m, 4 * m)), np.empty((5 * m, 2 * m))
-        kernels.schedule_gains(self.link_inertia, self.rotor, self.stiffness, self.damping, self.moving, self._tuning, count,
-                               p, s, self.ad, self.bd, self.k, self.l)
+        self._kernels.riccati_gains(self.ad, self.bd, self._weights, self._process, self._measurement, count, p, s,
+                                    self.k, self.l)
         self._p, self._s = p, s
 
     def reset(self, q_link: np.ndarray, link_torque_nm: np.ndarray) -> None:

@@ -23,12 +23,10 @@ TUNING_SIZE = 12
 
 
 @kernel
-def schedule_gains(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.ndarray, damping: np.ndarray,
-                   moving: np.ndarray, tuning: np.ndarray, iterations: int, p: np.ndarray, s: np.ndarray,
-                   ad: np.ndarray, bd: np.ndarray, k: np.ndarray, l: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`schedule` after the link inertia matrix: `slow_joints_model`, `lqr_weights`, `noise_covariances`, then
-    `iterations` Riccati iterations from p (the LQR's, 4m x 4m) and s (the filter's, 5m x 5m), both updated in
-    place, and the gains: ad (5m x 5m) and bd (5m x 2m) the sampled model, k (m x 4m), l (5m x 2m)."""
+def sampled_model(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.ndarray, damping: np.ndarray,
+                  moving: np.ndarray, tuning: np.ndarray, ad: np.ndarray, bd: np.ndarray, weights: np.ndarray,
+                  process: np.ndarray, measurement: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`_model`: `slow_joints_model` into ad (5m x 5m) and bd (5m x 2m), `lqr_weights` and `noise_covariances`."""
     m = rotor.shape[0]
     period = tuning[PERIOD]
     # slow_joints_model: [A B; 0 0], its exponential by the series
@@ -61,9 +59,9 @@ def schedule_gains(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.nd
     bd[:, :] = e[: 5 * m, 5 * m :]
     # lqr_weights and noise_covariances
     w = tuning[BANDWIDTH]
-    weights = np.zeros((4 * m, 4 * m))
-    process = np.zeros((5 * m, 5 * m))
-    measurement = np.zeros((2 * m, 2 * m))
+    weights[:, :] = 0.0
+    process[:, :] = 0.0
+    measurement[:, :] = 0.0
     for j in range(m):
         whole = rotor[j] + link_inertia[j, j]
         angle, speed = (whole * w * w) ** 2, 0.5 * (whole * w) ** 2
@@ -74,24 +72,32 @@ def schedule_gains(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.nd
         process[4 * m + j, 4 * m + j] = (tuning[WALK] if moving[j] else tuning[REST_WALK]) ** 2 * period
         measurement[j, j] = tuning[ANGLE_NOISE] ** 2
         measurement[m + j, m + j] = tuning[SPEED_NOISE] ** 2
-    # the Riccati iterations (the filter measures the rotors' angles and speeds: c = [I 0])
+
+
+@kernel
+def riccati_gains(ad: np.ndarray, bd: np.ndarray, weights: np.ndarray, process: np.ndarray, measurement: np.ndarray,
+                  iterations: int, p: np.ndarray, s: np.ndarray, k: np.ndarray,
+                  l: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`_iterate_numpy`: `iterations` Riccati iterations from p (the LQR's, 4m x 4m) and s (the filter's, 5m x 5m),
+    both updated in place, and the gains k (m x 4m) and l (5m x 2m). The filter measures the rotors' angles and
+    speeds (c = [I 0]): c s c^T, s c^T and c s are blocks of s, taken as such."""
+    m = k.shape[0]
     a4, b4 = np.ascontiguousarray(ad[: 4 * m, : 4 * m]), np.ascontiguousarray(bd[: 4 * m, :m])
     ad_c = np.ascontiguousarray(ad)
-    c = np.zeros((2 * m, 5 * m))
-    c[:, : 2 * m] = np.eye(2 * m)
     r = np.eye(m)
     p_now, s_now = p.copy(), s.copy()
     for _ in range(iterations):
         bp = b4.T @ p_now
         gain = np.linalg.solve(r + bp @ b4, bp @ a4)
         p_now = weights + a4.T @ p_now @ (a4 - b4 @ gain)
-        innovation = c @ s_now @ c.T + measurement
-        s_now = ad_c @ (s_now - s_now @ c.T @ np.linalg.solve(innovation, c @ s_now)) @ ad_c.T + process
+        innovation = s_now[: 2 * m, : 2 * m] + measurement
+        s_now = ad_c @ (s_now - np.ascontiguousarray(s_now[:, : 2 * m]) @ np.linalg.solve(
+            innovation, np.ascontiguousarray(s_now[: 2 * m, :]))) @ ad_c.T + process
     p[:, :] = p_now
     s[:, :] = s_now
     bp = b4.T @ p_now
     k[:, :] = np.linalg.solve(r + bp @ b4, bp @ a4)
-    l[:, :] = s_now @ c.T @ np.linalg.inv(c @ s_now @ c.T + measurement)
+    l[:, :] = np.ascontiguousarray(s_now[:, : 2 * m]) @ np.linalg.inv(s_now[: 2 * m, : 2 * m] + measurement)
 
 
 @kernel
