@@ -79,11 +79,13 @@ class ServoLoop:
             self.drives.observed = observer is not None
 
     def set_state_feedback(self, law: Any) -> None:
-        """Control elastic gears by state feedback (a `servo.state_feedback.TwoMassStateFeedback`, in Python, every
-        step, the drives as torque motors) instead of the cascade; it also gives the twist `state().q` takes off.
+        """Control elastic gears by state feedback (a `servo.state_feedback.TwoMassStateFeedback`, every step, the
+        drives as torque motors; a motion cycle's steps as one compiled kernel where numba is) instead of the cascade; it also gives the twist `state().q` takes off.
         None: the cascade again (with rigid gears' references: set a twist again where there was one)."""
         if self.drives is not None:
             self.drives.release()
+        if law is None and self.state_feedback is not None:
+            self.compiled_law = False   # the cascade's Python law, as before the state feedback
         self.state_feedback = law
         self.twist = law
         self._state_feedback_cycle = None
@@ -91,7 +93,8 @@ class ServoLoop:
             kernels = compiled.kernels("orc_rpl.servo.state_feedback_cycle_kernels")
             self._state_feedback_cycle = StateFeedbackCycle(self.servo, self.cell, law, kernels)
         if law is not None:
-            self.compiled_law = False
+            # compiled: the steps of a motion cycle as one kernel (False, `use_compiled_law`: the Python loop)
+            self.compiled_law = self._state_feedback_cycle is not None
             if self.drives is not None:
                 self.drives.twist = None
 
@@ -184,7 +187,7 @@ class ServoLoop:
         law.friction = servo.friction_in_use()
         law.schedule(cell.q, qd_ref[0])
         cycle = self._state_feedback_cycle
-        if cycle is not None and not self.on_step and cycle.fits():   # the same steps as one kernel
+        if self.compiled_law and cycle is not None and not self.on_step and cycle.fits():   # the same steps as one kernel
             cycle.run(q_ref, qd_ref, qdd_ref)
             return self.state()
         for i in range(len(q_ref)):

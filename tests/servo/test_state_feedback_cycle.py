@@ -46,7 +46,7 @@ def _recorded_run(kernel: bool, monkeypatch: pytest.MonkeyPatch) -> tuple[np.nda
 
         loop._state_feedback_cycle.run = counted
     else:
-        loop._state_feedback_cycle = None   # the Python loop, the reference
+        loop.use_compiled_law(False)   # the Python loop, the reference
     home = np.array(layer.kin.arm.home_q)
     p = Pose.from_matrix(layer.fk(home))
     rows = []

@@ -80,7 +80,7 @@ def test_the_compiled_schedule_gives_the_numpy_schedules_model_and_gains_over_a_
 
 def test_the_compiled_step_gives_the_numpy_steps_references_torques_and_filter_over_a_recorded_run() -> None:
     layer = _layer()
-    layer.backend.loop._state_feedback_cycle = None   # the Python loop, which calls the law's step one call at a time
+    layer.backend.loop.use_compiled_law(False)   # the Python loop, which calls the law's step one call at a time
     law = layer.backend.loop.state_feedback
     worst, steps = [0.0], [0]
 
