@@ -189,7 +189,7 @@ class TwoMassStateFeedback:
         self.scheduled = self.kept = 0   #: motion cycles whose schedule made the gains again, and kept them
         self._body: Any = None   #: the model's rows for the compiled M(q) (None: Pinocchio's), made for `_body_of`
         self._body_of: Any = None
-        self._mass_block = np.zeros((m, m))
+        self._no_speeds = np.zeros(n)
         #: the compiled schedule (servo/state_feedback_kernels.py), None where numba is not; `compiled.ON` picks
         self._kernels: Any = compiled.kernels("orc_rpl.servo.state_feedback_kernels")
         if self._kernels is not None:   # the design's constants, as the kernels read them
@@ -208,11 +208,8 @@ class TwoMassStateFeedback:
         iterations from the last solutions (`iterations`, None: RICCATI_ITERATIONS; 0: solved anew). With
         `iterations` None the model and gains are kept while the inertia has moved less than INERTIA_TOLERANCE
         since they were made, no joint started or stopped, and the last iterations had settled (GAINS_SETTLED)."""
-        sel, m = self.joints, self.m
-        switched = False
-        if qd_ref is not None:
-            switched = self.switch(np.abs(np.asarray(qd_ref)[sel]) > MOVING_RAD_S)
-        inertia, moved = self._link_inertia_at(q)
+        inertia, moved, moving = self._link_inertia_at(q, qd_ref)
+        switched = moving is not None and self.switch(moving)
         remodel = iterations is not None or self._p is None or switched or moved > INERTIA_TOLERANCE
         if not (remodel or self._settling):
             self.kept += 1
@@ -267,21 +264,26 @@ class TwoMassStateFeedback:
         self.k = np.linalg.solve(r + bp @ b4, bp @ a4)                            #: the LQR's gain (m x 4m)
         self.l = s @ c.T @ np.linalg.inv(c @ s @ c.T + measurement)              #: the filter's correction (5m x 2m)
 
-    def _link_inertia_at(self, q: np.ndarray) -> tuple[np.ndarray, float]:
-        """The links' inertia matrix at q (the slow joints' block of the model's M(q) less the rotors), and how far it
-        has moved from the one the gains were made for: its largest change over sqrt(M_ii M_jj) of the latter."""
+    def _link_inertia_at(self, q: np.ndarray, qd_ref: np.ndarray | None) -> tuple[np.ndarray, float, Any]:
+        """The links' inertia matrix at q (the slow joints' block of the model's M(q) less the rotors), how far it has
+        moved from the one the gains were made for (its largest change over sqrt(M_ii M_jj) of the latter), and the
+        slow joints moving at the reference speeds qd_ref (None: no change; with the kernels, None too when the
+        flags are the same as `moving`'s)."""
         sel, arm = self.joints, self.arm
         if self._kernels is not None and compiled.ON:
             if self._body_of is not arm.payload:   # the payload's tuple is a new object when it changes
                 self._body, self._body_of = arm.rigid_body_rows(), arm.payload
             if self._body is not None:   # compiled (servo/rnea_kernel.py): a new array each cycle, as Pinocchio's
-                inertia = np.empty((self.m, self.m))
-                moved = self._kernels.link_inertia_at(self._body, q, sel, self.rotor, self.link_inertia, inertia)
-                return inertia, moved
+                inertia, moving = np.empty((self.m, self.m)), np.empty(self.m, dtype=bool)
+                speeds = self._no_speeds if qd_ref is None else qd_ref
+                moved, changed = self._kernels.link_inertia_at(self._body, q, sel, self.rotor, self.link_inertia, inertia,
+                                                               speeds, MOVING_RAD_S, self.moving, moving)
+                return inertia, moved, (moving if changed and qd_ref is not None else None)
         payload = arm.payload   # (kg, com): the model keeps its payload
         inertia = arm.mass_matrix(q, payload[0], payload[1:])[np.ix_(sel, sel)] - np.diag(self.rotor)
         scale = np.sqrt(np.outer(np.diag(self.link_inertia), np.diag(self.link_inertia)))
-        return inertia, float(np.max(np.abs(inertia - self.link_inertia) / scale))
+        moving = None if qd_ref is None else np.abs(np.asarray(qd_ref)[sel]) > MOVING_RAD_S
+        return inertia, float(np.max(np.abs(inertia - self.link_inertia) / scale)), moving
 
     def _iterate_compiled(self, count: int) -> None:
         """`_iterate_numpy` compiled (the numpy code is the reference); p and s are new arrays each cycle, as numpy's."""

@@ -173,17 +173,21 @@ def riccati_gains(ad: np.ndarray, bd: np.ndarray, weights: np.ndarray, process: 
 
 @kernel
 def link_inertia_at(body: np.ndarray, q: np.ndarray, joints: np.ndarray, rotor: np.ndarray, scheduled: np.ndarray,
-                    inertia: np.ndarray) -> float:  # pragma: no cover - compiled
-    """`_link_inertia_at`: the slow joints' block of M(q) less the rotors into inertia; returns its largest change from
-    `scheduled` over sqrt(M_ii M_jj) of the latter."""
+                    inertia: np.ndarray, qd_ref: np.ndarray, moving_rad_s: float, moving: np.ndarray,
+                    moving_now: np.ndarray) -> tuple[float, bool]:  # pragma: no cover - compiled
+    """`_link_inertia_at`: the slow joints' block of M(q) less the rotors into inertia, and its largest change from
+    `scheduled` over sqrt(M_ii M_jj) of the latter; the slow joints moving faster than moving_rad_s at the reference
+    speeds into moving_now, and whether that differs from `moving`."""
     mass_matrix_block(body, q, joints, inertia)
-    m, moved = joints.shape[0], 0.0
+    m, moved, changed = joints.shape[0], 0.0, False
     for i in range(m):
         inertia[i, i] = inertia[i, i] - rotor[i]
+        moving_now[i] = abs(qd_ref[joints[i]]) > moving_rad_s
+        changed = changed or moving_now[i] != moving[i]
     for i in range(m):
         for j in range(m):
             moved = max(moved, abs(inertia[i, j] - scheduled[i, j]) / np.sqrt(scheduled[i, i] * scheduled[j, j]))
-    return moved
+    return moved, changed
 
 
 @kernel

@@ -136,7 +136,7 @@ def test_the_gains_are_kept_until_the_inertia_moves_and_made_again_when_it_has()
     law.schedule(nudged, zero)
     assert law.k is gains and law.scheduled == scheduled
     reach = home + np.array([0.0, 0.5, -0.6, 0.0, 0.0, 0.0])   # much further out: more than the tolerance
-    _, moved = law._link_inertia_at(reach)
+    _, moved, _ = law._link_inertia_at(reach, None)
     assert moved > state_feedback.INERTIA_TOLERANCE
     law.schedule(reach, zero)
     assert law.scheduled == scheduled + 1
