@@ -47,8 +47,8 @@ REST_TORQUE_TO_LINK = 0.5
 #: share since they were made (any entry, over sqrt(M_ii M_jj)), a joint started or stopped moving, or the last Riccati
 #: iterations still moved the gains (k or l) by more than GAINS_SETTLED of their largest entry; otherwise the steps
 #: keep them (the schedule cost some 60 us a 4 ms cycle, more than the rest of the servo and plant together).
-INERTIA_TOLERANCE = 0.01
-GAINS_SETTLED = 1e-2
+INERTIA_TOLERANCE = 0.02
+GAINS_SETTLED = 3e-2
 
 #: Joints whose anti-resonance at the links' largest inertia is above this (rad/s) keep the cascade (servo/control.py)
 #: on the twisted references: the rigid tuning's velocity loop is below their anti-resonance anyway (two_mass.py).
