@@ -80,7 +80,8 @@ class ServoLoop:
 
     def set_state_feedback(self, law: Any) -> None:
         """Control elastic gears by state feedback (a `servo.state_feedback.TwoMassStateFeedback`, every step, the
-        drives as torque motors; a motion cycle's steps as one compiled kernel where numba is) instead of the cascade; it also gives the twist `state().q` takes off.
+        drives as torque motors; a motion cycle's steps as one compiled kernel where numba is) instead of the
+        cascade; it also gives the twist `state().q` takes off.
         None: the cascade again (with rigid gears' references: set a twist again where there was one)."""
         if self.drives is not None:
             self.drives.release()
@@ -187,7 +188,7 @@ class ServoLoop:
         law.friction = servo.friction_in_use()
         law.schedule(cell.q, qd_ref[0])
         cycle = self._state_feedback_cycle
-        if self.compiled_law and cycle is not None and not self.on_step and cycle.fits():   # the same steps as one kernel
+        if self.compiled_law and cycle is not None and not self.on_step and cycle.fits():   # the steps as one kernel
             cycle.run(q_ref, qd_ref, qdd_ref)
             return self.state()
         for i in range(len(q_ref)):

@@ -234,7 +234,8 @@ class TwoMassStateFeedback:
         m = self.m
         if compiled_now:   # servo/state_feedback_kernels.py: the same, compiled
             self.ad, self.bd = np.empty((5 * m, 5 * m)), np.empty((5 * m, 2 * m))
-            self._weights, self._process, self._measurement = np.empty((4 * m, 4 * m)), np.empty((5 * m, 5 * m)), np.empty((2 * m, 2 * m))
+            self._weights, self._process = np.empty((4 * m, 4 * m)), np.empty((5 * m, 5 * m))
+            self._measurement = np.empty((2 * m, 2 * m))
             self._kernels.sampled_model(self.link_inertia, self.rotor, self.stiffness, self.damping, self.moving,
                                         self._tuning, self.ad, self.bd, self._weights, self._process, self._measurement)
             return
@@ -276,8 +277,8 @@ class TwoMassStateFeedback:
             if self._body is not None:   # compiled (servo/rnea_kernel.py): a new array each cycle, as Pinocchio's
                 inertia, moving = np.empty((self.m, self.m)), np.empty(self.m, dtype=bool)
                 speeds = self._no_speeds if qd_ref is None else qd_ref
-                moved, changed = self._kernels.link_inertia_at(self._body, q, sel, self.rotor, self.link_inertia, inertia,
-                                                               speeds, MOVING_RAD_S, self.moving, moving)
+                moved, changed = self._kernels.link_inertia_at(self._body, q, sel, self.rotor, self.link_inertia,
+                                                               inertia, speeds, MOVING_RAD_S, self.moving, moving)
                 return inertia, moved, (moving if changed and qd_ref is not None else None)
         payload = arm.payload   # (kg, com): the model keeps its payload
         inertia = arm.mass_matrix(q, payload[0], payload[1:])[np.ix_(sel, sel)] - np.diag(self.rotor)
@@ -286,7 +287,7 @@ class TwoMassStateFeedback:
         return inertia, float(np.max(np.abs(inertia - self.link_inertia) / scale)), moving
 
     def _iterate_compiled(self, count: int) -> None:
-        """`_iterate_numpy` compiled (the numpy code is the reference); p and s are new arrays each cycle, as numpy's."""
+        """`_iterate_numpy` compiled (the numpy code is the reference); p and s new arrays each cycle, as numpy's."""
         m = self.m
         p, s = self._p.copy(), self._s.copy()   # type: ignore[union-attr]
         self.k, self.l = np.empty((m, 4 * m)), np.empty((5 * m, 2 * m))

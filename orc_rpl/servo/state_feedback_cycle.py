@@ -1,4 +1,4 @@
-"""The servo room's elastic-gear motion cycle on the compiled path: the arguments of the fused kernel, kept between calls."""
+"""The servo room's elastic-gear motion cycle compiled: the fused kernel's arguments, kept between calls."""
 
 from __future__ import annotations
 
@@ -52,7 +52,8 @@ class StateFeedbackCycle:
         integral_before, integral = servo.integral, servo._integral_next
         tail = self._tail
         if tail is None:
-            tail = self._tail = (self._body, self._gravity, self._law, servo._inertia_every, 1.0 / FRICTION_SMOOTH_RAD_S,
+            tail = self._tail = (self._body, self._gravity, self._law, servo._inertia_every,
+                                 1.0 / FRICTION_SMOOTH_RAD_S,
                                  law.joints, law.tau_max, law.rotor_all, law.stiffness_all, law._tuning, servo._kv,
                                  servo._ki_dt, servo.position_error, servo.velocity_error, servo.torque,
                                  servo.saturated, self._torque_ff, self._velocity, *self.cell.drives.kernel_arrays())
@@ -68,5 +69,6 @@ class StateFeedbackCycle:
         """The cascade's constants as the rows the kernel reads."""
         servo, law, k = self.servo, self._law, self._kernels
         law[k.KP], law[k.VELOCITY_BW], law[k.INTEGRAL_BW_DT] = servo._kp, servo._velocity_bw, servo._integral_bw_dt
-        law[k.INTEGRAL_MAX], law[k.INTEGRAL_MIN], law[k.TAU_MAX] = servo._integral_max, servo._integral_min, servo._tau_max
+        law[k.INTEGRAL_MAX], law[k.INTEGRAL_MIN] = servo._integral_max, servo._integral_min
+        law[k.TAU_MAX] = servo._tau_max
         self._law_of, self._tail = (servo._kp, servo._velocity_bw), None

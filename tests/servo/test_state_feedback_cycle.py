@@ -12,7 +12,9 @@ from orc_rpl.motion import CartesianMotion, JointMotion, Params, make_virtual_mo
 from orc_rpl.plant import compiled, realistic
 from orc_rpl.world.pose import Pose
 
-pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason="the kernels are off (numba not installed, or ORC_RPL_NO_JIT=1)")]
+pytestmark = [pytest.mark.sim,
+              pytest.mark.skipif(not compiled.AVAILABLE,
+                                 reason="the kernels are off (numba not installed, or ORC_RPL_NO_JIT=1)")]
 
 #: A thermal period of whole motion cycles (4 steps): the kernel steps the thermal model at a call's end, the Python
 #: loop at the step it falls on; with 48 both at the same step (with 50, every 0.05 s the plant's friction changes
