@@ -146,10 +146,13 @@ def run_moves(robot: str, seed: int, pvc: bool, cold: bool, carried_kg: float) -
         scaled_cycles += controller.scaled_cycles if controller is not None else 0
         layer.wait(h)
         segments.clear()
+    law = loop.state_feedback   # the motion cycles whose schedule made the gains again (the others kept them)
+    made = law.scheduled / max(law.scheduled + law.kept, 1) if law is not None else 1.0
     return {"path_error_mm": worst * 1000.0, "moving_error_mm": worst_moving * 1000.0,
             "encoder_error_mm": worst_encoder * 1000.0,
             "saturated_fraction": saturated / max(steps, 1),
-            "duration_ratio": actual_s / nominal_s, "scaled_cycles": float(scaled_cycles), "duration_s": actual_s}
+            "duration_ratio": actual_s / nominal_s, "scaled_cycles": float(scaled_cycles), "duration_s": actual_s,
+            "gains_made_fraction": made}
 
 
 def nominal_equals_actual(robot: str, seed: int) -> bool:
@@ -288,6 +291,8 @@ def main() -> None:
     if args.elastic:
         print(f"no_pvc_encoder_path_error_mm={without['encoder_error_mm']:.3f}")
         print(f"pvc_encoder_path_error_mm={with_pvc['encoder_error_mm']:.3f}")
+    if args.state_feedback:
+        print(f"state_feedback_gains_made_fraction={with_pvc['gains_made_fraction']:.3f}")
     print(f"saturated_cycle_fraction={with_pvc['saturated_fraction']:.4f}")
     print(f"duration_ratio={with_pvc['duration_ratio']:.3f}")
     print(f"moves_duration_s={with_pvc['duration_s']:.3f}")

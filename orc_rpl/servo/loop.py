@@ -14,6 +14,7 @@ from orc_rpl.plant import compiled
 from orc_rpl.plant.sim import SimCell
 from orc_rpl.servo.control import JointServo, ServoGains, ServoTuning
 from orc_rpl.servo.drive import CompiledDrives
+from orc_rpl.servo.state_feedback_cycle import StateFeedbackCycle
 from orc_rpl.signals.logger import Logger
 
 
@@ -58,6 +59,8 @@ class ServoLoop:
         self.observer: Any = None  #: the elastic gears' torque observer (set_gear_observer), None: none
         #: elastic gears' state feedback (set_state_feedback: a `servo.state_feedback.TwoMassStateFeedback`), None: the cascade
         self.state_feedback: Any = None
+        #: the state feedback's steps compiled (servo/state_feedback_cycle.py), None: the Python loop below
+        self._state_feedback_cycle: StateFeedbackCycle | None = None
         self._torque_sum_nm = np.zeros(self._n)   #: the motors' torque summed over the last call (the observer's input)
         self._kernels: Any = compiled.kernels("orc_rpl.servo.drive_kernels")   #: None where numba is not
 
@@ -76,15 +79,23 @@ class ServoLoop:
             self.drives.observed = observer is not None
 
     def set_state_feedback(self, law: Any) -> None:
-        """Control elastic gears by state feedback (a `servo.state_feedback.TwoMassStateFeedback`, in Python, every
-        step, the drives as torque motors) instead of the cascade; it also gives the twist `state().q` takes off.
+        """Control elastic gears by state feedback (a `servo.state_feedback.TwoMassStateFeedback`, every step, the
+        drives as torque motors; a motion cycle's steps as one compiled kernel where numba is) instead of the
+        cascade; it also gives the twist `state().q` takes off.
         None: the cascade again (with rigid gears' references: set a twist again where there was one)."""
         if self.drives is not None:
             self.drives.release()
+        if law is None and self.state_feedback is not None:
+            self.compiled_law = False   # the cascade's Python law, as before the state feedback
         self.state_feedback = law
         self.twist = law
+        self._state_feedback_cycle = None
+        if law is not None and self.drives is not None and getattr(law, "_kernels", None) is not None:
+            kernels = compiled.kernels("orc_rpl.servo.state_feedback_cycle_kernels")
+            self._state_feedback_cycle = StateFeedbackCycle(self.servo, self.cell, law, kernels)
         if law is not None:
-            self.compiled_law = False
+            # compiled: the steps of a motion cycle as one kernel (False, `use_compiled_law`: the Python loop)
+            self.compiled_law = self._state_feedback_cycle is not None
             if self.drives is not None:
                 self.drives.twist = None
 
@@ -176,6 +187,10 @@ class ServoLoop:
         rnea, sel = servo.inverse_dynamics, law.joints
         law.friction = servo.friction_in_use()
         law.schedule(cell.q, qd_ref[0])
+        cycle = self._state_feedback_cycle
+        if self.compiled_law and cycle is not None and not self.on_step and cycle.fits():   # the steps as one kernel
+            cycle.run(q_ref, qd_ref, qdd_ref)
+            return self.state()
         for i in range(len(q_ref)):
             q, qd = np.array(cell.q), np.array(cell.qd)   # copies: the cell overwrites its measurements
             tau_ff = np.array(rnea(q_ref[i], qd_ref[i], qdd_ref[i]))

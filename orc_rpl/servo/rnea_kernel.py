@@ -177,3 +177,18 @@ def mass_diagonal(body: np.ndarray, q: np.ndarray, out: np.ndarray) -> None:  # 
         x, y, z = body[i, AXIS], body[i, AXIS + 1], body[i, AXIS + 2]
         out[i] = (x * (j00 * x + j01 * y + j02 * z) + y * (j01 * x + j11 * y + j12 * z)
                   + z * (j02 * x + j12 * y + j22 * z) + body[i, ARMATURE])
+
+
+@kernel
+def mass_matrix_block(body: np.ndarray, q: np.ndarray, joints: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover
+    """The block of the mass matrix M(q) (armature included) of the rows and columns `joints`, into out: a column
+    is the RNEA of a unit acceleration of its joint, at rest, without gravity (one `rnea_row` a column)."""
+    n, m = q.shape[0], joints.shape[0]
+    zero, unit, tau, work = np.zeros(3), np.zeros(n), np.empty(n), np.empty((n, 15))
+    speed = np.zeros(n)
+    for c in range(m):
+        unit[joints[c]] = 1.0
+        rnea_row(body, zero, q, speed, unit, tau, work)
+        unit[joints[c]] = 0.0
+        for r in range(c + 1):   # the upper triangle, mirrored (symmetric to the bit, as Pinocchio's is made)
+            out[r, c] = out[c, r] = tau[joints[r]]

@@ -43,6 +43,13 @@ MOVING_RAD_S = 0.2
 #: 0.7, 1 gave 1.423, 0.995, 0.811, 0.859, 0.908 mm (the encoders 0.460 every time; saturated 0.0016 to 0.0057).
 REST_TORQUE_TO_LINK = 0.5
 
+#: The model and gains are made again at a motion cycle only when the links' inertia matrix has moved by more than this
+#: share since they were made (any entry, over sqrt(M_ii M_jj)), a joint started or stopped moving, or the last Riccati
+#: iterations still moved the gains (k or l) by more than GAINS_SETTLED of their largest entry; otherwise the steps
+#: keep them (the schedule cost some 60 us a 4 ms cycle, more than the rest of the servo and plant together).
+INERTIA_TOLERANCE = 0.02
+GAINS_SETTLED = 3e-2
+
 #: Joints whose anti-resonance at the links' largest inertia is above this (rad/s) keep the cascade (servo/control.py)
 #: on the twisted references: the rigid tuning's velocity loop is below their anti-resonance anyway (two_mass.py).
 STATE_FEEDBACK_BELOW_RAD_S = 160.0
@@ -177,6 +184,12 @@ class TwoMassStateFeedback:
         self._no_friction = np.zeros(n)
         self._p: np.ndarray | None = None   # the LQR's Riccati solution, the filter's prior covariance
         self._s: np.ndarray | None = None
+        self.k, self.l = np.zeros((m, 4 * m)), np.zeros((5 * m, 2 * m))   #: the gains (`schedule` makes them)
+        self._settling = True   #: the last schedule's iterations still moved the gains by more than GAINS_SETTLED
+        self.scheduled = self.kept = 0   #: motion cycles whose schedule made the gains again, and kept them
+        self._body: Any = None   #: the model's rows for the compiled M(q) (None: Pinocchio's), made for `_body_of`
+        self._body_of: Any = None
+        self._no_speeds = np.zeros(n)
         #: the compiled schedule (servo/state_feedback_kernels.py), None where numba is not; `compiled.ON` picks
         self._kernels: Any = compiled.kernels("orc_rpl.servo.state_feedback_kernels")
         if self._kernels is not None:   # the design's constants, as the kernels read them
@@ -192,22 +205,50 @@ class TwoMassStateFeedback:
     def schedule(self, q: np.ndarray, qd_ref: np.ndarray | None = None, iterations: int | None = None) -> None:
         """The model at pose q (the links' inertia matrix from the model's M(q)) and for the reference speeds qd_ref
         (every joint's; which side each unknown torque is on: `switch`), and the gains for it: a few Riccati
-        iterations from the last solutions (`iterations`, None: RICCATI_ITERATIONS; 0: solved anew)."""
-        sel, m = self.joints, self.m
-        if qd_ref is not None:
-            self.switch(np.abs(np.asarray(qd_ref)[sel]) > MOVING_RAD_S)
-        payload = self.arm.payload   # (kg, com): the model keeps its payload
-        full = self.arm.mass_matrix(q, payload[0], payload[1:])
-        self.link_inertia = full[np.ix_(sel, sel)] - np.diag(self.rotor)
+        iterations from the last solutions (`iterations`, None: RICCATI_ITERATIONS; 0: solved anew). With
+        `iterations` None the model and gains are kept while the inertia has moved less than INERTIA_TOLERANCE
+        since they were made, no joint started or stopped, and the last iterations had settled (GAINS_SETTLED)."""
+        inertia, moved, moving = self._link_inertia_at(q, qd_ref)
+        switched = moving is not None and self.switch(moving)
+        remodel = iterations is not None or self._p is None or switched or moved > INERTIA_TOLERANCE
+        if not (remodel or self._settling):
+            self.kept += 1
+            return
+        gains_before = (self.k, self.l)
         count = RICCATI_ITERATIONS if iterations is None else iterations
-        if self._kernels is not None and compiled.ON and self._p is not None and count > 0:
-            self._schedule_compiled(count)
+        compiled_now = self._kernels is not None and compiled.ON and self._p is not None and count > 0
+        if remodel:   # else the iterations go on for the model they were started on (the inertia has not moved)
+            self.link_inertia = inertia
+            self._model(compiled_now)
+        if compiled_now:
+            self._iterate_compiled(count)
+        else:
+            self._iterate_numpy(count)
+        self.scheduled += 1
+        change = max(np.max(np.abs(self.k - gains_before[0])) / np.max(np.abs(self.k)),
+                     np.max(np.abs(self.l - gains_before[1])) / np.max(np.abs(self.l)))
+        self._settling = bool(change > GAINS_SETTLED)
+
+    def _model(self, compiled_now: bool) -> None:
+        """The sampled model, the LQR's weights and the filter's noises for self.link_inertia and self.moving."""
+        m = self.m
+        if compiled_now:   # servo/state_feedback_kernels.py: the same, compiled
+            self.ad, self.bd = np.empty((5 * m, 5 * m)), np.empty((5 * m, 2 * m))
+            self._weights, self._process = np.empty((4 * m, 4 * m)), np.empty((5 * m, 5 * m))
+            self._measurement = np.empty((2 * m, 2 * m))
+            self._kernels.sampled_model(self.link_inertia, self.rotor, self.stiffness, self.damping, self.moving,
+                                        self._tuning, self.ad, self.bd, self._weights, self._process, self._measurement)
             return
         self.ad, self.bd = slow_joints_model(self.rotor, self.link_inertia, self.stiffness, self.damping, self.moving,
                                              self.period_s)
+        self._weights = lqr_weights(self.rotor, self.link_inertia, self.bandwidth_rad_s)
+        self._process, self._measurement = noise_covariances(self.rotor, self.link_inertia, self.moving, self.period_s)
+
+    def _iterate_numpy(self, count: int) -> None:
+        """`count` Riccati iterations from the last solutions on the model (0: solved anew), and the gains; numpy."""
+        m = self.m
         a4, b4 = self.ad[: 4 * m, : 4 * m], self.bd[: 4 * m, :m]
-        weights = lqr_weights(self.rotor, self.link_inertia, self.bandwidth_rad_s)
-        process, measurement = noise_covariances(self.rotor, self.link_inertia, self.moving, self.period_s)
+        weights, process, measurement = self._weights, self._process, self._measurement
         r, a, c = np.eye(m), self.ad, self.c
         if self._p is None or count == 0:
             self._p = scipy.linalg.solve_discrete_are(a4, b4, weights, r)
@@ -224,15 +265,34 @@ class TwoMassStateFeedback:
         self.k = np.linalg.solve(r + bp @ b4, bp @ a4)                            #: the LQR's gain (m x 4m)
         self.l = s @ c.T @ np.linalg.inv(c @ s @ c.T + measurement)              #: the filter's correction (5m x 2m)
 
-    def _schedule_compiled(self, count: int) -> None:
-        """`schedule`'s model, weights, Riccati iterations and gains for self.link_inertia, compiled (the numpy code
-        above is the reference); p and s are new arrays each cycle, as the numpy code's."""
-        m, kernels = self.m, self._kernels
+    def _link_inertia_at(self, q: np.ndarray, qd_ref: np.ndarray | None) -> tuple[np.ndarray, float, Any]:
+        """The links' inertia matrix at q (the slow joints' block of the model's M(q) less the rotors), how far it has
+        moved from the one the gains were made for (its largest change over sqrt(M_ii M_jj) of the latter), and the
+        slow joints moving at the reference speeds qd_ref (None: no change; with the kernels, None too when the
+        flags are the same as `moving`'s)."""
+        sel, arm = self.joints, self.arm
+        if self._kernels is not None and compiled.ON:
+            if self._body_of is not arm.payload:   # the payload's tuple is a new object when it changes
+                self._body, self._body_of = arm.rigid_body_rows(), arm.payload
+            if self._body is not None:   # compiled (servo/rnea_kernel.py): a new array each cycle, as Pinocchio's
+                inertia, moving = np.empty((self.m, self.m)), np.empty(self.m, dtype=bool)
+                speeds = self._no_speeds if qd_ref is None else qd_ref
+                moved, changed = self._kernels.link_inertia_at(self._body, q, sel, self.rotor, self.link_inertia,
+                                                               inertia, speeds, MOVING_RAD_S, self.moving, moving)
+                return inertia, moved, (moving if changed and qd_ref is not None else None)
+        payload = arm.payload   # (kg, com): the model keeps its payload
+        inertia = arm.mass_matrix(q, payload[0], payload[1:])[np.ix_(sel, sel)] - np.diag(self.rotor)
+        scale = np.sqrt(np.outer(np.diag(self.link_inertia), np.diag(self.link_inertia)))
+        moving = None if qd_ref is None else np.abs(np.asarray(qd_ref)[sel]) > MOVING_RAD_S
+        return inertia, float(np.max(np.abs(inertia - self.link_inertia) / scale)), moving
+
+    def _iterate_compiled(self, count: int) -> None:
+        """`_iterate_numpy` compiled (the numpy code is the reference); p and s new arrays each cycle, as numpy's."""
+        m = self.m
         p, s = self._p.copy(), self._s.copy()   # type: ignore[union-attr]
-        self.ad, self.bd = np.empty((5 * m, 5 * m)), np.empty((5 * m, 2 * m))
         self.k, self.l = np.empty((m, 4 * m)), np.empty((5 * m, 2 * m))
-        kernels.schedule_gains(self.link_inertia, self.rotor, self.stiffness, self.damping, self.moving, self._tuning, count,
-                               p, s, self.ad, self.bd, self.k, self.l)
+        self._kernels.riccati_gains(self.ad, self.bd, self._weights, self._process, self._measurement, count, p, s,
+                                    self.k, self.l)
         self._p, self._s = p, s
 
     def reset(self, q_link: np.ndarray, link_torque_nm: np.ndarray) -> None:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from orc_rpl.plant.compiled import kernel
+from orc_rpl.servo.rnea_kernel import mass_matrix_block
 
 #: Entries of the `tuning` array (`TwoMassStateFeedback._tuning`): the kernel reads the design's constants by these.
 (BANDWIDTH, MOTOR_WEIGHT, ROTOR_NOISE, LINK_NOISE, WALK, REST_WALK, ANGLE_NOISE, SPEED_NOISE, PERIOD, EXPM_TERMS,
@@ -22,12 +23,10 @@ TUNING_SIZE = 12
 
 
 @kernel
-def schedule_gains(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.ndarray, damping: np.ndarray,
-                   moving: np.ndarray, tuning: np.ndarray, iterations: int, p: np.ndarray, s: np.ndarray,
-                   ad: np.ndarray, bd: np.ndarray, k: np.ndarray, l: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`schedule` after the link inertia matrix: `slow_joints_model`, `lqr_weights`, `noise_covariances`, then
-    `iterations` Riccati iterations from p (the LQR's, 4m x 4m) and s (the filter's, 5m x 5m), both updated in
-    place, and the gains: ad (5m x 5m) and bd (5m x 2m) the sampled model, k (m x 4m), l (5m x 2m)."""
+def sampled_model(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.ndarray, damping: np.ndarray,
+                  moving: np.ndarray, tuning: np.ndarray, ad: np.ndarray, bd: np.ndarray, weights: np.ndarray,
+                  process: np.ndarray, measurement: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`_model`: `slow_joints_model` into ad (5m x 5m) and bd (5m x 2m), `lqr_weights` and `noise_covariances`."""
     m = rotor.shape[0]
     period = tuning[PERIOD]
     # slow_joints_model: [A B; 0 0], its exponential by the series
@@ -60,9 +59,9 @@ def schedule_gains(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.nd
     bd[:, :] = e[: 5 * m, 5 * m :]
     # lqr_weights and noise_covariances
     w = tuning[BANDWIDTH]
-    weights = np.zeros((4 * m, 4 * m))
-    process = np.zeros((5 * m, 5 * m))
-    measurement = np.zeros((2 * m, 2 * m))
+    weights[:, :] = 0.0
+    process[:, :] = 0.0
+    measurement[:, :] = 0.0
     for j in range(m):
         whole = rotor[j] + link_inertia[j, j]
         angle, speed = (whole * w * w) ** 2, 0.5 * (whole * w) ** 2
@@ -73,24 +72,122 @@ def schedule_gains(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.nd
         process[4 * m + j, 4 * m + j] = (tuning[WALK] if moving[j] else tuning[REST_WALK]) ** 2 * period
         measurement[j, j] = tuning[ANGLE_NOISE] ** 2
         measurement[m + j, m + j] = tuning[SPEED_NOISE] ** 2
-    # the Riccati iterations (the filter measures the rotors' angles and speeds: c = [I 0])
+
+
+@kernel
+def _product(a: np.ndarray, b: np.ndarray, out: np.ndarray, transpose_a: bool) -> None:  # pragma: no cover - compiled
+    """out = a @ b (or a.T @ b): rows of out as sums of rows of b (the inner loop runs along rows: it vectorises)."""
+    rows, inner = out.shape[0], b.shape[0]
+    out[:, :] = 0.0
+    for i in range(rows):
+        for k in range(inner):
+            factor = a[k, i] if transpose_a else a[i, k]
+            for j in range(out.shape[1]):
+                out[i, j] += factor * b[k, j]
+
+
+@kernel
+def _solve_spd(a: np.ndarray, b: np.ndarray, low: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover - compiled
+    """out = a^-1 b for a symmetric positive definite a (Cholesky, low: its factor's work array)."""
+    n = a.shape[0]
+    for i in range(n):
+        for j in range(i + 1):
+            total = a[i, j]
+            for k in range(j):
+                total -= low[i, k] * low[j, k]
+            low[i, j] = np.sqrt(total) if i == j else total / low[j, j]
+    for c in range(b.shape[1]):
+        for i in range(n):   # forward, then back substitution
+            total = b[i, c]
+            for k in range(i):
+                total -= low[i, k] * out[k, c]
+            out[i, c] = total / low[i, i]
+        for i in range(n - 1, -1, -1):
+            total = out[i, c]
+            for k in range(i + 1, n):
+                total -= low[k, i] * out[k, c]
+            out[i, c] = total / low[i, i]
+
+
+@kernel
+def riccati_gains(ad: np.ndarray, bd: np.ndarray, weights: np.ndarray, process: np.ndarray, measurement: np.ndarray,
+                  iterations: int, p: np.ndarray, s: np.ndarray, k: np.ndarray,
+                  l: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`_iterate_numpy`: `iterations` Riccati iterations from p (the LQR's, 4m x 4m) and s (the filter's, 5m x 5m),
+    both updated in place, and the gains k (m x 4m) and l (5m x 2m). The filter measures the rotors' angles and
+    speeds (c = [I 0]): c s c^T, s c^T and c s are blocks of s, taken as such; the products in loops on work arrays
+    and the solves by Cholesky (both matrices are symmetric positive definite): BLAS and LAPACK calls on matrices
+    this small cost more in their set-up than in their sums."""
+    m = k.shape[0]
     a4, b4 = np.ascontiguousarray(ad[: 4 * m, : 4 * m]), np.ascontiguousarray(bd[: 4 * m, :m])
-    ad_c = np.ascontiguousarray(ad)
-    c = np.zeros((2 * m, 5 * m))
-    c[:, : 2 * m] = np.eye(2 * m)
-    r = np.eye(m)
-    p_now, s_now = p.copy(), s.copy()
-    for _ in range(iterations):
-        bp = b4.T @ p_now
-        gain = np.linalg.solve(r + bp @ b4, bp @ a4)
-        p_now = weights + a4.T @ p_now @ (a4 - b4 @ gain)
-        innovation = c @ s_now @ c.T + measurement
-        s_now = ad_c @ (s_now - s_now @ c.T @ np.linalg.solve(innovation, c @ s_now)) @ ad_c.T + process
-    p[:, :] = p_now
-    s[:, :] = s_now
-    bp = b4.T @ p_now
-    k[:, :] = np.linalg.solve(r + bp @ b4, bp @ a4)
-    l[:, :] = s_now @ c.T @ np.linalg.inv(c @ s_now @ c.T + measurement)
+    bp, small, rhs, low_m = np.empty((m, 4 * m)), np.empty((m, m)), np.empty((m, 4 * m)), np.empty((m, m))
+    closed, work4, p_new = np.empty((4 * m, 4 * m)), np.empty((4 * m, 4 * m)), np.empty((4 * m, 4 * m))
+    innovation, low_2m, x = np.empty((2 * m, 2 * m)), np.empty((2 * m, 2 * m)), np.empty((2 * m, 5 * m))
+    post, work5 = np.empty((5 * m, 5 * m)), np.empty((5 * m, 5 * m))
+    for it in range(iterations + 1):   # the last pass makes the gains only
+        # the LQR: gain = (r + b' p b)^-1 b' p a, p = weights + a' p (a - b gain)
+        _product(b4, p, bp, True)
+        _product(bp, b4, small, False)
+        for i in range(m):
+            small[i, i] += 1.0
+        _product(bp, a4, rhs, False)
+        if it == iterations:
+            _solve_spd(small, rhs, low_m, k)
+            break
+        gain = np.empty((m, 4 * m))
+        _solve_spd(small, rhs, low_m, gain)
+        _product(b4, gain, closed, False)
+        for i in range(4 * m):
+            for j in range(4 * m):
+                closed[i, j] = a4[i, j] - closed[i, j]
+        _product(p, closed, work4, False)
+        _product(a4, work4, p_new, True)
+        for i in range(4 * m):
+            for j in range(4 * m):
+                p[i, j] = weights[i, j] + p_new[i, j]
+        # the filter: s = ad (s - s c' (c s c' + measurement)^-1 c s) ad' + process
+        for i in range(2 * m):
+            for j in range(2 * m):
+                innovation[i, j] = s[i, j] + measurement[i, j]
+        _solve_spd(innovation, s[: 2 * m, :], low_2m, x)
+        _product(np.ascontiguousarray(s[:, : 2 * m]), x, post, False)
+        for i in range(5 * m):
+            for j in range(5 * m):
+                post[i, j] = s[i, j] - post[i, j]
+        _product(ad, post, work5, False)
+        for i in range(5 * m):   # (ad post) ad': row i of work5 against row j of ad
+            for j in range(5 * m):
+                total = 0.0
+                for c in range(5 * m):
+                    total += work5[i, c] * ad[j, c]
+                s[i, j] = total + process[i, j]
+    # l = s c' (c s c' + measurement)^-1: the transpose of (c s c' + measurement)^-1 c s (both symmetric)
+    for i in range(2 * m):
+        for j in range(2 * m):
+            innovation[i, j] = s[i, j] + measurement[i, j]
+    _solve_spd(innovation, s[: 2 * m, :], low_2m, x)
+    for i in range(5 * m):
+        for j in range(2 * m):
+            l[i, j] = x[j, i]
+
+
+@kernel
+def link_inertia_at(body: np.ndarray, q: np.ndarray, joints: np.ndarray, rotor: np.ndarray, scheduled: np.ndarray,
+                    inertia: np.ndarray, qd_ref: np.ndarray, moving_rad_s: float, moving: np.ndarray,
+                    moving_now: np.ndarray) -> tuple[float, bool]:  # pragma: no cover - compiled
+    """`_link_inertia_at`: the slow joints' block of M(q) less the rotors into inertia, and its largest change from
+    `scheduled` over sqrt(M_ii M_jj) of the latter; the slow joints moving faster than moving_rad_s at the reference
+    speeds into moving_now, and whether that differs from `moving`."""
+    mass_matrix_block(body, q, joints, inertia)
+    m, moved, changed = joints.shape[0], 0.0, False
+    for i in range(m):
+        inertia[i, i] = inertia[i, i] - rotor[i]
+        moving_now[i] = abs(qd_ref[joints[i]]) > moving_rad_s
+        changed = changed or moving_now[i] != moving[i]
+    for i in range(m):
+        for j in range(m):
+            moved = max(moved, abs(inertia[i, j] - scheduled[i, j]) / np.sqrt(scheduled[i, i] * scheduled[j, j]))
+    return moved, changed
 
 
 @kernel

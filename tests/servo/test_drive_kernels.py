@@ -88,7 +88,7 @@ def test_the_whole_compiled_stack_stays_within_rounding_of_the_reference() -> No
 @pytest.mark.parametrize("robot", ["irb2400", "ur5e"])
 @pytest.mark.parametrize("payload_kg", [0.0, 12.0])
 def test_the_compiled_rnea_and_mass_diagonal_match_pinocchio(robot: str, payload_kg: float) -> None:
-    from orc_rpl.servo.rnea_kernel import mass_diagonal, rnea_row
+    from orc_rpl.servo.rnea_kernel import mass_diagonal, mass_matrix_block, rnea_row
 
     arm = load_robot(robot)
     arm.set_payload(payload_kg, (0.01, 0.02, 0.05))
@@ -106,6 +106,11 @@ def test_the_compiled_rnea_and_mass_diagonal_match_pinocchio(robot: str, payload
         mass_diagonal(body, row, diagonal)
         expected = arm.mass_matrix_diagonal_unchecked(row)
         assert np.max(np.abs(diagonal - expected) / expected) < 1e-12
+        joints = np.array([0, 1, 2])   # the state feedback's block of the whole matrix, symmetric to the bit
+        block = np.empty((3, 3))
+        mass_matrix_block(body, row, joints, block)
+        full = arm.mass_matrix(row, payload_kg, (0.01, 0.02, 0.05))[:3, :3]
+        assert np.max(np.abs(block - full)) < 1e-12 * np.max(np.abs(full)) and np.array_equal(block, block.T)
 
 
 def test_the_path_velocity_controllers_range_is_the_numpy_range() -> None:

@@ -120,3 +120,25 @@ def test_the_links_stay_still_after_short_moves_and_zone_blends_on_the_plant(cas
 def test_state_feedback_is_a_part_of_the_gears_feedforward() -> None:
     with pytest.raises(UsageError, match="state_feedback is a part of the gears' feed-forward"):
         make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, state_feedback=True)
+
+
+def test_the_gains_are_kept_until_the_inertia_moves_and_made_again_when_it_has() -> None:
+    from orc_rpl.servo import state_feedback
+
+    law = _law()
+    home, zero = np.array(law.arm.home_q), np.zeros(6)
+    law.reset(home, np.zeros(6))
+    for _ in range(200):   # at rest: the Riccati iterations settle, then the gains are kept
+        law.schedule(home, zero)
+    assert law.kept > 100
+    gains, scheduled = law.k, law.scheduled
+    nudged = home + np.array([0.0, 0.001, 0.0, 0.0, 0.0, 0.0])   # the inertia moves far less than the tolerance
+    law.schedule(nudged, zero)
+    assert law.k is gains and law.scheduled == scheduled
+    reach = home + np.array([0.0, 0.5, -0.6, 0.0, 0.0, 0.0])   # much further out: more than the tolerance
+    _, moved, _ = law._link_inertia_at(reach, None)
+    assert moved > state_feedback.INERTIA_TOLERANCE
+    law.schedule(reach, zero)
+    assert law.scheduled == scheduled + 1
+    want = law.arm.mass_matrix(reach, *[law.arm.payload[0], law.arm.payload[1:]])[:3, :3] - np.diag(law.rotor)
+    np.testing.assert_allclose(law.link_inertia, want, rtol=1e-12, atol=1e-12)

@@ -16,6 +16,8 @@ pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason
 
 #: What a schedule leaves that the steps use: the sampled model, the gains, the Riccati solutions carried on.
 OUTPUTS = ("ad", "bd", "k", "l", "_p", "_s")
+#: What the schedule compares to keep the gains (`INERTIA_TOLERANCE`, `GAINS_SETTLED`), and its counts.
+KEPT = ("link_inertia", "k", "l", "ad", "bd", "_settling", "scheduled", "kept")
 
 
 @pytest.fixture(autouse=True)
@@ -51,11 +53,14 @@ def test_the_compiled_schedule_gives_the_numpy_schedules_model_and_gains_over_a_
     def both(q: np.ndarray, qd_ref: Any = None, iterations: Any = None) -> None:
         # the same cycle twice from the same state: numpy first (the reference), then the kernel, which goes on
         saved = (law._p, law._s, law.moving.copy(), law.state.copy(), law.held_link_nm.copy(), law.held_rotor_nm.copy())
+        kept = {name: getattr(law, name) for name in KEPT}   # what decides whether the gains are made again
         compiled.use_kernels(False)
         schedule(q, qd_ref, iterations)
         reference = [np.array(getattr(law, name)) for name in OUTPUTS]
         law._p, law._s, law.moving = saved[0], saved[1], saved[2].copy()
         law.state[:], law.held_link_nm[:], law.held_rotor_nm[:] = saved[3], saved[4], saved[5]
+        for name, value in kept.items():
+            setattr(law, name, value)
         compiled.use_kernels(True)
         schedule(q, qd_ref, iterations)
         if saved[0] is None or iterations == 0:
@@ -69,11 +74,13 @@ def test_the_compiled_schedule_gives_the_numpy_schedules_model_and_gains_over_a_
     law.schedule = both
     _moves(layer)
     assert compared[0] > 500   # every motion cycle of the moves
+    assert law.scheduled > 100   # of which these made the gains again (the others kept them, in both)
     assert worst[0] <= 1e-10, worst[0]
 
 
 def test_the_compiled_step_gives_the_numpy_steps_references_torques_and_filter_over_a_recorded_run() -> None:
     layer = _layer()
+    layer.backend.loop.use_compiled_law(False)   # the Python loop, which calls the law's step one call at a time
     law = layer.backend.loop.state_feedback
     worst, steps = [0.0], [0]
 

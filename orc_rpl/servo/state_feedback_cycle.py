@@ -1,0 +1,74 @@
+"""The servo room's elastic-gear motion cycle compiled: the fused kernel's arguments, kept between calls."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from orc_rpl.plant import compiled
+from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S, JointServo
+
+
+class StateFeedbackCycle:
+    """Runs `ServoLoop._run_state_feedback`'s steps as one kernel (servo/state_feedback_cycle_kernels.py).
+
+    Made by the loop when the cell has drives and numba is there; `fits` says whether a call may take
+    the kernel (no tuning, nothing to run between the steps, a model the compiled RNEA can read);
+    `run` then does what the Python loop's steps do after its schedule, to the rounding.
+    """
+
+    def __init__(self, servo: JointServo, cell: Any, law: Any, kernels: Any) -> None:
+        self.servo, self.cell, self.law, self._kernels = servo, cell, law, kernels
+        n = servo.arm.n_joints
+        self._law = np.zeros((kernels.LAW_ROWS, n))
+        self._law_of: Any = None   #: the (kp, velocity_bw, integral_bw_dt) the rows were made from
+        self._body, self._body_of = None, None   #: the model's rows for the compiled RNEA, and their payload
+        self._gravity = servo.arm.gravity_m_s2
+        self._torque_ff, self._velocity, self._no_friction = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._tail: Any = None
+
+    def fits(self) -> bool:
+        """True when this call can be the kernel: no task tuning, no per-step work, a revolute chain."""
+        servo = self.servo
+        if (servo.tuning is not None or not compiled.ON or self.law._kernels is None
+                or not self.cell.drives.kernel_fits()):
+            return False
+        if self._body_of is not servo.arm.payload:   # the payload's tuple is a new object when it changes
+            self._body, self._body_of, self._tail = servo.arm.rigid_body_rows(), servo.arm.payload, None
+        return self._body is not None
+
+    def run(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
+        """The call's steps (the law scheduled for it already), the drives as torque motors."""
+        servo, law, kernels = self.servo, self.law, self._kernels
+        if self._law_of is None or self._law_of[0] is not servo._kp or self._law_of[1] is not servo._velocity_bw:
+            self._law_rows()
+        if qdd_ref.strides[0] == 0:   # one acceleration broadcast over the rows: the kernel reads rows
+            qdd_ref = np.ascontiguousarray(qdd_ref)
+        n_steps = len(q_ref)
+        noise = self.cell.noise_rows(n_steps + 1)   # the current measurement's row, then the steps'
+        friction = servo.friction_in_use()
+        coulomb, viscous = friction if friction is not None else (self._no_friction, self._no_friction)
+        integral_before, integral = servo.integral, servo._integral_next
+        tail = self._tail
+        if tail is None:
+            tail = self._tail = (self._body, self._gravity, self._law, servo._inertia_every,
+                                 1.0 / FRICTION_SMOOTH_RAD_S,
+                                 law.joints, law.tau_max, law.rotor_all, law.stiffness_all, law._tuning, servo._kv,
+                                 servo._ki_dt, servo.position_error, servo.velocity_error, servo.torque,
+                                 servo.saturated, self._torque_ff, self._velocity, *self.cell.drives.kernel_arrays())
+        self.cell.drives.run_kernel(kernels.state_feedback_cycle, (
+            q_ref, qd_ref, qdd_ref, noise, servo.torque_offset, integral_before, integral, servo._steps,
+            friction is not None, coulomb, viscous, law.state, law.moving, law.held_link_nm, law.held_rotor_nm,
+            law.link_inertia, law.twist_rad, law._link_other, law.l, law.k, law.ad, law.bd), tail)
+        servo._steps += n_steps
+        servo.integral, servo._integral_next = integral, integral_before
+        servo.torque_ff, servo.velocity = self._torque_ff, self._velocity
+
+    def _law_rows(self) -> None:
+        """The cascade's constants as the rows the kernel reads."""
+        servo, law, k = self.servo, self._law, self._kernels
+        law[k.KP], law[k.VELOCITY_BW], law[k.INTEGRAL_BW_DT] = servo._kp, servo._velocity_bw, servo._integral_bw_dt
+        law[k.INTEGRAL_MAX], law[k.INTEGRAL_MIN] = servo._integral_max, servo._integral_min
+        law[k.TAU_MAX] = servo._tau_max
+        self._law_of, self._tail = (servo._kp, servo._velocity_bw), None
