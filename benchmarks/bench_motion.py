@@ -13,7 +13,9 @@ sim_vs_raw_mujoco_ratio_elastic_gear_feedforward and _elastic_state_feedback are
 elastic gears (opt-in: the cascade with the gears' twist fed forward; the slow joints under state
 feedback, servo/state_feedback.py), measured alike; _elastic_state_feedback_python_loop is the state
 feedback's motion cycle as the Python loop the one kernel of servo/state_feedback_cycle_kernels.py is
-tested against (the law's own kernels on).
+tested against (the law's own kernels on). motion_layer_ms_per_sim_s (and _elastic_state_feedback) is
+the wall time per simulated second spent above the servo (the motion layer's cycle, recording and planning; the
+median run of each).
 """
 
 from __future__ import annotations
@@ -140,6 +142,12 @@ def _bench_speed(robot: str, seconds: float, compiled: bool, plant: dict[str, bo
     return ours, raw, ours / raw, below[0] / wall
 
 
+def motion_layer_ms(x_realtime: float, servo_share: float) -> float:
+    """Wall time (ms) per simulated second above the servo (the motion layer's cycle, planning included), of a
+    bench_speed run: the part of the wall time not spent in `layer.backend.advance`."""
+    return 1000.0 / x_realtime * (1.0 - servo_share)
+
+
 def naive_quintic_time(layer: MotionLayer, q0: np.ndarray, q1: np.ndarray) -> float:
     """Shortest duration of q0 + (q1-q0) * (10t^3 - 15t^4 + 6t^5) that keeps speed, acceleration and torque limits."""
     arm = layer.kin.arm
@@ -235,7 +243,9 @@ def main() -> None:
     # the elastic gears (opt-in): the cascade with the twist fed forward, and the state feedback (slow joints)
     elastic = {"elastic": True, "gear_feedforward": True}
     elastic_ff = sorted(bench_speed(args.robot, args.seconds / 5, **elastic)[2] for _ in range(5))[2]
-    elastic_sf = sorted(bench_speed(args.robot, args.seconds / 5, **elastic, state_feedback=True)[2] for _ in range(5))[2]
+    sf_runs = sorted((bench_speed(args.robot, args.seconds / 5, **elastic, state_feedback=True) for _ in range(5)),
+                     key=lambda r: r[2])
+    elastic_sf = sf_runs[2][2]
     # the state feedback's motion cycle as the Python loop (its law's kernels on), not the one kernel
     elastic_sf_loop = sorted(bench_speed(args.robot, args.seconds / 5, False, **elastic, state_feedback=True)[2]
                              for _ in range(5))[2]
@@ -255,6 +265,8 @@ def main() -> None:
     print(f"sim_vs_raw_mujoco_ratio_elastic_gear_feedforward={elastic_ff:.3f}")
     print(f"sim_vs_raw_mujoco_ratio_elastic_state_feedback={elastic_sf:.3f}")
     print(f"sim_vs_raw_mujoco_ratio_elastic_state_feedback_python_loop={elastic_sf_loop:.3f}")
+    print(f"motion_layer_ms_per_sim_s={motion_layer_ms(ours, servo_share):.2f}")
+    print(f"motion_layer_ms_per_sim_s_elastic_state_feedback={motion_layer_ms(sf_runs[2][0], sf_runs[2][3]):.2f}")
     print(f"time_optimality_ratio={worst:.4f}")
     print(f"vs_naive_ratio={naive:.3f}")
     print(f"lmove_path_deviation_mm={dev:.3f}")

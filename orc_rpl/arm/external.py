@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.arm.pvc import PathDynamics, PathFunction, PathVelocityController, PvcSettings
+from orc_rpl.arm.pvc import PathDynamics, PathFunction, PathOrders, PathVelocityController, PvcSettings
 
 #: e(x, order): an external axis' value along the path parameter x (order 0) and its first two derivatives by x.
 AxisProfile = Callable[[float, int], float]
@@ -71,9 +71,10 @@ class StagedPathVelocityController(PathVelocityController):
 
     def __init__(self, path: PathFunction, x_f: np.ndarray, sd_f: np.ndarray, sub: int, servo_period_s: float,
                  dynamics: PathDynamics | None, tau_max: np.ndarray, stages: Sequence[ExternalAxisStage],
-                 settings: PvcSettings = PvcSettings()) -> None:
+                 settings: PvcSettings = PvcSettings(), path_orders: PathOrders | None = None) -> None:
         self.stages = tuple(stages)
-        super().__init__(path, x_f, sd_f, sub, servo_period_s, dynamics or _no_dynamics, tau_max, settings)
+        super().__init__(path, x_f, sd_f, sub, servo_period_s, dynamics or _no_dynamics, tau_max, settings,
+                         path_orders=path_orders)
 
     def admissible(self, x: float, sd: float, cycle: int | None = None) -> tuple[float, float]:
         arm = super().admissible(x, sd, cycle)

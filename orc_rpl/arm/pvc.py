@@ -19,6 +19,8 @@ PathFunction = Callable[[Any, int], np.ndarray]
 PathDynamics = Callable[[np.ndarray, np.ndarray, np.ndarray, float], tuple[np.ndarray, np.ndarray]]
 #: (q, dq/dx, d2q/dx2, dx/dt as rows) -> row i -> (b1, b2): the same at many points of the path, computed in batches.
 PathDynamicsRows = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], Callable[[int], tuple[np.ndarray, np.ndarray]]]
+#: x (1-D) -> (f(x), f'(x), f''(x)): the path and its two derivatives at many points at once.
+PathOrders = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 #: Back in step with the nominal trajectory when this close to it (path parameter, rad; its speed, rad/s).
 RESYNC_X, RESYNC_SD = 1e-7, 1e-5
@@ -52,11 +54,17 @@ class PathVelocityController:
     path point; the references stay on the path f(s) whatever the time scale does.
     """
 
+    #: the rows' (b1, model's b2, servo's integral) and the compiled range of their sum, where both are there
+    _parts: Any = None
+    _range_sum: Any = None
+
     def __init__(self, path: PathFunction, x_f: np.ndarray, sd_f: np.ndarray, sub: int, servo_period_s: float,
                  dynamics: PathDynamics, tau_max: np.ndarray, settings: PvcSettings = PvcSettings(),
-                 dynamics_rows: PathDynamicsRows | None = None) -> None:
-        """`dynamics_rows`: the same dynamics for many path points at once (optional, faster, the same numbers)."""
+                 dynamics_rows: PathDynamicsRows | None = None, path_orders: PathOrders | None = None) -> None:
+        """`dynamics_rows`: the same dynamics for many path points at once; `path_orders`: the path's three orders
+        at once (both optional, faster, the same numbers)."""
         self.path, self.sub, self.h = path, sub, servo_period_s
+        self._orders: PathOrders = path_orders or (lambda x: (path(x, 0), path(x, 1), path(x, 2)))
         self.x_f, self.sd_f = x_f, sd_f
         self._sdd_f = np.append(np.diff(sd_f) / servo_period_s, 0.0)   #: nominal s'' over row i -> i+1
         self.dynamics = dynamics
@@ -73,9 +81,16 @@ class PathVelocityController:
         # the path at the nominal trajectory's motion-cycle rows, evaluated once: the in-step check of
         # every cycle then costs the model's torques only
         cycle_rows = np.arange(0, self.last_row + 1, sub)
-        self._q_rows, self._d1_rows, self._d2_rows = (path(x_f[cycle_rows], order) for order in (0, 1, 2))
+        self._q_rows, self._d1_rows, self._d2_rows = self._orders(x_f[cycle_rows])
         self._at_cycle = None if dynamics_rows is None else dynamics_rows(self._q_rows, self._d1_rows, self._d2_rows,
                                                                           sd_f[cycle_rows])
+        # what the in-step check of cycle k reads, as Python numbers (index k): the path parameter and its speed at
+        # the cycle's end, the least and the largest nominal s'' of its first and last step
+        self._x_rows, self._sd_rows = x_f[cycle_rows].tolist(), sd_f[cycle_rows].tolist()
+        ends = self.last_row // sub * sub
+        first, last = self._sdd_f[0:ends:sub], self._sdd_f[sub - 1:ends:sub]
+        self._sdd_low = [0.0, *np.minimum(first, last).tolist()]
+        self._sdd_high = [0.0, *np.maximum(first, last).tolist()]
         self.x, self.sd = float(x_f[0]), float(sd_f[0])   #: the commanded path parameter and speed
         self.in_sync = True
         self.done = False
@@ -83,6 +98,9 @@ class PathVelocityController:
         self.cycles = 0
         kernels = compiled.kernels("orc_rpl.arm.pvc_kernels")   # numba's import only where a controller runs
         self._range: Any = None if kernels is None else kernels.admissible_range   #: the compiled range from b1, b2
+        # the rows' b2 in two terms (`parts(i)`: the model's, the servo's integral), summed inside the compiled range
+        self._parts: Any = None if kernels is None else getattr(self._at_cycle, "parts", None)
+        self._range_sum: Any = None if kernels is None else kernels.admissible_range_sum
 
     # -- what the motion layer reads ----------------------------------------------------
 
@@ -97,9 +115,11 @@ class PathVelocityController:
         """The range of s'' the torque limits allow at (x, sd) (lo > hi when none does); at the nominal
         trajectory's motion-cycle row `cycle` when given (x is then that row's)."""
         if cycle is None:
-            path = self.path
-            b1, b2 = self.dynamics(path(x, 0), path(x, 1), path(x, 2), sd)
+            q, d1, d2 = self._orders(np.array([x]))
+            b1, b2 = self.dynamics(q[0], d1[0], d2[0], sd)
         elif self._at_cycle is not None:
+            if self._parts is not None and compiled.ON:
+                return self._range_sum(*self._parts(cycle), self.limit)  # type: ignore[no-any-return]
             b1, b2 = self._at_cycle(cycle)
         else:
             b1, b2 = self.dynamics(self._q_rows[cycle], self._d1_rows[cycle], self._d2_rows[cycle], sd)
@@ -123,17 +143,17 @@ class PathVelocityController:
     def cycle(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """Motion cycle k (1, 2, ...) of the trajectory: None to command the nominal rows, else the rows."""
         self.cycles = k
-        row = min(k * self.sub, self.last_row)
-        if self.in_sync and k * self.sub <= self.last_row:
-            first = (k - 1) * self.sub  # the state the cycle starts from, and its nominal s''
-            lo, hi = self.admissible(float(self.x_f[row]), float(self.sd_f[row]), k)
-            sdd = float(self._sdd_f[first]), float(self._sdd_f[row - 1])
-            if lo <= min(sdd) and max(sdd) <= hi:
-                self.x, self.sd = float(self.x_f[row]), float(self.sd_f[row])
-                self.done = row == self.last_row
+        end_row = k * self.sub
+        if self.in_sync and end_row <= self.last_row:
+            # in step when the nominal s'' of the cycle's steps (from its first to its last) is admissible
+            x, sd = self._x_rows[k], self._sd_rows[k]
+            lo, hi = self.admissible(x, sd, k)
+            if lo <= self._sdd_low[k] and self._sdd_high[k] <= hi:
+                self.x, self.sd = x, sd
+                self.done = end_row == self.last_row
                 return None
             self.in_sync = False
-        return self._scaled(row, k * self.sub > self.last_row)
+        return self._scaled(min(end_row, self.last_row), end_row > self.last_row)
 
     def _scaled(self, row: int, nominal_ended: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         x, sd, t_cycle = self.x, self.sd, self.sub * self.h
@@ -186,10 +206,9 @@ class PathVelocityController:
         self.x, self.sd = x_end, sd_end
         if not nominal_ended and abs(x_end - x_n) < RESYNC_X and abs(sd_end - sd_n) < RESYNC_SD:
             self.in_sync, self.x, self.sd = True, x_n, sd_n  # back in step: the nominal rows from the next cycle
-        path = self.path
-        d1, d2 = path(xs, 1), path(xs, 2)
+        q, d1, d2 = self._orders(xs)
         qdd = d2 * (sds * sds)[:, None] + d1 * np.where(sds > 0.0, sdd, 0.0)[:, None]
         qd = d1 * sds[:, None]
         if self.done:
             qd[-1], qdd[-1] = 0.0, 0.0
-        return path(xs, 0), qd, qdd
+        return q, qd, qdd

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from orc_rpl.errors import UsageError
-from orc_rpl.motion.thermal import estimate_kernels
+from orc_rpl.motion.thermal import ThermalModel, WindingTemperature, estimate_kernels
 from orc_rpl.plant import compiled
 from orc_rpl.robot.friction import friction_torque_nm
 
@@ -124,6 +124,11 @@ class GearFriction:
             np.add(self._speed_sq_sum, work, out=self._speed_sq_sum)
             np.multiply(tau_nm, tau_nm, out=work)
             np.add(self._tau_sq_sum, work, out=self._tau_sq_sum)
+        self.count(winding_rise_k)
+
+    def count(self, winding_rise_k: np.ndarray | None) -> None:
+        """A cycle summed (`update` runs it after the sums; so does `update_estimates`): the rise integrated every
+        UPDATE_EVERY_CYCLES cycles."""
         self._cycles += 1
         if self._cycles == UPDATE_EVERY_CYCLES:
             self._integrate(winding_rise_k)
@@ -166,3 +171,24 @@ def change_since(before: FrictionState, now: FrictionState) -> FrictionChange:
     dv = np.subtract(now.viscous_nm_s, before.viscous_nm_s)
     return FrictionChange(tuple(dc.tolist()), tuple(dv.tolist()), tuple((CHANGE_SPREAD * np.abs(dc)).tolist()),
                           tuple((CHANGE_SPREAD * np.abs(dv)).tolist()))
+
+
+def update_estimates(thermal: ThermalModel, winding: WindingTemperature | None, gear: GearFriction | None,
+                     tau_nm: np.ndarray, qd_rad_s: np.ndarray | None) -> None:
+    """One motion cycle of the estimates the motion layer keeps (the thermal load, the windings' rise, the
+    gearboxes' sums) from the cycle's torque and speed: with all three and the kernels on, their model parts in
+    one compiled call (estimate_kernels.cycle_update: each one's operations, as its own update does them);
+    else each one's own update (their numpy code the reference)."""
+    kernels = thermal._kernels
+    if compiled.ON and kernels is not None and winding is not None and gear is not None and qd_rad_s is not None:
+        kernels.cycle_update(tau_nm, qd_rad_s, thermal._gain, thermal._decay, thermal.load, winding._gain,
+                             winding._gain_per_k, winding._decay, winding.rise_k, gear._speed_sum, gear._speed_sq_sum,
+                             gear._tau_sq_sum)
+        winding.measure()
+        gear.count(winding.rise_k)
+        return
+    thermal.update(tau_nm)
+    if winding is not None:
+        winding.update(tau_nm)
+    if gear is not None and qd_rad_s is not None:
+        gear.update(tau_nm, qd_rad_s, None if winding is None else winding.rise_k)

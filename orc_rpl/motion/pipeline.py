@@ -15,6 +15,7 @@ from orc_rpl.motion import scheduling
 from orc_rpl.motion.actions import Actions, MotionData
 from orc_rpl.motion.backend import Backend
 from orc_rpl.motion.blending import blend
+from orc_rpl.motion.gear_friction import update_estimates
 from orc_rpl.motion.handle import MoveHandle
 from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.paths import DensePath
@@ -75,8 +76,16 @@ class MotionPipeline:
     #: the cell's external axes (motion.external.ExternalAxes), None when it has none
     external: Any = None
     _stages: list[Any] = []
-    #: windows (s) over which a path trajectory from rest has its time scaling averaged (elastic gears), () none
-    smoothing_s: tuple[float, ...] = ()
+
+    @property
+    def smoothing_s(self) -> tuple[float, ...]:
+        """Windows (s) over which a path trajectory from rest has its time scaling averaged (elastic gears), () none:
+        the planner's (it averages what it times; a trajectory timed elsewhere is averaged when it starts)."""
+        return self.planner.smoothing_s
+
+    @smoothing_s.setter
+    def smoothing_s(self, windows_s: tuple[float, ...]) -> None:
+        self.planner.smoothing_s = tuple(windows_s)
 
     def now_s(self) -> float:
         """The controller clock (simulated time on the virtual robot)."""
@@ -123,7 +132,8 @@ class MotionPipeline:
                                     min(caps) if caps else None)
         elif plan.timed is not None:
             traj = plan.timed
-        elif plan.saved_first is not None and len(h.pieces_left) == len(plan.pieces) - 1:
+        elif (plan.saved_first is not None and len(h.pieces_left) == len(plan.pieces) - 1
+              and plan.saved_first.smoothing_s in ((), self.planner.smoothing_s)):  # (averaged as this layer wants)
             traj = plan.saved_first
         else:
             traj = self.planner.time(piece, plan.limits, 0.0, h.params.time_s if len(plan.pieces) == 1 else None)
@@ -134,8 +144,9 @@ class MotionPipeline:
     def _set_traj(self, traj: Trajectory, handles: list[MoveHandle]) -> None:
         if traj.kind != "brake":
             self._track_dq = None  # a new move starts from the (corrected) reference; a stop keeps the correction
-        if self.smoothing_s and traj.kind == "path" and traj.sd_f[0] == 0.0:
-            traj = smoothed(traj, self.smoothing_s)  # no torque steps into elastic gears
+        windows = self.planner.smoothing_s
+        if windows and traj.kind == "path" and traj.sd_f[0] == 0.0 and traj.smoothing_s != windows:
+            traj = smoothed(traj, windows)  # no torque steps into elastic gears (the planner's own are averaged)
         self._traj, self._k, self._traj_t0 = traj, 0, self.now_s()
         self._in_traj = handles
         owners = traj.owner
@@ -154,14 +165,16 @@ class MotionPipeline:
         arm_control = self.path_velocity_control if wanted is None else wanted
         if self._stages:  # external axes in the same path coordinate: the combined range (thesis fig. 5.6)
             return StagedPathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
-                                                dynamics if arm_control else None, self.kin.arm.tau_max, self._stages)
+                                                dynamics if arm_control else None, self.kin.arm.tau_max, self._stages,
+                                                path_orders=traj.path.orders)
         if traj.kind != "path" or dynamics is None or not handles:
             return None
         if not arm_control:
             return None
         return PathVelocityController(traj.path, traj.x_f, traj.sd_f, self.sub, self.backend.servo_period_s,
                                       dynamics, self.kin.arm.tau_max,
-                                      dynamics_rows=getattr(self.backend, "path_dynamics_rows", None))
+                                      dynamics_rows=getattr(self.backend, "path_dynamics_rows", None),
+                                      path_orders=traj.path.orders)
 
     def _try_blend(self, nxt: MoveHandle) -> bool:
         """Replan from the current state through a blended corner onto `nxt`; False if too late or not a zone move."""
@@ -193,7 +206,7 @@ class MotionPipeline:
         d1 = path(0.0, 1)
         sd0 = max(0.0, float(self._qd_ref @ d1) / max(float(d1 @ d1), 1e-12))
         try:
-            new, _ = parameterize(path, limits, self.dt_s, self.sub, sd0, 0.0)
+            new, _ = parameterize(path, limits, self.dt_s, self.sub, sd0, 0.0, smoothing_s=self.planner.smoothing_s)
         except PlanningError:
             return False
         nxt.pieces_left.pop(0)
@@ -239,13 +252,8 @@ class MotionPipeline:
             self._collision_stop(hit)
             traj = None
         if self.thermal is not None:
-            tau = self.backend.torque()
-            self.thermal.update(tau)
-            if self.winding is not None:
-                self.winding.update(tau)
-            if self.gear_friction is not None:
-                self.gear_friction.update(tau, self.backend.qd(),
-                                          None if self.winding is None else self.winding.rise_k)
+            gear = self.gear_friction
+            update_estimates(self.thermal, self.winding, gear, self.backend.torque(), None if gear is None else self.backend.qd())
         if hit is None:  # a collision stop has set the reference where the robot is
             self._q_ref, self._qd_ref, self._qdd_ref = q_r[-1], qd_r[-1], qdd_r[-1]
         self.cycles += 1
@@ -269,8 +277,7 @@ class MotionPipeline:
         if pvc is None or pvc.in_sync and self._k <= traj.cycles:
             owner, s_now = traj.owner.item(self._k), traj.s.item(self._k)  # item(): Python numbers
         else:  # the time scale was changed: the move and its s where the command really is
-            owners, ss = traj.path.owner_and_s(np.array([pvc.x]))
-            owner, s_now = int(owners[0]), float(ss[0])
+            owner, s_now = traj.path.owner_and_s_at(pvc.x)
         active = self._active
         if active is None or active.id != owner:
             if active is not None and not active.done and active.id != owner:

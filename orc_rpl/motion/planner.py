@@ -59,6 +59,8 @@ class Planner:
         #: torque the model's nominal friction may take at full speed (N m per joint), kept out of the
         #: torque limits (toppra's torque bound has no term linear in the path speed); zeros: no friction
         self.friction_reserve_nm: np.ndarray | float = 0.0
+        #: windows (s) over which a path trajectory from rest has its time scaling averaged (elastic gears), () none
+        self.smoothing_s: tuple[float, ...] = ()
 
     # -- limits -----------------------------------------------------------------
 
@@ -201,8 +203,10 @@ class Planner:
     # -- timing -------------------------------------------------------------------
 
     def time(self, dense: DensePath, limits: TimingLimits, sd_start: float = 0.0, min_duration_s: float | None = None) -> Trajectory:
-        """Time a dense path (time-optimal, or the fallback profile if toppra fails)."""
-        traj, _ = parameterize(SplinePath(dense), limits, self.dt_s, self.sub, sd_start, 0.0, min_duration_s)
+        """Time a dense path (time-optimal, or the fallback profile if toppra fails); from rest, averaged over
+        `smoothing_s` (elastic gears: the averaging is part of the planning, on the plan-ahead worker too)."""
+        traj, _ = parameterize(SplinePath(dense), limits, self.dt_s, self.sub, sd_start, 0.0, min_duration_s,
+                               smoothing_s=self.smoothing_s)
         return traj
 
     # -- computation = save / done ---------------------------------------------------

@@ -144,51 +144,65 @@ class WindingTemperature:
             multiply(work, heat, work)
             multiply(rise, self._decay, rise)
             add(rise, work, rise)
+        self.measure()
+
+    def measure(self) -> None:
+        """The drives' measurement's part of a cycle (`update` runs it; so does the motion cycle's fused update of
+        the estimates, gear_friction.update_estimates, after the model's part)."""
         if self.measurement is not None:
             self._cycles += 1
             if self._cycles % SAMPLE_EVERY_CYCLES == 0:
                 self._sample(*self.measurement())
 
     def _sample(self, voltage_v: np.ndarray, current_a: np.ndarray, speed_rad_s: np.ndarray) -> None:
-        """One sample of the drives' measurement: calibration at the cold start, then the correction.
-
-        In Python floats, joint by joint (six numbers: half the time of numpy's calls on them), the
-        same IEEE operations in the same order as the array formulas in the comments.
-        """
+        """One sample of the drives' measurement: calibration at the cold start, then the correction."""
+        self._samples += 1
+        correct = self._samples % SAMPLES_PER_CORRECTION == 0
+        if compiled.ON and self._kernels is not None:
+            self._calibrating = self._kernels.winding_sample(
+                current_a, voltage_v, self._k, speed_rad_s, self.rise_k, self._sums, self._flags, self._calibrating,
+                correct, MIN_CURRENT_A, CALIBRATE_BELOW_K, CALIBRATION_MIN_A2, CORRECTION_A2, self._tempco,
+                self._ambient_c)
+            return
+        # the reference of the kernel: in Python floats, joint by joint (six numbers: half the time of numpy's
+        # calls on them), the same IEEE operations in the same order as the array formulas in the comments
         ohm_a2, a2 = [], []
         for c, v, k, w in zip(current_a.tolist(), voltage_v.tolist(), self._k.tolist(), speed_rad_s.tolist()):
             i = c if abs(c) >= MIN_CURRENT_A else c * 0.0   # i = current * (|current| >= MIN_CURRENT_A)
             ohm_a2.append((v - k * w) * i)                    # R i^2 of this sample
             a2.append(i * i)
+        cal_num, cal_den, num, den = self._sums.tolist()
+        calibrated, uncalibrated = self._flags.tolist()
         if self._calibrating:
-            self._calibrate(ohm_a2, a2)
-        num, den, calibrated = self._num, self._den, self._calibrated
+            self._calibrate(ohm_a2, a2, cal_num, cal_den, calibrated, uncalibrated)
         for j, cal in enumerate(calibrated):
             if cal:
                 num[j] += ohm_a2[j]
                 den[j] += a2[j]
-        self._samples += 1
-        if self._samples % SAMPLES_PER_CORRECTION == 0:
+        if correct:
             # rise = 20 + (R / R20 - 1) / tempco - ambient; the estimate moves den / (den + CORRECTION_A2) of the way
             rise_k, tempco, ambient = self.rise_k.tolist(), self._tempco, self._ambient_c
-            for j, (n, d, cn, cd) in enumerate(zip(num, den, self._cal_num, self._cal_den)):
+            for j, (n, d, cn, cd) in enumerate(zip(num, den, cal_num, cal_den)):
                 if d > 0.0:
                     r20 = cn / (cd if cd > 0.0 else 1.0)
                     rise = 20.0 + (n / d / r20 - 1.0) / tempco - ambient
                     rise_k[j] += d / (d + CORRECTION_A2) * (rise - rise_k[j])
                 num[j] = den[j] = 0.0
             self.rise_k[:] = rise_k
+        self._sums[:] = cal_num, cal_den, num, den
+        self._flags[:] = calibrated, uncalibrated
 
-    def _calibrate(self, ohm_a2: list[float], a2: list[float]) -> None:
+    def _calibrate(self, ohm_a2: list[float], a2: list[float], cal_num: list[float], cal_den: list[float],
+                   calibrated: list[bool], uncalibrated: list[bool]) -> None:
         """R20 from the resistance at the model's (known, near ambient) temperature, while the winding is cold."""
-        calibrated, uncalibrated, tempco, ambient = self._calibrated, self._uncalibrated, self._tempco, self._ambient_c
+        tempco, ambient = self._tempco, self._ambient_c
         for j, rise in enumerate(self.rise_k.tolist()):
             if calibrated[j] or uncalibrated[j]:
                 continue
             if rise < CALIBRATE_BELOW_K:   # cold
-                self._cal_num[j] += ohm_a2[j] / (1.0 + tempco * (ambient + rise - 20.0))
-                self._cal_den[j] += a2[j]
-            elif self._cal_den[j] >= CALIBRATION_MIN_A2:
+                cal_num[j] += ohm_a2[j] / (1.0 + tempco * (ambient + rise - 20.0))
+                cal_den[j] += a2[j]
+            elif cal_den[j] >= CALIBRATION_MIN_A2:
                 calibrated[j] = True
             else:
                 uncalibrated[j] = True   # too little current: the model alone
@@ -197,15 +211,15 @@ class WindingTemperature:
     @property
     def r20_ohm(self) -> np.ndarray:
         """The winding resistances at 20 C measured at the cold start (NaN where not yet measured)."""
-        cal_den = np.array(self._cal_den)
-        return np.where(self._calibrated, np.array(self._cal_num) / np.where(cal_den > 0.0, cal_den, 1.0), np.nan)
+        cal_num, cal_den = self._sums[0], self._sums[1]
+        return np.where(self._flags[0], cal_num / np.where(cal_den > 0.0, cal_den, 1.0), np.nan)
 
     def reset(self) -> None:
         """Windings at ambient (a cold start: the resistances are measured again)."""
         n = len(self.rise_k)
         self.rise_k[:] = 0.0
         self._cycles = self._samples = 0
-        # the measurement's sums and flags, per joint, as Python numbers (`_sample`)
-        self._cal_num, self._cal_den, self._num, self._den = [0.0] * n, [0.0] * n, [0.0] * n, [0.0] * n
-        self._calibrated, self._uncalibrated = [False] * n, [False] * n
+        # the measurement's sums per joint (the calibration's R i^2 and i^2, the correction's) and flags
+        # (calibrated, uncalibrated: too little current while cold), as `_sample` and its kernel keep them
+        self._sums, self._flags = np.zeros((4, n)), np.zeros((2, n), dtype=bool)
         self._calibrating = True

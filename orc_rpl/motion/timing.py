@@ -228,8 +228,10 @@ def parameterize(
     sd_end: float = 0.0,
     min_duration_s: float | None = None,
     points: int | None = None,
+    smoothing_s: tuple[float, ...] = (),
 ) -> tuple[Trajectory, bool]:
-    """The trajectory along `path` at the motion-cycle period, and whether toppra (not the fallback) timed it."""
+    """The trajectory along `path` at the motion-cycle period, and whether toppra (not the fallback) timed it;
+    `smoothing_s`: a trajectory from rest has its time scaling averaged over these windows (trajectory.smoothed)."""
     prof = toppra_profile(path, limits, sd_start, sd_end, points)
     optimal = prof is not None
     if prof is None:
@@ -243,4 +245,4 @@ def parameterize(
         total = float(np.sum(segment_times(grid, sd)))
         if total < min_duration_s:
             sd = sd * (total / min_duration_s)  # uniform time scaling keeps every limit (the torque box is convex)
-    return sample(path, grid, sd, dt_s, sub), optimal
+    return sample(path, grid, sd, dt_s, sub, smoothing_s), optimal

@@ -4,16 +4,28 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.interpolate import CubicSpline
 
 from orc_rpl.errors import PlanningError
 from orc_rpl.motion.paths import DensePath
+from orc_rpl.plant import compiled
 
 
 #: grids up to this many points have their spline values kept (toppra's; not the servo-rate samples)
 GRID_CACHE_MAX = 512
+
+
+_loaded_kernels: list[Any] = []
+
+
+def _spline_kernels() -> Any:
+    """The spline kernel's module (motion/spline_kernels.py), imported when first needed; None where the kernels are off."""
+    if not _loaded_kernels:
+        _loaded_kernels.append(compiled.kernels("orc_rpl.motion.spline_kernels"))
+    return _loaded_kernels[0]
 
 
 class SplinePath:
@@ -33,6 +45,9 @@ class SplinePath:
         else:
             self.spline = CubicSpline(self.x_knots, q, bc_type="not-a-knot")
         self.dof = q.shape[1]
+        # the spline's breakpoints and coefficients as the compiled evaluation reads them (scipy's properties
+        # check them at every access)
+        self._breaks, self._coefficients = np.ascontiguousarray(self.spline.x), np.ascontiguousarray(self.spline.c)
         # toppra's constraints and our speed bound evaluate the same grid eight times per timing:
         # keep the last grid's values (by content) and hand out copies
         self._grid_key: bytes | None = None
@@ -49,6 +64,16 @@ class SplinePath:
             values = self._on_grid[order] = self.spline(x, order)
         return values.copy()
 
+    def orders(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The path and its first two derivatives at the points x (1-D, float), at once: `self(x, order)`'s
+        numbers (compiled where the kernels are on: the motion cycle of a time-scaled trajectory calls this)."""
+        kernels = _spline_kernels()
+        if compiled.ON and kernels is not None:
+            out = kernels.spline_orders(self._breaks, self._coefficients, x)
+            return out[0], out[1], out[2]
+        spline = self.spline
+        return spline(x, 0), spline(x, 1), spline(x, 2)
+
     def owner_and_s(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The owning motion id and its path coordinate s at path parameters x."""
         k = self.x_knots
@@ -58,6 +83,17 @@ class SplinePath:
         same = own[i] == own[i + 1]
         s_x = np.where(same, s[i] + frac * (s[i + 1] - s[i]), s[i])
         return own[i], s_x
+
+    def owner_and_s_at(self, x: float) -> tuple[int, float]:
+        """`owner_and_s` at one path parameter, in Python numbers (the motion cycle of a time-scaled trajectory
+        asks every cycle): the same operations on the same numbers."""
+        k = self.x_knots
+        i = min(max(int(k.searchsorted(x, side="right")) - 1, 0), len(k) - 2)
+        k0, k1 = k.item(i), k.item(i + 1)
+        frac = min(max((x - k0) / max(k1 - k0, 1e-15), 0.0), 1.0)
+        own, s = self.dense.owner, self.dense.s
+        owner, s0 = int(own.item(i)), s.item(i)
+        return owner, (s0 + frac * (s.item(i + 1) - s0) if owner == own.item(i + 1) else s0)
 
     def x_of_index(self, idx: int) -> float:
         """The parameter x of dense sample idx."""
@@ -85,6 +121,7 @@ class Trajectory:
     exact_duration_s: float   #: the profile's duration before rounding up to whole cycles
     blendable: bool = True    #: a zone motion may replan from inside it
     kind: str = "path"        #: "path" (timed along path), "short" (ruckig), "timed" (function of t), "brake"
+    smoothing_s: tuple[float, ...] = ()   #: the windows its time scaling was averaged over (`smoothed`), () none
 
     @property
     def cycles(self) -> int:
@@ -125,8 +162,10 @@ def segment_times(x_grid: np.ndarray, sd_grid: np.ndarray) -> np.ndarray:
     return 2.0 * dx / vsum
 
 
-def sample(path: SplinePath, x_grid: np.ndarray, sd_grid: np.ndarray, dt_s: float, sub: int) -> Trajectory:
-    """Sample a piecewise constant-acceleration profile (x_grid, sd_grid) at every servo step."""
+def sample(path: SplinePath, x_grid: np.ndarray, sd_grid: np.ndarray, dt_s: float, sub: int,
+           smoothing_s: tuple[float, ...] = ()) -> Trajectory:
+    """Sample a piecewise constant-acceleration profile (x_grid, sd_grid) at every servo step; with `smoothing_s`
+    and a profile from rest, the `smoothed` trajectory (the path evaluated once, for the averaged time scaling)."""
     seg_t = segment_times(x_grid, sd_grid)
     t_grid = np.concatenate([[0.0], np.cumsum(seg_t)])
     total = float(t_grid[-1])
@@ -140,14 +179,11 @@ def sample(path: SplinePath, x_grid: np.ndarray, sd_grid: np.ndarray, dt_s: floa
     sdd = acc[i].copy()
     ended = t >= total
     x[ended], sd[ended] = x_grid[-1], sd_grid[-1]
+    if smoothing_s and sd[0] == 0.0:
+        return _averaged(path, x, sd, dt_s, sub, smoothing_s, True, "path")
     if sd_grid[-1] == 0.0:
         sdd[ended] = 0.0
-    d1, d2 = path(x, 1), path(x, 2)
-    q = path(x)
-    qd = d1 * sd[:, None]
-    qdd = d2 * (sd**2)[:, None] + d1 * sdd[:, None]
-    owner, s = path.owner_and_s(x[::sub])
-    return Trajectory(dt_s, sub, path, x, sd, q, qd, qdd, owner, s, total)
+    return _evaluated(path, x, sd, sdd, dt_s, sub, total, True, "path", ())
 
 
 def smoothed(traj: Trajectory, windows_s: tuple[float, ...]) -> Trajectory:
@@ -156,10 +192,16 @@ def smoothed(traj: Trajectory, windows_s: tuple[float, ...]) -> Trajectory:
     A moving average of x(t) over T leaves the path f(x) as it is, starts and ends at rest where the
     original does, bounds the path acceleration by the original's and makes it continuous (two
     windows: its rate too), and lasts T longer; an average over the period of a resonance does not
-    excite it (elastic gears: servo/two_mass.py).
+    excite it (elastic gears: servo/two_mass.py). `sample(..., smoothing_s=windows_s)` gives the same
+    trajectory without evaluating the path for the unaveraged one first (the planner's way).
     """
-    h = traj.dt_s / traj.sub
-    x, sd = traj.x_f, traj.sd_f
+    return _averaged(traj.path, traj.x_f, traj.sd_f, traj.dt_s, traj.sub, windows_s, traj.blendable, traj.kind)
+
+
+def _averaged(path: SplinePath, x: np.ndarray, sd: np.ndarray, dt_s: float, sub: int, windows_s: tuple[float, ...],
+              blendable: bool, kind: str) -> Trajectory:
+    """`smoothed`'s work on the servo-step samples of x(t) and its speed."""
+    h = dt_s / sub
     sdd = np.append(np.diff(sd) / h, 0.0)
     for window_s in windows_s:
         n = max(1, int(round(window_s / h)))
@@ -169,12 +211,17 @@ def smoothed(traj: Trajectory, windows_s: tuple[float, ...]) -> Trajectory:
         sd = np.convolve(np.concatenate([np.zeros(pad), sd, np.zeros(pad)]), box, "valid")
         sdd = np.convolve(np.concatenate([np.zeros(pad), sdd, np.zeros(pad)]), box, "valid")
     rows = len(x)
-    cycles = max(1, math.ceil((rows - 1) / traj.sub))
-    extra = cycles * traj.sub + 1 - rows
+    cycles = max(1, math.ceil((rows - 1) / sub))
+    extra = cycles * sub + 1 - rows
     x = np.concatenate([x, np.full(extra, x[-1])])
     sd, sdd = np.concatenate([sd, np.zeros(extra)]), np.concatenate([sdd, np.zeros(extra)])
-    path = traj.path
-    d1, d2 = path(x, 1), path(x, 2)
-    owner, s = path.owner_and_s(x[:: traj.sub])
-    return Trajectory(traj.dt_s, traj.sub, path, x, sd, path(x), d1 * sd[:, None],
-                      d2 * (sd * sd)[:, None] + d1 * sdd[:, None], owner, s, (rows - 1) * h, traj.blendable, traj.kind)
+    return _evaluated(path, x, sd, sdd, dt_s, sub, (rows - 1) * h, blendable, kind, tuple(windows_s))
+
+
+def _evaluated(path: SplinePath, x: np.ndarray, sd: np.ndarray, sdd: np.ndarray, dt_s: float, sub: int, duration_s: float,
+               blendable: bool, kind: str, smoothing_s: tuple[float, ...]) -> Trajectory:
+    """The trajectory of the time scaling x(t), x', x'' at every servo step: the path and its derivatives there."""
+    q, d1, d2 = path.orders(x)
+    owner, s = path.owner_and_s(x[::sub])
+    return Trajectory(dt_s, sub, path, x, sd, q, d1 * sd[:, None], d2 * (sd * sd)[:, None] + d1 * sdd[:, None],
+                      owner, s, duration_s, blendable, kind, smoothing_s)

@@ -136,6 +136,12 @@ class PathDynamicsBlocks:
 
     def __call__(self, i: int) -> tuple[np.ndarray, np.ndarray]:
         """(b1, b2) at row i (b1 a view of the block: read, do not write)."""
+        b1, b2, integral = self.parts(i)
+        return b1, b2 + integral
+
+    def parts(self, i: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(b1, b2 without the servo's integral, the integral) at row i: b2 is their sum (views: read, do not write;
+        the path velocity controller adds them inside its compiled range, without an array for the sum)."""
         servo = self._servo
         # the payload's tuple and the friction's arrays are new objects when they change
         if not self._start <= i < self._stop or self._payload is not servo.arm.payload:
@@ -143,7 +149,7 @@ class PathDynamicsBlocks:
         elif self._coulomb is not servo._coulomb:
             self._friction()
         i -= self._start
-        return self._b1[i], self._b2[i] + servo.integral
+        return self._b1[i], self._b2[i], servo.integral
 
     def _block(self, start: int) -> None:
         """The model's b1 and b2 (without the integral) at rows start .. start + ROWS_BLOCK."""
@@ -296,7 +302,7 @@ def make_virtual_motion_layer(
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
     layer.smoothing_s = smoothing  # elastic gears: no torque steps into them (trajectories averaged over their periods)
     # the next move is planned on a worker thread, over an arm model of its own (made when first needed)
-    layer.ahead = PlanAhead(lambda: Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub), paced=realtime)
+    layer.ahead = PlanAhead(lambda: _ahead_planner(layer, robot), paced=realtime)
     if backend == "servo" and plant == "realistic" and not servo_arm:
         layer.planner.friction_reserve_nm = reserve_nm
         layer.winding = WindingTemperature(nominal.torque_per_amp_nm_a, nominal.winding_resistance_ohm,
@@ -320,16 +326,27 @@ def make_virtual_motion_layer(
     return layer
 
 
+def _ahead_planner(layer: MotionLayer, robot: str) -> Planner:
+    """The plan-ahead worker's planner: an arm model of its own, the layer's averaging of trajectories from rest."""
+    from orc_rpl.robot import load_robot, solve_ik
+
+    planner = Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub)
+    planner.smoothing_s = layer.smoothing_s
+    return planner
+
+
 def attach_recorder(layer: MotionLayer) -> None:
     """A signals Logger on the layer with q_ref, q, tau, tcp and s (`layer.logger`)."""
     from orc_rpl.signals.logger import Logger
 
     arm, be = layer.kin.arm, layer.backend
     log = Logger(layer.now_s)
-    log.submit("q_ref", layer.reference_q)
-    log.submit("q", layer.current_q)
+    # the getters hand over the arrays as they are (no copies): the logger copies them into its rows
+    log.submit("q_ref", lambda: layer._q_ref)
+    log.submit("q", be.q)
     log.submit("tau", be.torque)
-    # the measured q is a float array of n_joints: fk need not check it every cycle
-    log.submit("tcp", lambda: arm.fk_unchecked(be.q())[:3, 3])
+    # the TCP of the measured q, computed from the recorded q when a recording is made (the same numbers,
+    # no kinematics in the cycle); q is a float array of n_joints: fk need not check it
+    log.derive("tcp", "q", lambda q: arm.fk_unchecked(q)[:3, 3])
     log.submit("s", layer.progress_s)
     layer.logger = log

@@ -18,15 +18,19 @@ class Logger:
 
     Each getter returns a number or a fixed-size array; its width is taken from a first call at
     submit time. Samples go into one preallocated float array that doubles when full, so a cycle
-    costs one getter call and one slice assignment per signal.
+    costs one getter call and one slice assignment per signal. A signal that is a function of another
+    one's sample (`derive`) costs the cycle nothing: it is computed from the recorded samples when a
+    recording is made.
     """
 
     def __init__(self, clock: Callable[[], float], capacity: int = 4096) -> None:
         self._clock = clock
         self._names: list[str] = []
-        self._channels: list[tuple[Getter, int, int]] = []
+        self._channels: dict[str, tuple[Getter, int, int]] = {}  #: the sampled signals
         self._columns: list[tuple[Getter, slice]] = []  #: the same, as update() uses them
         self._shapes: dict[str, tuple[int, ...]] = {}
+        #: derived signals: name -> (source signal, function of one of its samples)
+        self._derived: dict[str, tuple[str, Callable[[np.ndarray], Any]]] = {}
         self._width = 1  # column 0 is the time stamp
         self._rows = np.empty((max(16, capacity), self._width))
         self._count = 0
@@ -48,11 +52,30 @@ class Logger:
         width = max(1, first.size)
         start = self._width
         self._width += width
-        self._channels.append((getter, start, self._width))
+        self._channels[name] = (getter, start, self._width)
         self._columns.append((getter, slice(start, self._width)))
         self._names.append(name)
         self._shapes[name] = first.shape
         self._rows = np.empty((self._rows.shape[0], self._width))
+
+    def derive(self, name: str, source: str, function: Callable[[np.ndarray], Any]) -> None:
+        """Record `function(sample of source)` under `name`, computed when a recording is made (not every
+        cycle): for a signal that is a pure function of another (the TCP of the measured joints, say)."""
+        if not name or not isinstance(name, str):
+            raise UsageError(f"a signal needs a non-empty name, got {name!r}")
+        if name in self._shapes:
+            raise UsageError(f"signal {name!r} is already submitted to this logger")
+        if source not in self._shapes or source in self._derived:
+            raise UsageError(f"signal {name!r} derives from {source!r}, which is not a submitted signal")
+        try:
+            first = np.asarray(function(np.asarray(self._channels[source][0](), dtype=float)), dtype=float)
+        except Exception as exc:
+            raise UsageError(f"signal {name!r}: its function failed on a first sample ({type(exc).__name__}: {exc})") from None
+        if first.ndim > 1:
+            raise UsageError(f"signal {name!r} must be a number or a 1-D array, got shape {first.shape}")
+        self._derived[name] = (source, function)
+        self._names.append(name)
+        self._shapes[name] = first.shape
 
     @property
     def names(self) -> list[str]:
@@ -81,7 +104,10 @@ class Logger:
         """The samples so far, as a Recording (copied: the logger may go on)."""
         rows = self._rows[: self._count]
         signals = {}
-        for name, (_, start, stop) in zip(self._names, self._channels):
+        for name, (_, start, stop) in self._channels.items():
             block = rows[:, start:stop].copy()
             signals[name] = block[:, 0] if self._shapes[name] == () else block
-        return Recording(rows[:, 0].copy(), signals)
+        for name, (source, function) in self._derived.items():
+            values = np.array([function(sample) for sample in signals[source]], dtype=float)
+            signals[name] = values.reshape((len(rows),) + self._shapes[name])
+        return Recording(rows[:, 0].copy(), {name: signals[name] for name in self._names})

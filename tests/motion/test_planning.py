@@ -175,3 +175,17 @@ def test_a_smoothed_trajectory_keeps_the_path_and_has_no_acceleration_steps(kine
     # the original's acceleration jumps (bang-bang); the average's changes by little from step to step
     assert np.max(np.abs(np.diff(sdd_smooth))) < 0.02 * np.max(np.abs(np.diff(sdd)))
     assert len(smooth.owner) == smooth.cycles + 1 and (len(smooth.x_f) - 1) == smooth.cycles * smooth.sub
+
+
+def test_the_owner_and_s_at_one_path_parameter_are_those_of_the_array_form_everywhere() -> None:
+    from orc_rpl.motion.paths import DensePath
+    from orc_rpl.motion.trajectory import SplinePath
+
+    rng = np.random.default_rng(2)
+    q = np.cumsum(rng.normal(size=(50, 6)), axis=0)
+    owner = np.repeat([3, 4, 5], [20, 15, 15])
+    s = np.concatenate([np.linspace(0.0, 1.0, 20), np.linspace(0.0, 1.0, 15), np.linspace(0.0, 1.0, 15)])
+    path = SplinePath(DensePath(q, q[:, :3], owner, s))
+    for x in np.concatenate([rng.uniform(-1.0, path.length + 1.0, 500), path.x_knots]).tolist():
+        owners, ss = path.owner_and_s(np.array([x]))
+        assert path.owner_and_s_at(x) == (int(owners[0]), float(ss[0]))

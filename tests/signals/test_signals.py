@@ -78,3 +78,23 @@ def test_plot_png_draws_signals_and_the_tcp_path(tmp_path) -> None:
 def test_unknown_signal_lists_the_known_ones() -> None:
     with pytest.raises(UsageError, match="no signal 'tau'.*q, speed_m_s, tcp"):
         _recorded()["tau"]
+
+
+def test_a_derived_signal_is_its_function_of_the_recorded_samples_in_submission_order() -> None:
+    clock, state = _Clock(), {"q": np.zeros(3)}
+    logger = Logger(clock, capacity=16)
+    logger.submit("q", lambda: state["q"])
+    logger.derive("norm", "q", lambda q: np.array([np.linalg.norm(q), q[0]]))
+    logger.submit("t2", lambda: 2.0 * clock.t)
+    assert logger.recording()["norm"].shape == (0, 2), "an empty recording keeps the signal's width"
+    for k in range(40):
+        clock.t, state["q"] = 0.001 * k, np.array([k, -k, 0.5 * k]) / 7.0
+        logger.update()
+    rec = logger.recording()
+    assert rec.names == ["q", "norm", "t2"]
+    np.testing.assert_array_equal(rec["norm"][:, 0], np.linalg.norm(rec["q"], axis=1))
+    np.testing.assert_array_equal(rec["norm"][:, 1], rec["q"][:, 0])
+    with pytest.raises(UsageError, match="not a submitted signal"):
+        logger.derive("twice", "norm", lambda x: x)
+    with pytest.raises(UsageError, match="already submitted"):
+        logger.derive("q", "t2", lambda x: x)
