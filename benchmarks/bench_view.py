@@ -171,6 +171,7 @@ def browser_cpu_s(root: int) -> dict[str, float]:
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False, environment_map: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
             helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ, session: bool | str = True,
+            plan_ahead_worker: bool = False,
             after_run: Any = None) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
     memory), "sender" (the server in its own process, each update sent by the run's sending thread, as before),
@@ -182,6 +183,8 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     scheduling.PACED_SLICE_S = slice_s
     source, program = load_program(path)
     robot = CellRobot.virtual(realtime=paced)
+    if plan_ahead_worker and robot.layer.ahead is not None:  # as before: the plan made on the worker in --fast too
+        robot.layer.ahead.on_worker = True
     executive = Executive(program, robot, runtime_registry(), path=str(path), source=source, output=lambda line: None)
     server: Any = None
     live = None
@@ -289,6 +292,8 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_with_environment_map": ("small", "process", {"environment_map": True}),
     "_normal_session": ("small", "process", {"session": False}),
     "_without_view_session_priority": (None, "none", {"session": "always"}),
+    "_before": ("small", "process", {"session": False, "environment_map": True, "plan_ahead_worker": True}),
+    "_without_view_before": (None, "none", {"plan_ahead_worker": True}),
 }
 #: The pages' sizes (CSS pixels). SwiftShader's cost per frame grows with the pixels, but far less than in proportion.
 SMALL_PAGE = (320, 240)
@@ -481,14 +486,19 @@ def main() -> None:
     print(f"fast_motion_thread_cpu_s_without_view={np.median([r['motion_cpu_s'] for r in baseline]):.3f}")
     print(f"fast_motion_thread_waited_for_cpu_s_without_view={np.median([r['motion_waited_s'] for r in baseline]):.3f}")
     _fast_parts(baseline, "_without_view")
-    same = fast_runs.pop("_without_view_session_priority", None)
+    # other baselines: without a view at the session priority the view's run gets (on a machine other programs keep
+    # busy, the raised priority also takes the cores from them, which the ordinary baseline does not), and the run
+    # without a view as it was before (the plan made on the worker thread in --fast too)
+    others = {name: fast_runs.pop(f"_without_view{name}", None) for name in ("_session_priority", "_before")}
     for suffix, runs in fast_runs.items():
-        _fast_figures(list(zip(runs, baseline)), suffix, FAST[suffix][0] is not None)
-    if same is not None and "" in fast_runs:
-        # against the run without a view at the session priority the view's run gets: on a machine other programs keep
-        # busy the raised priority also takes the cores from them, which the ordinary baseline does not
-        slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in zip(fast_runs[""], same)]
-        print(f"fast_wall_s_without_view_session_priority={np.median([r['wall_s'] for r in same]):.3f}")
+        _fast_figures(list(zip(runs, (others["_before"] or baseline) if suffix == "_before" else baseline)), suffix,
+                      FAST[suffix][0] is not None)
+    for name, runs in others.items():
+        if runs is not None:
+            print(f"fast_wall_s_without_view{name}={np.median([r['wall_s'] for r in runs]):.3f}")
+            _fast_parts(runs, f"_without_view{name}")
+    if others["_session_priority"] is not None and "" in fast_runs:
+        slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in zip(fast_runs[""], others["_session_priority"])]
         print(f"fast_slowdown_pct_same_priority_runs={','.join(f'{x:.1f}' for x in slowdowns)}")
         print(f"fast_slowdown_pct_same_priority={np.median(slowdowns):.1f}")
 

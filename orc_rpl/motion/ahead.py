@@ -80,6 +80,9 @@ class PlanAhead:
         #: the motion cycle keeps wall-clock time (--realtime, hardware): it goes on while a plan is made. In simulated
         #: time the clock stands while the worker plans, so a run is the same whatever the machine's load
         self.paced = paced
+        #: plans are made on the worker thread (in simulated time they are made at once on the calling thread: see
+        #: the module's docstring; bench_view sets it to measure the difference)
+        self.on_worker = paced
         self._planner: Planner | None = None
         self._pool: ThreadPoolExecutor | None = None
         self._jobs: dict[int, _Job] = {}
@@ -92,9 +95,9 @@ class PlanAhead:
               reserve: np.ndarray | float) -> Plan | None:
         if self._planner is None:
             self._planner = self._make_planner()
-            if self.paced:  # on the worker thread
+            if self.on_worker:
                 _lower_priority()
-        if self.paced:
+        if self.on_worker:
             scheduling.follow_paced()  # a paced cycle at real-time priority must not wait on a preempted worker's lock
         planner = self._planner
         planner.tcp_speed_cap_m_s, planner.friction_reserve_nm = cap, reserve
@@ -108,7 +111,7 @@ class PlanAhead:
         to submit it with (computation done)."""
         start_q = np.array(start_q, dtype=float)
         future: Future[Plan | None] = Future()
-        if self.paced:
+        if self.on_worker:
             future = self._submit(motion, params, start_q, main)
         else:
             try:
