@@ -19,7 +19,10 @@
   run but waited for a core (`fast_motion_thread_waited_for_cpu_s`), the CPU time of the view's own server
   process per update (`view_process_cpu_ms_per_update`), and the browser's: its share of the cores, its frames per
   second, its CPU per frame, and its parts: the page's JavaScript (`renderer_cpu_share`, `renderer_cpu_ms_per_update`)
-  and the drawing (`gpu_cpu_share`, `gpu_cpu_ms_per_frame`).
+  and the drawing (`gpu_cpu_share`, `gpu_cpu_ms_per_frame`); and, for each fast variant, the CPU seconds of every
+  part (`fast_parts`: the run's motion thread, its plan-ahead worker and other threads, each with the time it waited
+  for a core; the view's process; the browser's renderer, GPU and other processes) and how often the motion cycle
+  waited for the plan-ahead worker (`fast_plan_ahead_waits`, `fast_plan_ahead_waited_s`).
 * Baselines in the same run: no view (`_without_view`), the view's server with no browser
   (`_view_without_browser`), the run's process sending each update through the view's sending thread as before the
   shared-memory stream (`_sender`, and `_sender_view_without_browser`), the view drawing 30 states a second instead of
@@ -28,7 +31,11 @@
   (`_in_process`), the default light casting shadows (`_with_shadows`), the benchmark browser's GPU process in a
   cgroup marked idle (`_gpu_idle_group`: idle against every session, see idle_group; `sched_autogroup`,
   `browser_own_session` and `gpu_idle_group_placed` say whether that differs from SCHED_IDLE here and whether it could
-  be done), and the paced motion cycle at normal
+  be done), the `--fast` run's session at its ordinary nice value instead of above the browser's (`_normal_session`;
+  `fast_session_priority` says whether the raise was permitted here, and `fast_slowdown_pct_same_priority` compares
+  against the run without a view at the raised priority too), the scene with viser's default environment map
+  (`_with_environment_map`), everything as it was before those three changes (`_before`: also the plan made on the
+  worker thread in `--fast`, against the run without a view as it was), and the paced motion cycle at normal
   priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority with the threads it waits on
   through the interpreter lock left at normal priority (`_helpers_normal`), as before those changes.
 
