@@ -143,3 +143,21 @@ def test_a_fast_run_raises_its_session_and_gives_the_nice_value_back() -> None:
         else:
             assert _session_nice() == min(before, scheduling.FAST_SESSION_NICE)
     assert _session_nice() == before
+
+
+@pytest.mark.skipif(_session_nice() is None or shutil.which("setpriv") is None,
+                    reason="needs the kernel's session groups (autogroup) and setpriv (util-linux)")
+def test_orc_run_view_fast_says_when_the_session_priority_is_refused(tmp_path: Path) -> None:
+    """Without CAP_SYS_NICE (an ordinary user) a `--view --fast` run goes on at its session's priority and says so."""
+    pytest.importorskip("viser", reason="the 3D view is the [view] extra")
+    before = _session_nice()
+    program = tmp_path / "wait.rpl"
+    program.write_text("WAIT 0.05s\n", encoding="utf-8")
+    command = ["setpriv", "--inh-caps", "-sys_nice", "--bounding-set", "-sys_nice",
+               sys.executable, "-m", "orc_rpl", "run", str(program), "--view", "--fast", "--view-port", "0"]
+    proc = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=300, stdin=subprocess.DEVNULL)
+    if proc.returncode != 0 and "setpriv" in proc.stderr:
+        pytest.skip(f"setpriv cannot drop the capability here: {proc.stderr.strip()}")
+    assert proc.returncode == 0, proc.stderr
+    assert "orc run: the run keeps its priority: a higher priority for the run's session not permitted" in proc.stderr
+    assert _session_nice() == before
