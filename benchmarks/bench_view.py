@@ -63,7 +63,7 @@ from orc_rpl.executive.executive import Executive
 from orc_rpl.motion import scheduling
 from orc_rpl.transform.loading import load_program
 from orc_rpl.view.live import RATE_HZ
-from orc_rpl.view.remote import VIEW_NICE, ViewProcess
+from orc_rpl.view.remote import ViewProcess
 from orc_rpl.view.scene import CellScene
 from orc_rpl.view.server import close_server, open_server, url_of
 from orc_rpl.view.streamed import StreamedView
@@ -178,7 +178,7 @@ def browser_cpu_s(root: int) -> dict[str, float]:
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False, environment_map: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
             helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ, session: bool | str = True,
-            plan_ahead_worker: bool = False, view_nice: int = VIEW_NICE,
+            plan_ahead_worker: bool = False,
             after_run: Any = None) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
     memory), "sender" (the server in its own process, each update sent by the run's sending thread, as before),
@@ -199,7 +199,7 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     view_pid = None
     if view != "none":
         if view in ("process", "sender"):
-            server = ViewProcess("127.0.0.1", 0, shadows, environment_map, view_nice)
+            server = ViewProcess("127.0.0.1", 0, shadows, environment_map)
             scene, url, view_pid = server.scene, server.url, server.pid
         else:
             server = open_server(port=0)
@@ -299,10 +299,7 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_with_environment_map": ("small", "process", {"environment_map": True}),
     "_normal_session": ("small", "process", {"session": False}),
     "_without_view_session_priority": (None, "none", {"session": "always"}),
-    "_view_at_nice_0": ("small", "process", {"view_nice": 0}),
-    "_view_without_browser_at_nice_0": (None, "process", {"view_nice": 0}),
-    "_before": ("small", "process", {"session": False, "environment_map": True, "plan_ahead_worker": True,
-                                     "view_nice": 0}),
+    "_before": ("small", "process", {"session": False, "environment_map": True, "plan_ahead_worker": True}),
     "_without_view_before": (None, "none", {"plan_ahead_worker": True}),
 }
 #: The pages' sizes (CSS pixels). SwiftShader's cost per frame grows with the pixels, but far less than in proportion.

@@ -32,10 +32,6 @@ COMMANDS = frozenset({"add_cell", "add_object", "set_position", "show_position",
 STREAM_COMMANDS = frozenset({"stream_open", "stream_tool", "stream_lines", "stream_process", "stream_close"})
 #: How long the view's process may take to start (imports, binding) before the run gives up on it.
 START_TIMEOUT_S = 120.0
-#: The view's process runs at this nice value: in the run's session (Linux shares the cores between sessions first,
-#: then between the session's threads by their nice value), it gives way to the motion thread when both want the
-#: same core, as a `--fast` run's cycle always does (bench_view: `fast_slowdown_pct` against `..._view_at_nice_0`).
-VIEW_NICE = 10
 
 
 @dataclass(frozen=True)
@@ -128,14 +124,12 @@ class ViewProcess:
     script again, which a script without a `__main__` guard cannot take.
     """
 
-    def __init__(self, host: str, port: int, shadows: bool = False, environment_map: bool = False,
-                 nice: int = VIEW_NICE) -> None:
+    def __init__(self, host: str, port: int, shadows: bool = False, environment_map: bool = False) -> None:
         ours, theirs = socket.socketpair()
         self._notice, notice_w = os.pipe()      # a byte arrives when a browser opens the page
         light = ("shadows" if shadows else "flat") + (",environment" if environment_map else "")
         self._process = subprocess.Popen(
-            [sys.executable, "-m", "orc_rpl.view.remote", str(theirs.fileno()), str(notice_w), host, str(port), light,
-             str(nice)],
+            [sys.executable, "-m", "orc_rpl.view.remote", str(theirs.fileno()), str(notice_w), host, str(port), light],
             pass_fds=(theirs.fileno(), notice_w), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
         self.pid = self._process.pid
         theirs.close()
@@ -233,7 +227,6 @@ if __name__ == "__main__":
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C at the terminal is for the run, which closes the view
     from orc_rpl.view.remote import _serve as serve  # this module's own copy: what it pickles, the run can load
 
-    fd, notice_fd, host_arg, port_arg, light, nice = sys.argv[1:7]
-    os.nice(int(nice))
+    fd, notice_fd, host_arg, port_arg, light = sys.argv[1:6]
     lights = light.split(",")
     serve(Connection(int(fd)), int(notice_fd), host_arg, int(port_arg), "shadows" in lights, "environment" in lights)
