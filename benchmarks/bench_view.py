@@ -19,7 +19,10 @@
   run but waited for a core (`fast_motion_thread_waited_for_cpu_s`), the CPU time of the view's own server
   process per update (`view_process_cpu_ms_per_update`), and the browser's: its share of the cores, its frames per
   second, its CPU per frame, and its parts: the page's JavaScript (`renderer_cpu_share`, `renderer_cpu_ms_per_update`)
-  and the drawing (`gpu_cpu_share`, `gpu_cpu_ms_per_frame`).
+  and the drawing (`gpu_cpu_share`, `gpu_cpu_ms_per_frame`); and, for each fast variant, the CPU seconds of every
+  part (`fast_parts`: the run's motion thread, its plan-ahead worker and other threads, each with the time it waited
+  for a core; the view's process; the browser's renderer, GPU and other processes) and how often the motion cycle
+  waited for the plan-ahead worker (`fast_plan_ahead_waits`, `fast_plan_ahead_waited_s`).
 * Baselines in the same run: no view (`_without_view`), the view's server with no browser
   (`_view_without_browser`), the run's process sending each update through the view's sending thread as before the
   shared-memory stream (`_sender`, and `_sender_view_without_browser`), the view drawing 30 states a second instead of
@@ -28,7 +31,11 @@
   (`_in_process`), the default light casting shadows (`_with_shadows`), the benchmark browser's GPU process in a
   cgroup marked idle (`_gpu_idle_group`: idle against every session, see idle_group; `sched_autogroup`,
   `browser_own_session` and `gpu_idle_group_placed` say whether that differs from SCHED_IDLE here and whether it could
-  be done), and the paced motion cycle at normal
+  be done), the `--fast` run's session at its ordinary nice value instead of above the browser's (`_normal_session`;
+  `fast_session_priority` says whether the raise was permitted here, and `fast_slowdown_pct_same_priority` compares
+  against the run without a view at the raised priority too), the scene with viser's default environment map
+  (`_with_environment_map`), everything as it was before those three changes (`_before`: also the plan made on the
+  worker thread in `--fast`, against the run without a view as it was), and the paced motion cycle at normal
   priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority with the threads it waits on
   through the interpreter lock left at normal priority (`_helpers_normal`), as before those changes.
 
@@ -43,6 +50,7 @@ import argparse
 import contextlib
 import os
 import tempfile
+import threading
 import time
 from pathlib import Path
 from typing import Any
@@ -109,6 +117,31 @@ def waited_for_cpu_s() -> float:
     return int(Path("/proc/thread-self/schedstat").read_text().split()[1]) / 1e9
 
 
+def thread_times() -> dict[int, tuple[str, float, float]]:
+    """Every thread of this process now: thread id -> (its part of the run, CPU seconds, seconds it was ready to run
+    but waited for a core) (Linux schedstat). Parts: "motion" (the main thread: the executive and the motion cycle),
+    "plan_ahead" (the motion layer's worker), "other" (the rest: Playwright's, the view's socket)."""
+    found, names = {}, {thread.native_id: thread.name for thread in threading.enumerate()}
+    for entry in os.listdir("/proc/self/task"):
+        try:
+            run_ns, wait_ns = Path(f"/proc/self/task/{entry}/schedstat").read_text().split()[:2]
+        except OSError:  # the thread has ended
+            continue
+        part = "motion" if int(entry) == os.getpid() else "plan_ahead" if names.get(int(entry), "").startswith("orc-plan-ahead") else "other"
+        found[int(entry)] = (part, int(run_ns) / 1e9, int(wait_ns) / 1e9)
+    return found
+
+
+def thread_parts(before: dict[int, tuple[str, float, float]]) -> dict[str, float]:
+    """CPU seconds and seconds waited for a core of each part of the run's process since `before` (thread_times)."""
+    parts = {f"{part}_{kind}": 0.0 for part in ("motion", "plan_ahead", "other") for kind in ("cpu_s", "waited_s")}
+    for tid, (part, cpu_s, waited_s) in thread_times().items():
+        _, cpu_before, waited_before = before.get(tid, (part, 0.0, 0.0))
+        parts[f"{part}_cpu_s"] += cpu_s - cpu_before
+        parts[f"{part}_waited_s"] += waited_s - waited_before
+    return parts
+
+
 def browser_cpu_s(root: int) -> dict[str, float]:
     """CPU seconds (user and system) of every Chromium process below `root` now, by kind (Linux /proc): "renderer" (the
     page's JavaScript, three.js, the WebGL calls: what a browser on any machine spends), "gpu" (the GPU process: here
@@ -142,9 +175,10 @@ def browser_cpu_s(root: int) -> dict[str, float]:
     return kinds
 
 
-def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False,
+def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False, environment_map: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
-            helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ,
+            helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ, session: bool | str = True,
+            plan_ahead_worker: bool = False,
             after_run: Any = None) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
     memory), "sender" (the server in its own process, each update sent by the run's sending thread, as before),
@@ -156,6 +190,8 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     scheduling.PACED_SLICE_S = slice_s
     source, program = load_program(path)
     robot = CellRobot.virtual(realtime=paced)
+    if plan_ahead_worker and robot.layer.ahead is not None:  # as before: the plan made on the worker in --fast too
+        robot.layer.ahead.on_worker = True
     executive = Executive(program, robot, runtime_registry(), path=str(path), source=source, output=lambda line: None)
     server: Any = None
     live = None
@@ -163,11 +199,11 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     view_pid = None
     if view != "none":
         if view in ("process", "sender"):
-            server = ViewProcess("127.0.0.1", 0, shadows)
+            server = ViewProcess("127.0.0.1", 0, shadows, environment_map)
             scene, url, view_pid = server.scene, server.url, server.pid
         else:
             server = open_server(port=0)
-            scene, url = CellScene(server, shadows), url_of(server)
+            scene, url = CellScene(server, shadows, environment_map), url_of(server)
         live = (StreamedView if view == "process" else SenderView)(scene, executive, robot, rate_hz=rate_hz)
         live.attach(program)
         if page is not None:
@@ -181,18 +217,23 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     view_cpu = process_cpu_s(view_pid) if view_pid is not None else 0.0
     frames = page.evaluate("window.orcFrames || 0") if page is not None and live is not None else 0
     browser_before = browser_cpu_s(os.getpid())
+    threads = thread_times()
     wall, cpu, thread_cpu, waited = time.perf_counter(), time.process_time(), time.thread_time(), waited_for_cpu_s()
     follow = scheduling.follow_paced
     if not helpers:
         scheduling.follow_paced = lambda below=1: None
     try:
-        with scheduling.PacedPriority() if paced and realtime else contextlib.nullcontext(None) as priority:
+        # as `orc run` does: a paced run's cycle at real-time priority, a fast one's session above the browser's
+        with scheduling.PacedPriority() if paced and realtime else contextlib.nullcontext(None) as priority, \
+                scheduling.SessionPriority() if session == "always" or (session and live is not None and not paced) \
+                else contextlib.nullcontext():
             status = executive.run()
     finally:
         scheduling.follow_paced = follow
     wall_s, cpu_s = time.perf_counter() - wall, time.process_time() - cpu
     motion_cpu_s = time.thread_time() - thread_cpu  # this thread runs the motion cycle
     motion_waited_s = waited_for_cpu_s() - waited
+    parts = thread_parts(threads)
     view_cpu_s = process_cpu_s(view_pid) - view_cpu if view_pid is not None else 0.0
     browser_kinds = {kind: cpu - browser_before[kind] for kind, cpu in browser_cpu_s(os.getpid()).items()}
     frames = page.evaluate("window.orcFrames || 0") - frames if page is not None and live is not None else 0
@@ -210,7 +251,9 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
             "renderer_cpu_s": browser_kinds["renderer"], "gpu_cpu_s": browser_kinds["gpu"], "frames": frames,
             "sim_s": robot.time_s(), "late_s": np.array(probe.late_s),
             "updates": live.updates if live is not None else 0,
-            "realtime": priority is not None and priority.refused is None and not priority.demoted}
+            "realtime": priority is not None and priority.refused is None and not priority.demoted,
+            "threads": parts, "ahead_waits": robot.planning.waited if robot.planning is not None else 0,
+            "ahead_waited_s": robot.planning.waited_s if robot.planning is not None else 0.0}
 
 
 def _program(folder: Path, rounds: int) -> Path:
@@ -253,6 +296,11 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_in_process": ("small", "in-process", {}),
     "_with_shadows": ("small", "process", {"shadows": True}),
     "_gpu_idle_group": ("small", "process", {"gpu_idle_group": True}),
+    "_with_environment_map": ("small", "process", {"environment_map": True}),
+    "_normal_session": ("small", "process", {"session": False}),
+    "_without_view_session_priority": (None, "none", {"session": "always"}),
+    "_before": ("small", "process", {"session": False, "environment_map": True, "plan_ahead_worker": True}),
+    "_without_view_before": (None, "none", {"plan_ahead_worker": True}),
 }
 #: The pages' sizes (CSS pixels). SwiftShader's cost per frame grows with the pixels, but far less than in proportion.
 SMALL_PAGE = (320, 240)
@@ -432,6 +480,8 @@ def main() -> None:
     print(f"sched_autogroup={int(autogrouped())}")
     print(f"browser_own_session={int(own_session)}")
     print(f"gpu_idle_group_placed={int(bool(idle_groups) and all(idle_groups))}")
+    with scheduling.SessionPriority() as session:  # what a `--view --fast` run gets (1: its session's nice lowered)
+        print(f"fast_session_priority={int(session.refused is None and autogrouped())}")
     if paced_runs:
         print(f"realtime_priority={int(all(r['realtime'] for r in paced_runs['']))}")
         print(f"paced_simulated_s={paced_runs[''][0]['sim_s']:.3f}")
@@ -442,8 +492,22 @@ def main() -> None:
     print(f"fast_wall_s_without_view={np.median([r['wall_s'] for r in baseline]):.3f}")
     print(f"fast_motion_thread_cpu_s_without_view={np.median([r['motion_cpu_s'] for r in baseline]):.3f}")
     print(f"fast_motion_thread_waited_for_cpu_s_without_view={np.median([r['motion_waited_s'] for r in baseline]):.3f}")
+    _fast_parts(baseline, "_without_view")
+    # other baselines: without a view at the session priority the view's run gets (on a machine other programs keep
+    # busy, the raised priority also takes the cores from them, which the ordinary baseline does not), and the run
+    # without a view as it was before (the plan made on the worker thread in --fast too)
+    others = {name: fast_runs.pop(f"_without_view{name}", None) for name in ("_session_priority", "_before")}
     for suffix, runs in fast_runs.items():
-        _fast_figures(list(zip(runs, baseline)), suffix, FAST[suffix][0] is not None)
+        _fast_figures(list(zip(runs, (others["_before"] or baseline) if suffix == "_before" else baseline)), suffix,
+                      FAST[suffix][0] is not None)
+    for name, runs in others.items():
+        if runs is not None:
+            print(f"fast_wall_s_without_view{name}={np.median([r['wall_s'] for r in runs]):.3f}")
+            _fast_parts(runs, f"_without_view{name}")
+    if others["_session_priority"] is not None and "" in fast_runs:
+        slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in zip(fast_runs[""], others["_session_priority"])]
+        print(f"fast_slowdown_pct_same_priority_runs={','.join(f'{x:.1f}' for x in slowdowns)}")
+        print(f"fast_slowdown_pct_same_priority={np.median(slowdowns):.1f}")
 
 
 def _paced_figures(runs: list[dict[str, Any]], suffix: str, browser: bool) -> None:
@@ -474,6 +538,19 @@ def _browser_figures(runs: list[dict[str, Any]], suffix: str, kind: str) -> None
         print(f"{part}_cpu_share_{kind}{suffix}={median([r[f'{part}_cpu_s'] / r['wall_s'] for r in runs]):.2f}")
 
 
+def _fast_parts(runs: list[dict[str, Any]], suffix: str) -> None:
+    """Where a fast variant's CPU went, part by part (the median seconds of each): the run's threads (CPU time and time
+    waited for a core), the view's process, the browser's processes; and how often the motion cycle waited for the
+    plan-ahead worker (in simulated time it waits for a plan the worker has not finished: motion/ahead.py)."""
+    median = np.median
+    parts = {key: median([r["threads"][key] for r in runs]) for key in runs[0]["threads"]}
+    parts |= {f"{part}_cpu_s": median([r[f"{part}_cpu_s"] for r in runs]) for part in ("view", "renderer", "gpu")}
+    parts["browser_rest_cpu_s"] = median([r["browser_cpu_s"] - r["renderer_cpu_s"] - r["gpu_cpu_s"] for r in runs])
+    print(f"fast_parts{suffix}={','.join(f'{key}:{value:.3f}' for key, value in parts.items())}")
+    print(f"fast_plan_ahead_waits{suffix}={median([r['ahead_waits'] for r in runs]):.0f}")
+    print(f"fast_plan_ahead_waited_s{suffix}={median([r['ahead_waited_s'] for r in runs]):.3f}")
+
+
 def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: str, browser: bool) -> None:
     """The fast figures of (with the view, without a view) pairs."""
     median = np.median
@@ -490,6 +567,7 @@ def _fast_figures(pairs: list[tuple[dict[str, Any], dict[str, Any]]], suffix: st
           f"{100 * median([v['motion_cpu_s'] / b['motion_cpu_s'] - 1 for v, b in pairs]):.1f}")
     # ready to run, but no core free for it: what a program competing for the cores costs the run
     print(f"fast_motion_thread_waited_for_cpu_s{suffix}={median([v['motion_waited_s'] for v, _ in pairs]):.3f}")
+    _fast_parts([v for v, _ in pairs], suffix)
     slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in pairs]
     print(f"fast_slowdown_pct_runs{suffix}={','.join(f'{x:.1f}' for x in slowdowns)}")
     print(f"fast_slowdown_pct{suffix}={median(slowdowns):.1f}")

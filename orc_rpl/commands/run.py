@@ -272,7 +272,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         if watchers is not None:
             watchers.monitor(robot)
         wall_start = time.perf_counter()  # after the view's page connected
-        with paced_priority(paced, "orc run"):
+        with paced_priority(paced, "orc run"), session_priority(args.view and args.fast, "orc run"):
             interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
@@ -329,6 +329,20 @@ def paced_priority(paced: bool, command: str, tell_refusal: Callable[[str], Any]
     if priority.demoted:
         _stderr_line(f"{command}: the motion cycle computed {scheduling.RUNAWAY_CPU_S:g} s without waiting at "
                      "real-time priority; it went on at normal priority")
+
+
+@contextlib.contextmanager
+def session_priority(drawn: bool, command: str) -> Iterator[None]:
+    """A run drawn in a browser but not paced (`orc run --view --fast`) runs its session at a higher priority than
+    the browser's (motion/scheduling.py's SessionPriority), or says why it cannot."""
+    if not drawn:
+        yield
+        return
+    with scheduling.SessionPriority() as priority:
+        if priority.refused is not None:
+            _stderr_line(f"{command}: the run keeps its priority: {priority.refused}; a browser drawing the view on "
+                         "this machine can slow the run")
+        yield
 
 
 def _stderr_line(text: str) -> None:

@@ -4,7 +4,11 @@ The worker has its own planner over its own arm model (an arm model holds state:
 buffers), so nothing it computes touches what the motion cycle uses. The plan it makes is the plan `save` would
 store: the dense path and its first piece timed from rest. When the cycle keeps wall-clock time it never waits for
 it: the caller asks `ready()` between cycles and submits the move once it is. In simulated time the clock stands
-still while the plan is made, so runs stay deterministic.
+still while the plan is made, so runs stay deterministic; there the plan is made at once on the calling thread, with
+the same planner: the executive asks for the move a statement later, before the cycle has run any of the move before,
+so a worker thread would have the cycle wait for it anyway (bench_view: every plan taken was waited for, for as long
+as the worker computed), and each hand-over to and from a thread costs a wake-up that another busy program on the
+machine (a browser drawing the view) can delay by a scheduler slice.
 """
 
 from __future__ import annotations
@@ -12,7 +16,9 @@ from __future__ import annotations
 import os
 import sys
 import threading
+import time
 from collections.abc import Callable
+import concurrent.futures
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 
@@ -53,6 +59,8 @@ class Counts:
     from_dummy: int = 0         #: of those planned ahead, computed from sensor dummies (before the sensor answered)
     confirmed: int = 0          #: of those, the real sensor's answer gave the same motion
     corrected: int = 0          #: of those, the real answer moved the target a little: the plan used, corrected
+    waited: int = 0             #: plans taken before the worker had made them: the motion cycle waited (simulated time)
+    waited_s: float = 0.0       #: wall-clock seconds the motion cycle waited for the worker in those
     notes: list[str] = field(default_factory=list)
 
 
@@ -72,6 +80,9 @@ class PlanAhead:
         #: the motion cycle keeps wall-clock time (--realtime, hardware): it goes on while a plan is made. In simulated
         #: time the clock stands while the worker plans, so a run is the same whatever the machine's load
         self.paced = paced
+        #: plans are made on the worker thread (in simulated time they are made at once on the calling thread: see
+        #: the module's docstring; bench_view sets it to measure the difference)
+        self.on_worker = paced
         self._planner: Planner | None = None
         self._pool: ThreadPoolExecutor | None = None
         self._jobs: dict[int, _Job] = {}
@@ -84,8 +95,10 @@ class PlanAhead:
               reserve: np.ndarray | float) -> Plan | None:
         if self._planner is None:
             self._planner = self._make_planner()
-            _lower_priority()
-        scheduling.follow_paced()  # a paced cycle at real-time priority must not wait on a preempted worker's lock
+            if self.on_worker:
+                _lower_priority()
+        if self.on_worker:
+            scheduling.follow_paced()  # a paced cycle at real-time priority must not wait on a preempted worker's lock
         planner = self._planner
         planner.tcp_speed_cap_m_s, planner.friction_reserve_nm = cap, reserve
         plan = planner.plan(0, motion, params, start_q)
@@ -94,21 +107,33 @@ class PlanAhead:
         return plan
 
     def start(self, motion: Motion, params: Params, start_q: np.ndarray, main: Planner) -> int:
-        """Plan `motion` from `start_q` on the worker; returns the descriptor to submit it with (computation done)."""
+        """Plan `motion` from `start_q` on the worker (in simulated time: now, on this thread); returns the descriptor
+        to submit it with (computation done)."""
+        start_q = np.array(start_q, dtype=float)
+        future: Future[Plan | None] = Future()
+        if self.on_worker:
+            future = self._submit(motion, params, start_q, main)
+        else:
+            try:
+                future.set_result(self._work(motion, params, start_q, main.tcp_speed_cap_m_s, main.friction_reserve_nm))
+            except Exception as error:  # as the worker's future would hold it: take() raises it where it is submitted
+                future.set_exception(error)
+        descriptor = self._next
+        self._next += 1
+        self._jobs[descriptor] = _Job(motion, params, start_q, future)
+        self.counts.planned_ahead += 1
+        return descriptor
+
+    def _submit(self, motion: Motion, params: Params, start_q: np.ndarray, main: Planner) -> Future[Plan | None]:
         if self._pool is None:
             self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="orc-plan-ahead")
         with self._lock:
             if not self._jobs and self._previous_interval is None:
                 self._previous_interval = sys.getswitchinterval()
                 sys.setswitchinterval(min(self._previous_interval, SWITCH_INTERVAL_S))
-        descriptor = self._next
-        self._next += 1
-        future = self._pool.submit(self._work, motion, params, np.array(start_q, dtype=float),
-                                   main.tcp_speed_cap_m_s, main.friction_reserve_nm)
+        future = self._pool.submit(self._work, motion, params, start_q, main.tcp_speed_cap_m_s, main.friction_reserve_nm)
         future.add_done_callback(lambda _: self._restore_interval())
-        self._jobs[descriptor] = _Job(motion, params, np.array(start_q, dtype=float), future)
-        self.counts.planned_ahead += 1
-        return descriptor
+        return future
 
     def _restore_interval(self) -> None:
         with self._lock:
@@ -126,6 +151,11 @@ class PlanAhead:
         job = self._jobs.pop(descriptor, None)
         if job is None:
             return None
+        if not job.future.done():  # in simulated time the cycle waits for the worker here (ready() says True)
+            self.counts.waited += 1
+            start = time.perf_counter()
+            concurrent.futures.wait([job.future])
+            self.counts.waited_s += time.perf_counter() - start
         try:
             plan = job.future.result()  # at once when the caller waited for ready()
         except OrcError as error:  # it will fail again, where the program can be told: plan now

@@ -166,3 +166,50 @@ def follow_paced(below: int = 1) -> None:
     if _paced is not paced or not paced.active:  # the block ended meanwhile: it may not have seen this thread
         paced._helpers.pop(tid, None)
         os.sched_setscheduler(0, *saved)
+
+
+#: The nice value a run that is not paced but drawn in a browser (`orc run --view --fast`) gives its session while it
+#: runs. Linux (autogroup, `/proc/sys/kernel/sched_autogroup_enabled`) shares the cores between sessions first: a
+#: browser, a session of its own, took its fair share of them against the run however low its threads' priority,
+#: and its drawing threads on both cores kept the run's one busy thread from a whole core (bench_view:
+#: `fast_slowdown_pct` against `..._normal_session`).
+FAST_SESSION_NICE = -10
+AUTOGROUP = "/proc/self/autogroup"
+
+
+class SessionPriority:
+    """`with SessionPriority():` runs the calling process's session (its autogroup) at FAST_SESSION_NICE until the
+    block ends, where it gets its nice value back. Where the kernel does not group by session, nothing changes (the
+    threads' own priorities order them then); where it is not permitted (a negative nice needs CAP_SYS_NICE or an
+    RLIMIT_NICE), nothing changes and `refused` says why."""
+
+    def __init__(self, nice: int = FAST_SESSION_NICE) -> None:
+        self.nice = nice
+        self.refused: str | None = None
+        self._saved: int | None = None
+
+    def __enter__(self) -> SessionPriority:
+        try:
+            with open("/proc/sys/kernel/sched_autogroup_enabled", encoding="ascii") as enabled:
+                if enabled.read().strip() != "1":
+                    return self
+            with open(AUTOGROUP, encoding="ascii") as group:
+                nice = int(group.read().split()[-1])  # "/autogroup-2925 nice 0"
+        except (OSError, ValueError, IndexError):  # not Linux, or a kernel without autogroup
+            return self
+        if nice <= self.nice:
+            return self
+        try:
+            with open(AUTOGROUP, "w", encoding="ascii") as group:
+                group.write(str(self.nice))
+        except OSError as error:  # EPERM
+            self.refused = f"a higher priority for the run's session not permitted ({error.strerror or error})"
+            return self
+        self._saved = nice
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._saved is not None:
+            with open(AUTOGROUP, "w", encoding="ascii") as group:
+                group.write(str(self._saved))
+            self._saved = None

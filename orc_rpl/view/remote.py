@@ -124,12 +124,12 @@ class ViewProcess:
     script again, which a script without a `__main__` guard cannot take.
     """
 
-    def __init__(self, host: str, port: int, shadows: bool = False) -> None:
+    def __init__(self, host: str, port: int, shadows: bool = False, environment_map: bool = False) -> None:
         ours, theirs = socket.socketpair()
         self._notice, notice_w = os.pipe()      # a byte arrives when a browser opens the page
+        light = ("shadows" if shadows else "flat") + (",environment" if environment_map else "")
         self._process = subprocess.Popen(
-            [sys.executable, "-m", "orc_rpl.view.remote", str(theirs.fileno()), str(notice_w), host, str(port),
-             "shadows" if shadows else "flat"],
+            [sys.executable, "-m", "orc_rpl.view.remote", str(theirs.fileno()), str(notice_w), host, str(port), light],
             pass_fds=(theirs.fileno(), notice_w), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
         self.pid = self._process.pid
         theirs.close()
@@ -170,7 +170,7 @@ class ViewProcess:
         os.close(self._notice)
 
 
-def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool) -> None:
+def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool, environment_map: bool = False) -> None:
     """The view's process: open the server, then apply the run's messages until told to close."""
     from orc_rpl.view.drawing import StreamDrawer
     from orc_rpl.view.scene import CellScene
@@ -182,7 +182,7 @@ def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool) ->
         connection.send(("error", str(error)))
         return
     server.on_client_connect(lambda client: os.write(notice, b"c"))
-    scene = CellScene(server, shadows)
+    scene = CellScene(server, shadows, environment_map)
     connection.send(("ready", url_of(server)))
     drawer: StreamDrawer | None = None
     next_s = time.monotonic()
@@ -228,4 +228,5 @@ if __name__ == "__main__":
     from orc_rpl.view.remote import _serve as serve  # this module's own copy: what it pickles, the run can load
 
     fd, notice_fd, host_arg, port_arg, light = sys.argv[1:6]
-    serve(Connection(int(fd)), int(notice_fd), host_arg, int(port_arg), light == "shadows")
+    lights = light.split(",")
+    serve(Connection(int(fd)), int(notice_fd), host_arg, int(port_arg), "shadows" in lights, "environment" in lights)

@@ -29,6 +29,9 @@ FLANGE_NODE = "/flange"
 WELD_RADIUS_M = 0.008
 GOOD_RGB = (40, 170, 60)
 BAD_RGB = (220, 30, 30)
+#: The light from the sky and the ground that replaces the environment map: it keeps the cell looking as it did.
+FILL_GROUND_RGB = (120, 120, 120)
+FILL_INTENSITY = 1.5
 
 
 def wxyz_of(rotation: np.ndarray) -> np.ndarray:
@@ -48,7 +51,7 @@ def _rgb(rgba: tuple[float, ...]) -> tuple[int, int, int]:
 class CellScene:
     """What one viser server shows; the handles stay readable so tests and the pendant can ask what is drawn."""
 
-    def __init__(self, server: viser.ViserServer, shadows: bool = False) -> None:
+    def __init__(self, server: viser.ViserServer, shadows: bool = False, environment_map: bool = False) -> None:
         self.server = server
         self.scene = server.scene
         self.moving: dict[int, Any] = {}          #: geom index -> node of a geom that moves with a body
@@ -67,6 +70,13 @@ class CellScene:
         # Shadows off unless asked for: in software WebGL (a machine without a GPU, the headless browser of the tests)
         # the default light's three shadow cascades make each frame several times dearer (bench_view --shadows).
         self.scene.configure_default_lights(enabled=True, cast_shadow=shadows)
+        if not environment_map:
+            # Without an environment map of its own the page lights every surface from viser's default one, sampled
+            # for each pixel: in software WebGL that was three quarters of a frame (bench_view: gpu_cpu_ms_per_frame
+            # against `_with_environment_map`). A light from the sky and the ground fills in what it lit.
+            self.scene.configure_environment_map(None)
+            self.scene.add_light_hemisphere("/lights/fill", sky_color=(255, 255, 255), ground_color=FILL_GROUND_RGB,
+                                            intensity=FILL_INTENSITY)
 
     # -- the cell (MuJoCo geoms) -------------------------------------------------------------
 

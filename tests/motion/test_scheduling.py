@@ -120,3 +120,44 @@ def test_orc_run_says_when_real_time_priority_is_refused(tmp_path: Path) -> None
         pytest.skip(f"setpriv cannot drop the capability here: {proc.stderr.strip()}")
     assert proc.returncode == 0, proc.stderr
     assert "orc run: the motion cycle runs at normal priority: real-time priority not permitted" in proc.stderr
+
+
+def _session_nice() -> int | None:
+    """The nice value of this process's session (Linux autogroup), None where the kernel does not group by session."""
+    try:
+        if Path("/proc/sys/kernel/sched_autogroup_enabled").read_text().strip() != "1":
+            return None
+        return int(Path(scheduling.AUTOGROUP).read_text().split()[-1])
+    except (OSError, ValueError):
+        return None
+
+
+@pytest.mark.skipif(_session_nice() is None, reason="the kernel does not group processes by session (autogroup)")
+def test_a_fast_run_raises_its_session_and_gives_the_nice_value_back() -> None:
+    before = _session_nice()
+    assert before is not None
+    with scheduling.SessionPriority() as priority:
+        if priority.refused is not None:  # an ordinary user without an RLIMIT_NICE: said, and nothing changed
+            assert "not permitted" in priority.refused
+            assert _session_nice() == before
+        else:
+            assert _session_nice() == min(before, scheduling.FAST_SESSION_NICE)
+    assert _session_nice() == before
+
+
+@pytest.mark.skipif(_session_nice() is None or shutil.which("setpriv") is None,
+                    reason="needs the kernel's session groups (autogroup) and setpriv (util-linux)")
+def test_orc_run_view_fast_says_when_the_session_priority_is_refused(tmp_path: Path) -> None:
+    """Without CAP_SYS_NICE (an ordinary user) a `--view --fast` run goes on at its session's priority and says so."""
+    pytest.importorskip("viser", reason="the 3D view is the [view] extra")
+    before = _session_nice()
+    program = tmp_path / "wait.rpl"
+    program.write_text("WAIT 0.05s\n", encoding="utf-8")
+    command = ["setpriv", "--inh-caps", "-sys_nice", "--bounding-set", "-sys_nice",
+               sys.executable, "-m", "orc_rpl", "run", str(program), "--view", "--fast", "--view-port", "0"]
+    proc = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=300, stdin=subprocess.DEVNULL)
+    if proc.returncode != 0 and "setpriv" in proc.stderr:
+        pytest.skip(f"setpriv cannot drop the capability here: {proc.stderr.strip()}")
+    assert proc.returncode == 0, proc.stderr
+    assert "orc run: the run keeps its priority: a higher priority for the run's session not permitted" in proc.stderr
+    assert _session_nice() == before
