@@ -37,7 +37,7 @@ import argparse
 import numpy as np
 
 from orc_rpl.motion import JointMotion, MotionLayer, Params, make_virtual_motion_layer
-from orc_rpl.servo import two_mass
+from orc_rpl.servo import state_feedback, two_mass
 
 DECLARED_KG, CARRIED_KG = 10.0, 15.0
 ELASTIC = [False]   #: the plant's elastic gears (--elastic)
@@ -249,7 +249,18 @@ def main() -> None:
                     help="the carried load on the plant from the reset, the drives holding it REST_S before the moves")
     ap.add_argument("--without", action="append", default=[], choices=FEATURES,
                     help="with --elastic: switch off one of the elastic gears' features (repeatable)")
+    ap.add_argument("--inertia-tolerance", type=float, default=None, metavar="SHARE",
+                    help="with --state-feedback: the state feedback's INERTIA_TOLERANCE for this run (default 0.02)")
+    ap.add_argument("--gains-settled", type=float, default=None, metavar="SHARE",
+                    help="with --state-feedback: its GAINS_SETTLED for this run (default 3e-2; inf: no cycle that only "
+                         "settles the gains)")
     args = ap.parse_args()
+    if (args.inertia_tolerance is not None or args.gains_settled is not None) and not args.state_feedback:
+        ap.error("--inertia-tolerance and --gains-settled are the state feedback's (--state-feedback)")
+    if args.inertia_tolerance is not None:
+        state_feedback.INERTIA_TOLERANCE = args.inertia_tolerance
+    if args.gains_settled is not None:
+        state_feedback.GAINS_SETTLED = args.gains_settled
     ELASTIC[0] = args.elastic
     if args.observer and not args.elastic:
         ap.error("--observer is for elastic gears (--elastic)")

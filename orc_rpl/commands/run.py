@@ -6,7 +6,9 @@ import argparse
 import contextlib
 import json
 import math
+import signal
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -272,7 +274,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         if watchers is not None:
             watchers.monitor(robot)
         wall_start = time.perf_counter()  # after the view's page connected
-        with paced_priority(paced, "orc run"), session_priority(args.view and args.fast, "orc run"):
+        with paced_priority(paced, "orc run"), session_priority(args.view and args.fast and args.port is None, "orc run"):
             interrupted = _run_until_done(executive, args.timeout, simulated=args.port is None)
     if interrupted and args.port is not None:
         bus_robot.stop_and_hold(robot)  # a real arm brakes, then holds with torque on (it must not fall)
@@ -306,8 +308,8 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
         return 1
     if watchers is not None:
         watchers.linger()  # at a terminal, the 3D view stays open until Enter
-    if interrupted == "Ctrl-C":
-        return 130
+    if interrupted in INTERRUPT_EXIT_CODES:
+        return INTERRUPT_EXIT_CODES[interrupted]
     return 1 if executive.status == "failed" or interrupted else 0
 
 
@@ -349,12 +351,41 @@ def _stderr_line(text: str) -> None:
     sys.stderr.write(text + "\n")
 
 
+#: The shell's codes of a program a signal stopped (128 + SIGINT, 128 + SIGTERM): the run ended as the signal asked,
+#: its summary and log written.
+INTERRUPT_EXIT_CODES = {"Ctrl-C": 130, "SIGTERM": 143}
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM during a run (`kill`, `timeout`, a supervisor): stopped as Ctrl-C stops it, so the robot stops on its
+    path and the summary, the log and the plots are still written (and the session's priority put back)."""
+
+
+@contextlib.contextmanager
+def _terminated_as_interrupt() -> Iterator[None]:
+    """SIGTERM raises `Terminated` in the run's thread until the block ends (where this is the main thread)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def terminate(signum: int, frame: Any) -> None:
+        raise Terminated()
+
+    previous = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def _run_until_done(executive: Any, timeout_s: float | None, simulated: bool = True) -> str:
     """Run the program; what interrupted it ("Ctrl-C", the timeout) or "" when it ended by itself."""
     limit = TimeLimit(executive.machine.robot, timeout_s, executive) if timeout_s is not None else None
     try:
-        with limit or contextlib.nullcontext():
+        with limit or contextlib.nullcontext(), _terminated_as_interrupt():
             executive.run()
+    except Terminated:
+        return "SIGTERM"
     except KeyboardInterrupt:
         return "Ctrl-C"
     if limit is not None and limit.reached and executive.status == "paused":

@@ -9,6 +9,7 @@ import resource
 import signal
 import sys
 import threading
+import time
 from typing import Any
 
 #: The time slice a paced motion thread asks Linux for. Linux's EEVDF scheduler (6.12 and later) lets a waking
@@ -199,10 +200,13 @@ class SessionPriority:
             return self
         if nice <= self.nice:
             return self
-        try:
-            with open(AUTOGROUP, "w", encoding="ascii") as group:
-                group.write(str(self.nice))
-        except OSError as error:  # EPERM
+        cgroup = _cpu_cgroup()
+        if cgroup is not None:
+            self.refused = (f"the run's control group {cgroup} shares the processor by its own weight, not by "
+                            "session (the session's priority would change nothing)")
+            return self
+        error = _write_autogroup(self.nice)
+        if error is not None:  # EPERM: no CAP_SYS_NICE and no nice allowance
             self.refused = f"a higher priority for the run's session not permitted ({error.strerror or error})"
             return self
         self._saved = nice
@@ -210,6 +214,58 @@ class SessionPriority:
 
     def __exit__(self, *exc: object) -> None:
         if self._saved is not None:
+            saved, self._saved = self._saved, None
+            error = _write_autogroup(saved)
+            if error is not None:   # never raise here: what the run made is still to be written
+                sys.stderr.write(f"orc: the session's priority could not be put back ({error.strerror or error}); "
+                                 f"`echo {saved} > {AUTOGROUP}` in this terminal does it\n")
+
+
+#: Linux takes one change of a session's nice value per 100 ms from a process without CAP_SYS_ADMIN, machine-wide,
+#: and refuses the next with EAGAIN: a run shorter than that (or another session's change just before) must wait.
+AUTOGROUP_RETRIES, AUTOGROUP_RETRY_S = 5, 0.11
+
+
+def _write_autogroup(nice: int) -> OSError | None:
+    """Write the session's nice value, waiting out Linux's rate limit (EAGAIN); the error that stopped it, or None."""
+    for attempt in range(AUTOGROUP_RETRIES):
+        try:
             with open(AUTOGROUP, "w", encoding="ascii") as group:
-                group.write(str(self._saved))
-            self._saved = None
+                group.write(str(nice))
+            return None
+        except BlockingIOError as error:
+            if attempt == AUTOGROUP_RETRIES - 1:
+                return error
+            time.sleep(AUTOGROUP_RETRY_S)
+        except OSError as error:
+            return error
+    return None
+
+
+def _cpu_cgroup(proc_cgroup: str = "/proc/self/cgroup", root: str = "/sys/fs/cgroup") -> str | None:
+    """The calling process's control group where its processor share is set by that group rather than by its session,
+    else None. Linux applies a session's nice value only to processes in the root cpu group; a desktop whose systemd
+    enabled the cpu controller for the user's slices (cgroup v2: "cpu" in a parent's cgroup.subtree_control, or a
+    cgroup v1 cpu hierarchy below its root) puts the run in a group of its own."""
+    try:
+        with open(proc_cgroup, encoding="ascii") as lines:
+            entries = [line.rstrip("\n").split(":", 2) for line in lines if line.strip()]
+    except OSError:
+        return None
+    for entry in entries:
+        if len(entry) != 3:
+            continue
+        _, controllers, path = entry
+        if controllers and "cpu" in controllers.split(","):   # cgroup v1: the cpu hierarchy's own line
+            return path if path != "/" else None
+        if controllers == "" and path != "/":   # cgroup v2: cpu enabled for the children of any folder above
+            parts = [part for part in path.split("/") if part]
+            for depth in range(len(parts)):
+                folder = os.path.join(root, *parts[:depth])
+                try:
+                    with open(os.path.join(folder, "cgroup.subtree_control"), encoding="ascii") as control:
+                        if "cpu" in control.read().split():
+                            return path
+                except OSError:
+                    return None
+    return None

@@ -305,18 +305,20 @@ def test_a_bad_timeout_is_a_usage_error(tmp_path, capsys, value) -> None:
     assert exit_.value.code == 2 and "--timeout" in capsys.readouterr().err
 
 
-def test_ctrl_c_stops_the_robot_and_writes_the_summary_as_interrupted(tmp_path) -> None:
+@pytest.mark.parametrize(("signal_name", "said", "code"), [("SIGINT", "Ctrl-C", 130), ("SIGTERM", "SIGTERM", 143)])
+def test_ctrl_c_or_sigterm_stops_the_robot_and_writes_the_summary_and_log_as_interrupted(tmp_path, signal_name: str,
+                                                                                       said: str, code: int) -> None:
     import signal
 
     program = write(tmp_path / "p.rpl", 'PRINT "start"\nWAIT 80000s\n')
-    summary = tmp_path / "s.json"
-    child = subprocess.Popen([sys.executable, "-m", "orc_rpl", "run", str(program), "--realtime", "--summary-json", str(summary)],
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    summary, log = tmp_path / "s.json", tmp_path / "l.npz"
+    child = subprocess.Popen([sys.executable, "-m", "orc_rpl", "run", str(program), "--realtime", "--summary-json", str(summary),
+                              "--log", str(log)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     assert child.stdout is not None and child.stdout.readline() == "start\n"
-    child.send_signal(signal.SIGINT)
+    child.send_signal(getattr(signal, signal_name))
     _, err = child.communicate(timeout=120)
-    assert child.returncode == 130 and "interrupted by Ctrl-C" in err and "Traceback" not in err
-    assert json.loads(summary.read_text())["status"] == "interrupted"
+    assert child.returncode == code and f"interrupted by {said}" in err and "Traceback" not in err
+    assert json.loads(summary.read_text())["status"] == "interrupted" and log.stat().st_size > 0
 
 
 # -- rendering only when asked ------------------------------------------------------------------

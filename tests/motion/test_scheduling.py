@@ -161,3 +161,54 @@ def test_orc_run_view_fast_says_when_the_session_priority_is_refused(tmp_path: P
     assert proc.returncode == 0, proc.stderr
     assert "orc run: the run keeps its priority: a higher priority for the run's session not permitted" in proc.stderr
     assert _session_nice() == before
+
+
+class _RateLimitedGroup:
+    """`open` for scheduling's session file that refuses the first `refusals` writes as Linux's rate limit does."""
+
+    def __init__(self, refusals: int) -> None:
+        self.refusals, self.written = refusals, []
+
+    def __call__(self, path: str, mode: str = "r", encoding: str | None = None) -> "_RateLimitedGroup":
+        if "w" in mode and self.refusals > 0:
+            self.refusals -= 1
+            raise BlockingIOError(11, "Resource temporarily unavailable")
+        return self
+
+    def __enter__(self) -> "_RateLimitedGroup":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        return None
+
+    def write(self, text: str) -> None:
+        self.written.append(text)
+
+
+def test_a_session_change_refused_by_the_rate_limit_is_made_again_and_a_failed_restore_never_raises(monkeypatch, capsys) -> None:
+    monkeypatch.setattr(scheduling, "AUTOGROUP_RETRY_S", 0.0)
+    group = _RateLimitedGroup(refusals=scheduling.AUTOGROUP_RETRIES - 1)
+    monkeypatch.setattr(scheduling, "open", group, raising=False)
+    assert scheduling._write_autogroup(-10) is None and group.written == ["-10"]
+    priority = scheduling.SessionPriority()
+    priority._saved = 0   # as after a granted __enter__
+    monkeypatch.setattr(scheduling, "open", _RateLimitedGroup(refusals=scheduling.AUTOGROUP_RETRIES), raising=False)
+    priority.__exit__(None, None, None)   # a run that ended within Linux's 100 ms: said, not raised
+    assert "could not be put back" in capsys.readouterr().err and priority._saved is None
+
+
+@pytest.mark.parametrize(("lines", "subtree", "expected"), [
+    ("1:cpu,cpuacct:/\n0::/\n", None, None),                                    # cgroup v1, the root cpu group
+    ("1:cpu,cpuacct:/user.slice\n", None, "/user.slice"),                       # v1, a group of its own
+    ("0::/user.slice/user-1000.slice/session-2.scope\n", "cpu memory", "/user.slice/user-1000.slice/session-2.scope"),
+    ("0::/user.slice/user-1000.slice/session-2.scope\n", "memory pids", None),  # v2 without the cpu controller
+])
+def test_a_cpu_group_other_than_the_root_is_found_where_the_session_priority_would_change_nothing(
+        tmp_path: Path, lines: str, subtree: str | None, expected: str | None) -> None:
+    proc_cgroup = tmp_path / "cgroup"
+    proc_cgroup.write_text(lines, encoding="ascii")
+    root = tmp_path / "fs"
+    for folder in (root, root / "user.slice", root / "user.slice" / "user-1000.slice"):
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / "cgroup.subtree_control").write_text("memory pids\n" if folder != root or subtree is None else subtree)
+    assert scheduling._cpu_cgroup(str(proc_cgroup), str(root)) == expected
