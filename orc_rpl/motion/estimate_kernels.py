@@ -87,13 +87,8 @@ def cycle_update(tau_nm: np.ndarray, qd_rad_s: np.ndarray, load_gain: np.ndarray
                  load: np.ndarray, rise_gain: np.ndarray, rise_gain_per_k: np.ndarray, rise_decay: np.ndarray,
                  rise: np.ndarray, speed_sum: np.ndarray, speed_sq_sum: np.ndarray,
                  tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`load_update`, `rise_update` and `sums_update` in one call (the motion cycle's three estimates)."""
-    for j in range(load.shape[0]):
-        tau_sq = tau_nm[j] * tau_nm[j]
-        load[j] = load[j] * load_decay[j] + tau_sq * load_gain[j]
-        heat = rise[j] * rise_gain_per_k[j] + rise_gain[j]
-        rise[j] = rise[j] * rise_decay[j] + tau_sq * heat
-        speed = abs(qd_rad_s[j])
-        speed_sum[j] = speed_sum[j] + speed
-        speed_sq_sum[j] = speed_sq_sum[j] + speed * speed
-        tau_sq_sum[j] = tau_sq_sum[j] + tau_sq
+    """`load_update`, `rise_update` and `sums_update` in one call (the motion cycle's three estimates: one
+    dispatch from Python; the calls between kernels are compiled as direct calls)."""
+    load_update(tau_nm, load_gain, load_decay, load)
+    rise_update(tau_nm, rise_gain, rise_gain_per_k, rise_decay, rise)
+    sums_update(tau_nm, qd_rad_s, speed_sum, speed_sq_sum, tau_sq_sum)
