@@ -6,10 +6,10 @@ import math
 
 import numpy as np
 
-from orc_rpl.plant.compiled import kernel
+from orc_rpl.plant.compiled import inlined_kernel, kernel
 
 
-@kernel
+@inlined_kernel
 def admissible_range_sum(b1: np.ndarray, b2: np.ndarray, b2_extra: np.ndarray | None,
                          limit: np.ndarray) -> tuple[float, float]:  # pragma: no cover
     """`PathVelocityController.admissible`'s range from b1, b2 compiled (the same operations, exact), b2 given
@@ -29,6 +29,6 @@ def admissible_range_sum(b1: np.ndarray, b2: np.ndarray, b2_extra: np.ndarray | 
 
 @kernel
 def admissible_range(b1: np.ndarray, b2: np.ndarray, limit: np.ndarray) -> tuple[float, float]:  # pragma: no cover
-    """`admissible_range_sum` with b2 in one term (its own entry point: a call from Python with three arrays and
-    no default argument is the dispatcher's fast path; the call inside is compiled as a direct call)."""
+    """`admissible_range_sum` with b2 in one term (its own entry point: a call from Python with three arrays is
+    the dispatcher's fast path, a None argument is not; numba puts admissible_range_sum's body in here)."""
     return admissible_range_sum(b1, b2, None, limit)
