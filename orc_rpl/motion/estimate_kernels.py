@@ -7,17 +7,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from orc_rpl.plant.compiled import kernel
+from orc_rpl.plant.compiled import inlined_kernel, kernel
 
 
-@kernel
+@inlined_kernel
 def load_update(tau_nm: np.ndarray, gain: np.ndarray, decay: np.ndarray, load: np.ndarray) -> None:  # pragma: no cover
     """`ThermalModel.update` compiled: load = load decay + tau^2 gain, the same operations."""
     for j in range(load.shape[0]):
         load[j] = load[j] * decay[j] + (tau_nm[j] * tau_nm[j]) * gain[j]
 
 
-@kernel
+@inlined_kernel
 def rise_update(tau_nm: np.ndarray, gain: np.ndarray, gain_per_k: np.ndarray, decay: np.ndarray,
                 rise: np.ndarray) -> None:  # pragma: no cover - compiled
     """`WindingTemperature.update`'s model part compiled: the same operations in the same order."""
@@ -26,7 +26,7 @@ def rise_update(tau_nm: np.ndarray, gain: np.ndarray, gain_per_k: np.ndarray, de
         rise[j] = rise[j] * decay[j] + (tau_nm[j] * tau_nm[j]) * heat
 
 
-@kernel
+@inlined_kernel
 def sums_update(tau_nm: np.ndarray, qd_rad_s: np.ndarray, speed_sum: np.ndarray, speed_sq_sum: np.ndarray,
                 tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
     """`GearFriction.update`'s sums compiled: |qd|, qd^2 and tau^2 added in place, the same operations."""
@@ -87,13 +87,8 @@ def cycle_update(tau_nm: np.ndarray, qd_rad_s: np.ndarray, load_gain: np.ndarray
                  load: np.ndarray, rise_gain: np.ndarray, rise_gain_per_k: np.ndarray, rise_decay: np.ndarray,
                  rise: np.ndarray, speed_sum: np.ndarray, speed_sq_sum: np.ndarray,
                  tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`load_update`, `rise_update` and `sums_update` in one call (the motion cycle's three estimates)."""
-    for j in range(load.shape[0]):
-        tau_sq = tau_nm[j] * tau_nm[j]
-        load[j] = load[j] * load_decay[j] + tau_sq * load_gain[j]
-        heat = rise[j] * rise_gain_per_k[j] + rise_gain[j]
-        rise[j] = rise[j] * rise_decay[j] + tau_sq * heat
-        speed = abs(qd_rad_s[j])
-        speed_sum[j] = speed_sum[j] + speed
-        speed_sq_sum[j] = speed_sq_sum[j] + speed * speed
-        tau_sq_sum[j] = tau_sq_sum[j] + tau_sq
+    """`load_update`, `rise_update` and `sums_update` in one call (the motion cycle's three estimates: one
+    dispatch from Python; numba puts the three bodies in here, they are `inlined_kernel`s)."""
+    load_update(tau_nm, load_gain, load_decay, load)
+    rise_update(tau_nm, rise_gain, rise_gain_per_k, rise_decay, rise)
+    sums_update(tau_nm, qd_rad_s, speed_sum, speed_sq_sum, tau_sq_sum)

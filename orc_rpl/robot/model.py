@@ -49,6 +49,10 @@ class ArmModel:
         self._bare_inertia = self._model.inertias[self._last_joint].copy()
         self._payload: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
         self._pool: Any = None  #: a copy of the model for the batched RNEA, made again when the payload changes
+        #: rigid_body_rows()'s rows and the payload they were made with (the payload is the only part of the
+        #: model that changes after it is made: `_apply_payload` puts a new tuple in `_payload` when it does)
+        self._rows: np.ndarray | None = None
+        self._rows_of: Any = None
         self._model.gravity.linear = np.array([0.0, 0.0, -GRAVITY_M_S2])
         self._lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -227,7 +231,14 @@ class ArmModel:
         """The chain's rigid-body parameters with the current payload, a row per joint, for a compiled RNEA
         (servo/rnea_kernel.py): the joint's placement in its parent (rotation row-major 0:9, translation 9:12),
         its axis (12:15), the body's mass (15), centre of mass (16:19), rotational inertia about it (19:28,
-        row-major) and the rotor's armature (28); None when the model is not a chain of revolute joints."""
+        row-major) and the rotor's armature (28); None when the model is not a chain of revolute joints.
+        Made once per payload: the same array until the payload changes (a new one then; callers only read it)."""
+        if self._rows_of is not self._payload:
+            self._rows, self._rows_of = self._rigid_body_rows(), self._payload
+        return self._rows
+
+    def _rigid_body_rows(self) -> np.ndarray | None:
+        """`rigid_body_rows` made from the model now."""
         m = self._model
         rows = np.zeros((self.n_joints, 29))
         for i in range(1, m.njoints):

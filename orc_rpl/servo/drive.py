@@ -53,7 +53,7 @@ class CompiledDrives:
         #: the kernel's feed-forward and M_ii compiled (servo/rnea_kernel.py; False: Pinocchio's, the reference)
         self.compiled_rnea = True
         self._no_body = np.zeros((0, 29))
-        self._body, self._body_of = self._no_body, None   #: the model's rows for the compiled RNEA, and their payload
+        self._body = self._no_body   #: the model's rows for the compiled RNEA (its own: a new array when the payload changes)
         self._gravity = servo.arm.gravity_m_s2
         self._mass_diagonal = np.zeros(n)
         self._tail: Any = None   #: the kernel's arguments that change only with the ones checked in _run_kernel
@@ -199,10 +199,11 @@ class CompiledDrives:
         if self._law_of is None or self._law_of[0] is not servo._kp or self._law_of[1] is not servo._coulomb:
             self._law_rows()
         rnea, mass_diagonal = self._rnea, self._mass_diagonal
-        if self._body_of is not servo.arm.payload:   # the payload's tuple is a new object when it changes
-            body = servo.arm.rigid_body_rows() if self.compiled_rnea else None
-            self._body = self._no_body if body is None else body
-            self._body_of, self._tail = servo.arm.payload, None
+        body = servo.arm.rigid_body_rows() if self.compiled_rnea else None
+        if body is None:
+            body = self._no_body
+        if body is not self._body:   # the model makes its rows again when the payload changes
+            self._body, self._tail = body, None
         if self._body is self._no_body:   # Pinocchio's M_ii and rigid-body torques (one C call for the rows)
             q, _ = cell.live_state()
             mass_diagonal = servo.arm.mass_matrix_diagonal_unchecked(q)

@@ -187,8 +187,6 @@ class TwoMassStateFeedback:
         self.k, self.l = np.zeros((m, 4 * m)), np.zeros((5 * m, 2 * m))   #: the gains (`schedule` makes them)
         self._settling = True   #: the last schedule's iterations still moved the gains by more than GAINS_SETTLED
         self.scheduled = self.kept = 0   #: motion cycles whose schedule made the gains again, and kept them
-        self._body: Any = None   #: the model's rows for the compiled M(q) (None: Pinocchio's), made for `_body_of`
-        self._body_of: Any = None
         self._no_speeds = np.zeros(n)
         #: the compiled schedule (servo/state_feedback_kernels.py), None where numba is not; `compiled.ON` picks
         self._kernels: Any = compiled.kernels("orc_rpl.servo.state_feedback_kernels")
@@ -272,12 +270,11 @@ class TwoMassStateFeedback:
         flags are the same as `moving`'s)."""
         sel, arm = self.joints, self.arm
         if self._kernels is not None and compiled.ON:
-            if self._body_of is not arm.payload:   # the payload's tuple is a new object when it changes
-                self._body, self._body_of = arm.rigid_body_rows(), arm.payload
-            if self._body is not None:   # compiled (servo/rnea_kernel.py): a new array each cycle, as Pinocchio's
+            body = arm.rigid_body_rows()   # the model's rows for the compiled M(q) (None: Pinocchio's)
+            if body is not None:   # compiled (servo/rnea_kernel.py): a new array each cycle, as Pinocchio's
                 inertia, moving = np.empty((self.m, self.m)), np.empty(self.m, dtype=bool)
                 speeds = self._no_speeds if qd_ref is None else qd_ref
-                moved, changed = self._kernels.link_inertia_at(self._body, q, sel, self.rotor, self.link_inertia,
+                moved, changed = self._kernels.link_inertia_at(body, q, sel, self.rotor, self.link_inertia,
                                                                inertia, speeds, MOVING_RAD_S, self.moving, moving)
                 return inertia, moved, (moving if changed and qd_ref is not None else None)
         payload = arm.payload   # (kg, com): the model keeps its payload

@@ -23,7 +23,7 @@ class StateFeedbackCycle:
         n = servo.arm.n_joints
         self._law = np.zeros((kernels.LAW_ROWS, n))
         self._law_of: Any = None   #: the (kp, velocity_bw, integral_bw_dt) the rows were made from
-        self._body, self._body_of = None, None   #: the model's rows for the compiled RNEA, and their payload
+        self._body: Any = None   #: the model's rows for the compiled RNEA (its own: a new array when the payload changes)
         self._gravity = servo.arm.gravity_m_s2
         self._torque_ff, self._velocity, self._no_friction = np.zeros(n), np.zeros(n), np.zeros(n)
         self._tail: Any = None
@@ -34,9 +34,10 @@ class StateFeedbackCycle:
         if (servo.tuning is not None or not compiled.ON or self.law._kernels is None
                 or not self.cell.drives.kernel_fits()):
             return False
-        if self._body_of is not servo.arm.payload:   # the payload's tuple is a new object when it changes
-            self._body, self._body_of, self._tail = servo.arm.rigid_body_rows(), servo.arm.payload, None
-        return self._body is not None
+        body = servo.arm.rigid_body_rows()
+        if body is not self._body:   # the model makes its rows again when the payload changes
+            self._body, self._tail = body, None
+        return body is not None
 
     def run(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
         """The call's steps (the law scheduled for it already), the drives as torque motors."""

@@ -149,3 +149,16 @@ def test_the_batched_rnea_gives_the_numbers_of_the_single_calls_and_follows_payl
         out = np.zeros(q.shape)
         rows(q, qd, qdd, out)
         assert np.array_equal(out, np.array([single(a, b, c) for a, b, c in zip(q, qd, qdd)])), payload_kg
+
+
+def test_the_rigid_body_rows_are_made_once_per_payload_and_follow_its_changes() -> None:
+    arm = load_robot("irb2400")
+    first = arm.rigid_body_rows()
+    assert first is not None and arm.rigid_body_rows() is first   # the same payload: the rows made once
+    arm.set_payload(12.0, (0.0, 0.0, 0.1))
+    loaded = arm.rigid_body_rows()
+    assert loaded is not first and loaded[-1, 15] == first[-1, 15] + 12.0   # the payload's mass on the last link
+    arm.set_payload(12.0, (0.0, 0.0, 0.1))   # the same payload again: nothing to make
+    assert arm.rigid_body_rows() is loaded
+    arm.set_payload(0.0)
+    assert np.array_equal(arm.rigid_body_rows(), first)
