@@ -27,6 +27,15 @@ def tcp_m(session: PendantSession) -> np.ndarray:
     return np.array([pose.x, pose.y, pose.z])
 
 
+def hold_at_rest(session: PendantSession, cycles: int) -> None:
+    """Motion cycles at the reference where the last move ended (the bus backend's droop correction at work)."""
+    layer = session.robot.layer
+    q_end = np.array(layer.reference_q(), dtype=float)[None]
+    zero = np.zeros_like(q_end)
+    for _ in range(cycles):
+        layer.backend.advance(q_end, zero, zero)
+
+
 def test_the_pendant_jogs_teaches_and_caps_manual_speed_on_the_emulated_arm(tmp_path: Path) -> None:
     path = tmp_path / "desk.rpl"
     path.write_text(PROGRAM, encoding="utf-8")
@@ -54,6 +63,10 @@ def test_the_pendant_jogs_teaches_and_caps_manual_speed_on_the_emulated_arm(tmp_
                 now = layer.fk(layer.reference_q())[:3, 3]
                 peak, last = max(peak, float(np.linalg.norm(now - last)) / dt), now
             assert peak <= 0.25 * 1.02, f"manual mode TCP speed {peak:.3f} m/s on the bus"
+            # FINE arrives within SETTLED_COUNTS of every joint (its TCP up to about 1.5 mm off on this arm, at the
+            # wall clock's mercy on a busy machine); held at rest, the droop correction then brings it within a
+            # count or two: where the arm rests is what this asserts, as after the first move
+            hold_at_rest(session, cycles=100)
             np.testing.assert_allclose(tcp_m(session), (0.180, 0.120, 0.020), atol=1e-3)
         finally:
             session.robot.layer.backend.hold()
