@@ -22,7 +22,8 @@ class StateFeedbackCycle:
         self.servo, self.cell, self.law, self._kernels = servo, cell, law, kernels
         n = servo.arm.n_joints
         self._law = np.zeros((kernels.LAW_ROWS, n))
-        self._law_of: Any = None   #: the (kp, velocity_bw, integral_bw_dt) the rows were made from
+        #: the (kp, velocity_bw) arrays the rows were made from (a tuning sets them with integral_bw_dt, all new arrays)
+        self._law_of: Any = None
         self._body: Any = None   #: the model's rows for the compiled RNEA (its own: a new array when the payload changes)
         self._gravity = servo.arm.gravity_m_s2
         self._torque_ff, self._velocity, self._no_friction = np.zeros(n), np.zeros(n), np.zeros(n)
