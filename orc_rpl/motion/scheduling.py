@@ -176,6 +176,26 @@ def follow_paced(below: int = 1) -> None:
 #: `fast_slowdown_pct` against `..._normal_session`).
 FAST_SESSION_NICE = -10
 AUTOGROUP = "/proc/self/autogroup"
+AUTOGROUP_ENABLED = "/proc/sys/kernel/sched_autogroup_enabled"
+
+
+def session_nice() -> int | None:
+    """The nice value of the calling process's session (its autogroup), None where the kernel does not group by
+    session: not Linux, autogroup switched off, or a sandbox whose /proc answers with an empty or foreign line."""
+    try:
+        with open(AUTOGROUP_ENABLED, encoding="ascii") as enabled:
+            if enabled.read().strip() != "1":
+                return None
+        with open(AUTOGROUP, encoding="ascii") as group:
+            fields = group.read().split()  # "/autogroup-2925 nice 0"
+    except OSError:
+        return None
+    if len(fields) != 3 or fields[1] != "nice":
+        return None
+    try:
+        return int(fields[2])
+    except ValueError:
+        return None
 
 
 class SessionPriority:
@@ -190,15 +210,8 @@ class SessionPriority:
         self._saved: int | None = None
 
     def __enter__(self) -> SessionPriority:
-        try:
-            with open("/proc/sys/kernel/sched_autogroup_enabled", encoding="ascii") as enabled:
-                if enabled.read().strip() != "1":
-                    return self
-            with open(AUTOGROUP, encoding="ascii") as group:
-                nice = int(group.read().split()[-1])  # "/autogroup-2925 nice 0"
-        except (OSError, ValueError, IndexError):  # not Linux, or a kernel without autogroup
-            return self
-        if nice <= self.nice:
+        nice = session_nice()
+        if nice is None or nice <= self.nice:
             return self
         cgroup = _cpu_cgroup()
         if cgroup is not None:

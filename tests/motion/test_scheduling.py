@@ -122,35 +122,25 @@ def test_orc_run_says_when_real_time_priority_is_refused(tmp_path: Path) -> None
     assert "orc run: the motion cycle runs at normal priority: real-time priority not permitted" in proc.stderr
 
 
-def _session_nice() -> int | None:
-    """The nice value of this process's session (Linux autogroup), None where the kernel does not group by session."""
-    try:
-        if Path("/proc/sys/kernel/sched_autogroup_enabled").read_text().strip() != "1":
-            return None
-        return int(Path(scheduling.AUTOGROUP).read_text().split()[-1])
-    except (OSError, ValueError):
-        return None
-
-
-@pytest.mark.skipif(_session_nice() is None, reason="the kernel does not group processes by session (autogroup)")
+@pytest.mark.skipif(scheduling.session_nice() is None, reason="the kernel does not group processes by session (autogroup)")
 def test_a_fast_run_raises_its_session_and_gives_the_nice_value_back() -> None:
-    before = _session_nice()
+    before = scheduling.session_nice()
     assert before is not None
     with scheduling.SessionPriority() as priority:
         if priority.refused is not None:  # an ordinary user without an RLIMIT_NICE: said, and nothing changed
             assert "not permitted" in priority.refused
-            assert _session_nice() == before
+            assert scheduling.session_nice() == before
         else:
-            assert _session_nice() == min(before, scheduling.FAST_SESSION_NICE)
-    assert _session_nice() == before
+            assert scheduling.session_nice() == min(before, scheduling.FAST_SESSION_NICE)
+    assert scheduling.session_nice() == before
 
 
-@pytest.mark.skipif(_session_nice() is None or shutil.which("setpriv") is None,
+@pytest.mark.skipif(scheduling.session_nice() is None or shutil.which("setpriv") is None,
                     reason="needs the kernel's session groups (autogroup) and setpriv (util-linux)")
 def test_orc_run_view_fast_says_when_the_session_priority_is_refused(tmp_path: Path) -> None:
     """Without CAP_SYS_NICE (an ordinary user) a `--view --fast` run goes on at its session's priority and says so."""
     pytest.importorskip("viser", reason="the 3D view is the [view] extra")
-    before = _session_nice()
+    before = scheduling.session_nice()
     program = tmp_path / "wait.rpl"
     program.write_text("WAIT 0.05s\n", encoding="utf-8")
     command = ["setpriv", "--inh-caps", "-sys_nice", "--bounding-set", "-sys_nice",
@@ -160,7 +150,7 @@ def test_orc_run_view_fast_says_when_the_session_priority_is_refused(tmp_path: P
         pytest.skip(f"setpriv cannot drop the capability here: {proc.stderr.strip()}")
     assert proc.returncode == 0, proc.stderr
     assert "orc run: the run keeps its priority: a higher priority for the run's session not permitted" in proc.stderr
-    assert _session_nice() == before
+    assert scheduling.session_nice() == before
 
 
 class _RateLimitedGroup:
@@ -195,6 +185,28 @@ def test_a_session_change_refused_by_the_rate_limit_is_made_again_and_a_failed_r
     monkeypatch.setattr(scheduling, "open", _RateLimitedGroup(refusals=scheduling.AUTOGROUP_RETRIES), raising=False)
     priority.__exit__(None, None, None)   # a run that ended within Linux's 100 ms: said, not raised
     assert "could not be put back" in capsys.readouterr().err and priority._saved is None
+
+
+@pytest.mark.parametrize(("enabled", "group", "expected"), [
+    ("1\n", "/autogroup-2925 nice 0\n", 0),
+    ("1\n", "/autogroup-2925 nice -10\n", -10),
+    ("0\n", "/autogroup-2925 nice 0\n", None),   # autogroup switched off
+    ("1\n", "", None),                            # a sandbox's /proc that answers with nothing (seen in CI)
+    ("1\n", "/autogroup-2925\n", None),
+    ("1\n", "/autogroup-2925 nice high\n", None),
+    (None, None, None),                           # not Linux
+])
+def test_the_session_nice_value_is_read_or_none_and_an_odd_proc_never_raises(
+        tmp_path: Path, monkeypatch, enabled: str | None, group: str | None, expected: int | None) -> None:
+    for name, text in (("AUTOGROUP_ENABLED", enabled), ("AUTOGROUP", group)):
+        path = tmp_path / name
+        if text is not None:
+            path.write_text(text, encoding="ascii")
+        monkeypatch.setattr(scheduling, name, str(path))
+    assert scheduling.session_nice() == expected
+    if expected is None:   # nothing to raise: the run goes on as it is, and says nothing
+        with scheduling.SessionPriority() as priority:
+            assert priority.refused is None and priority._saved is None
 
 
 @pytest.mark.parametrize(("lines", "subtree", "expected"), [
