@@ -24,7 +24,7 @@ TIERS: tuple[tuple[str, ...], ...] = (
     ("robot",),
     ("world", "signals"),
     ("syntax",),
-    ("errors", "atomic", "layers"),
+    ("errors", "atomic", "layers", "listeners"),
 )
 
 #: Heavy libraries and the one package allowed to import each (it wraps the library for the rest).

@@ -43,11 +43,11 @@ class TimeLimit:
         self.reached = False
 
     def __enter__(self) -> TimeLimit:
-        self._robot.tick_listeners.append(self.on_tick)
+        self._robot.tick_listeners.add(self.on_tick)
         return self
 
     def __exit__(self, *exc: Any) -> None:
-        self._robot.tick_listeners.remove(self.on_tick)
+        self._robot.tick_listeners.discard(self.on_tick)
 
     def on_tick(self) -> None:
         if self._robot.time_s() >= self._limit_s and not self.reached:

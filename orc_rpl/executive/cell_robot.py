@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from orc_rpl.application.runtime import FunctionParam, MotionRequest, MotionView, Sample
 from orc_rpl.errors import OrcError, PlanningError
+from orc_rpl.listeners import Listeners
 from orc_rpl.motion import (ActionSlot, Actions, CartesianMotion, Computation, FuncParams, FunctionMotion, JointMotion, Known,
                             MotionData, MotionLayer, MoveStatus, Params)
 from orc_rpl.executive.sensor_ahead import correction
@@ -66,8 +66,8 @@ class CellRobot:
         #: who watches the run (the 3D view, the video, the progress display, the margins) listens here, not through
         #: a wrapper in front of every call: called after every motion cycle, and with each motion's ticket once it
         #: is accepted
-        self.tick_listeners: list[Callable[[], None]] = []
-        self.submit_listeners: list[Callable[[HandleTicket], None]] = []
+        self.tick_listeners: Listeners[[]] = Listeners()
+        self.submit_listeners: Listeners[[HandleTicket]] = Listeners()
 
     def attach_world(self, world: Any) -> None:
         """The cell's world model with moving frames: the robot drives its external axes and knows where its base is."""
@@ -107,8 +107,7 @@ class CellRobot:
         self.layer.tick()
         if self._own_io:
             self.io.update(self.layer.now_s())
-        for listener in self.tick_listeners:
-            listener()
+        self.tick_listeners()
 
     def pending(self) -> int:
         external = self.layer.external
@@ -311,8 +310,7 @@ class CellRobot:
                 raise h.error
             if h.status is MoveStatus.ILLEGAL:
                 raise PlanningError(f"the motion layer refused the move (mode {layer.get_mode().value})")
-        for listener in self.submit_listeners:
-            listener(ticket)
+        self.submit_listeners(ticket)
         return ticket
 
 

@@ -43,13 +43,13 @@ class MarginWatch:
         self.statements: dict[tuple[int, int], _Statement] = {}
 
     def __enter__(self) -> MarginWatch:
-        self._robot.submit_listeners.append(self.on_submit)
-        self._robot.tick_listeners.append(self.on_tick)
+        self._robot.submit_listeners.add(self.on_submit)
+        self._robot.tick_listeners.add(self.on_tick)
         return self
 
     def __exit__(self, *exc: Any) -> None:
-        self._robot.submit_listeners.remove(self.on_submit)
-        self._robot.tick_listeners.remove(self.on_tick)
+        self._robot.submit_listeners.discard(self.on_submit)
+        self._robot.tick_listeners.discard(self.on_tick)
 
     def on_submit(self, ticket: Any) -> None:
         span = self._machine.motion_span

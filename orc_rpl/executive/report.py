@@ -87,7 +87,7 @@ class Progress:
             self._live = Live(self._text(), console=Console(file=self.stream), transient=True, refresh_per_second=8,
                               redirect_stdout=False, redirect_stderr=False)  # PRINT lines stay on standard output
             self._live.__enter__()
-            self.robot.tick_listeners.append(self.on_tick)
+            self.robot.tick_listeners.add(self.on_tick)
         return self
 
     def on_tick(self) -> None:
@@ -110,5 +110,5 @@ class Progress:
 
     def __exit__(self, *exc: Any) -> None:
         if self._live is not None:
-            self.robot.tick_listeners.remove(self.on_tick)
+            self.robot.tick_listeners.discard(self.on_tick)
             self._live.__exit__(*exc)

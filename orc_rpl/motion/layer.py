@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.errors import UsageError
+from orc_rpl.listeners import Listeners
 from orc_rpl.motion import services
 from orc_rpl.motion.actions import Actions, MoveSignal
 from orc_rpl.motion.ahead import PLANNED_AHEAD, PlanAhead
@@ -58,7 +59,7 @@ class MotionLayer(MotionPipeline):
         self.ahead: PlanAhead | None = None
         #: the planned-path signal: each listener is told (move id, planned TCP positions (N, 3) in m) when a
         #: move is accepted, before it starts (a 3D view draws the path the robot is about to take)
-        self.plan_listeners: list[Callable[[int, np.ndarray], None]] = []
+        self.plan_listeners: Listeners[[int, np.ndarray]] = Listeners()
         # thesis 4.5, alternative 3: the thermal load estimate is part of the standard motion cycle
         tau_max = getattr(kin.arm, "tau_max", None)
         self.thermal = None if tau_max is None else ThermalModel.for_arm(tau_max, motion_period_s)
@@ -145,8 +146,7 @@ class MotionLayer(MotionPipeline):
         h.plan, h.pieces_left = plan, list(plan.pieces)
         if self.plan_listeners and plan.pieces:
             tcp_m = np.vstack([piece.tcp for piece in plan.pieces])
-            for listener in self.plan_listeners:
-                listener(h.id, tcp_m)
+            self.plan_listeners(h.id, tcp_m)
         self._queue.append(h)
         self._admit()
         return h

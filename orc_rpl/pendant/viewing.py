@@ -40,8 +40,8 @@ class ViewLink:
         self._followed: tuple[Any, Any] = (None, None)
         self._shown: tuple[str | None, int | None] = (None, None)
         self._ticks = -1                          #: the robot's motion cycles when the view was last brought up to date
-        robot.tick_listeners.append(view.on_tick)
-        robot.layer.plan_listeners.append(self._planned)
+        robot.tick_listeners.add(view.on_tick)
+        robot.layer.plan_listeners.add(self._planned)
         if url is not None:
             events.record(f"the 3D view is at {url}")
 
@@ -97,7 +97,5 @@ class ViewLink:
 
     def close(self) -> None:
         """Stop feeding the view (the view itself is closed by whoever opened it)."""
-        if self.view.on_tick in self.robot.tick_listeners:
-            self.robot.tick_listeners.remove(self.view.on_tick)
-        if self._planned in self.robot.layer.plan_listeners:
-            self.robot.layer.plan_listeners.remove(self._planned)
+        self.robot.tick_listeners.discard(self.view.on_tick)
+        self.robot.layer.plan_listeners.discard(self._planned)

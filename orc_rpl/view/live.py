@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.executive.executive import Executive
+from orc_rpl.listeners import Listeners
 from orc_rpl.plant.shapes import cell_poses, cell_shapes
 from orc_rpl.view.framing import frame_work
 from orc_rpl.view.positions import declared_names, world_transforms
@@ -94,7 +95,7 @@ class LiveView:
         self._ticks = 0                           #: motion cycles seen
         self._tools_mounted = False                #: a world object rides on the flange: the flange is drawn too
         self.process = ProcessOverlay()
-        self._listening: list[Any] = []           #: the tick listeners of the robot watched (monitor)
+        self._listening: Listeners[[]] = Listeners()  #: the tick listeners of the robot watched (monitor)
         self.sender = self._sender()
 
     def _sender(self) -> Any:
@@ -112,7 +113,7 @@ class LiveView:
         reach = [np.zeros(3), layer.fk(layer.current_q())[:3, 3]]
         if self.world is not None:
             reach += self._add_world()
-        layer.plan_listeners.append(self._planned)
+        layer.plan_listeners.add(self._planned)
         self.scene.frame_camera(frame_work(np.array(reach)))
         self.update()
 
@@ -161,7 +162,7 @@ class LiveView:
     def monitor(self, robot: Any) -> Any:
         """Listen to the robot's motion cycles (its `tick_listeners`) until finish(); the robot for the executive to
         drive is the robot itself, no wrapper."""
-        robot.tick_listeners.append(self.on_tick)
+        robot.tick_listeners.add(self.on_tick)
         self._listening = robot.tick_listeners
         return robot
 
@@ -194,8 +195,5 @@ class LiveView:
 
     def finish(self) -> None:
         """Stop listening to the robot's motion cycles and planned paths."""
-        if self.on_tick in self._listening:
-            self._listening.remove(self.on_tick)
-        listeners = self.robot.layer.plan_listeners
-        if self._planned in listeners:
-            listeners.remove(self._planned)
+        self._listening.discard(self.on_tick)
+        self.robot.layer.plan_listeners.discard(self._planned)

@@ -13,6 +13,7 @@ from PIL import Image, ImageDraw, ImageFont
 
 from orc_rpl.errors import UsageError
 from orc_rpl.executive.executive import Executive
+from orc_rpl.listeners import Listeners
 from orc_rpl.plant.camera import OffscreenCamera
 from orc_rpl.view.framing import Framing
 from orc_rpl.view.live import sim_cell, statement_caption
@@ -39,7 +40,7 @@ class VideoRecorder:
             raise UsageError("--video films the simulated cell; this robot has none")
         self.executive, self.robot, self.fps = executive, robot, fps
         self.frames = 0                                   #: frames written so far
-        self._listening: list[Any] = []                   #: the tick listeners of the robot filmed
+        self._listening: Listeners[[]] = Listeners()          #: the tick listeners of the robot filmed
         self.camera = OffscreenCamera(cell, *size)
         self.camera.aim(framing.lookat_m, framing.distance_m, framing.azimuth_deg, framing.elevation_deg)
         self.executive.tracing = True  # the caption follows every statement
@@ -60,7 +61,7 @@ class VideoRecorder:
 
     def monitor(self, robot: Any) -> Any:
         """Film `robot`'s motion cycles from now on (it calls on_tick) until close(); the robot for the executive."""
-        robot.tick_listeners.append(self.on_tick)
+        robot.tick_listeners.add(self.on_tick)
         self._listening = robot.tick_listeners
         return robot
 
@@ -80,8 +81,7 @@ class VideoRecorder:
 
     def close(self) -> None:
         """Stop filming, finish the file, put it in its place and free the renderer."""
-        if self.on_tick in self._listening:
-            self._listening.remove(self.on_tick)
+        self._listening.discard(self.on_tick)
         try:
             self._writer.close()
             os.chmod(self._temporary, _mode_for(self.path))

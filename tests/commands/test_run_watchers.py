@@ -49,4 +49,4 @@ def test_progress_margins_and_video_listen_to_the_robot(tmp_path: Path, monkeypa
     assert "margins: clearance:" in terminal.getvalue()
     assert len(driven) == 1 and type(driven[0]) is CellRobot, "the executive drives the robot itself"
     assert listening == [3], "the progress display, the margins and the video listen to its motion cycles"
-    assert driven[0].tick_listeners == [] and driven[0].submit_listeners == [], "nothing listens after the run"
+    assert len(driven[0].tick_listeners) == 0 and len(driven[0].submit_listeners) == 0, "nothing listens after the run"

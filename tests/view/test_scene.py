@@ -21,7 +21,7 @@ def test_motion_layer_signals_the_planned_path_before_the_move_starts() -> None:
     layer = make_virtual_motion_layer(backend="kinematic")
     heard: list[tuple[int, np.ndarray, int]] = []
     target = tuple(np.asarray(layer.current_q()) + 0.2)
-    layer.plan_listeners.append(lambda move_id, tcp_m: heard.append((move_id, tcp_m, layer.cycles)))
+    layer.plan_listeners.add(lambda move_id, tcp_m: heard.append((move_id, tcp_m, layer.cycles)))
     handle = layer.move(JointMotion(target_rad=target))
     assert len(heard) == 1 and heard[0][0] == handle.id
     _, tcp_m, cycles = heard[0]
