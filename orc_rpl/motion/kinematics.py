@@ -51,6 +51,10 @@ class Kinematics:
         #: largest joint change between neighbouring IK samples before we call it a configuration flip
         self.joint_step_limit_rad = joint_step_limit_rad
         self._chain: tuple | None = None  #: (kernels, the chain's kinematic rows, flange in the last joint), or ()
+        #: IK along paths tracked by the compiled Newton steps (ik_kernels.py) where numba is there; False: the
+        #: Python steps, their reference. A switch of its own, not compiled.use_kernels': the per-cycle kernels
+        #: give their numpy code's bits (tests compare whole runs), these the reference's to about 1e-15 rad
+        self.compiled_tracking = True
 
     def _compiled_chain(self) -> tuple:
         """(ik_kernels, the chain's rows, the flange in its last joint) for the compiled tracking (six revolute axes
@@ -139,7 +143,7 @@ class Kinematics:
         prev = np.asarray(q_start, dtype=float)
         self.arm.fk(prev, tool)  # checks q_start and the tool once: _track's inner loop does not
         q_min, q_max, limit, n = self.arm.q_min, self.arm.q_max, self.joint_step_limit_rad, self.n
-        chain = self._compiled_chain() if compiled.ON else ()
+        chain = self._compiled_chain() if self.compiled_tracking else ()
         if chain:
             kernels, rows, flange = chain
             tip = flange if tool is None else flange @ self.arm.transform(tool)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 import numpy as np
 import pytest
 
@@ -17,17 +15,10 @@ from orc_rpl.world.pose import Pose
 pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason="no kernels to compare: numba is not installed or ORC_RPL_NO_JIT=1")]
 
 
-@pytest.fixture(autouse=True)
-def _setting_kept() -> Iterator[None]:
-    setting = compiled.ON
-    yield
-    compiled.use_kernels(setting)
-
-
 def _both(kin, poses: np.ndarray, q0: np.ndarray, tool: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:  # type: ignore[no-untyped-def]
-    compiled.use_kernels(False)
+    kin.compiled_tracking = False
     reference = kin.ik_along(poses, q0, tool, "test path")
-    compiled.use_kernels(True)
+    kin.compiled_tracking = True
     return reference, kin.ik_along(poses, q0, tool, "test path")
 
 
@@ -71,7 +62,7 @@ def test_a_path_through_a_flip_fails_the_same_way_compiled() -> None:
     end[:3, 3] = [0.05, 0.0, start[2, 3]]  # straight over the base axis: a wrist/shoulder singularity on the way
     messages = []
     for on in (False, True):
-        compiled.use_kernels(on)
+        kin.compiled_tracking = on
         with pytest.raises(Unreachable) as caught:
             kin.ik_along(line_poses(start, end), q0, None, "linear motion")
         messages.append(str(caught.value))
@@ -81,8 +72,8 @@ def test_a_path_through_a_flip_fails_the_same_way_compiled() -> None:
 def test_lmoves_on_the_kinematic_robot_end_where_the_reference_ends() -> None:
     ends = []
     for on in (False, True):
-        compiled.use_kernels(on)
         layer = make_virtual_motion_layer("irb2400", backend="kinematic")
+        layer.kin.compiled_tracking = on
         home = Pose.from_matrix(layer.fk(layer.kin.arm.home_q))
         for dy in (0.3, -0.2):
             target = Pose(home.x - 0.1, home.y + dy, home.z - 0.2, home.a, home.b, home.c)
