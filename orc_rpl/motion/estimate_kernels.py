@@ -83,10 +83,12 @@ def winding_sample(current_a: np.ndarray, voltage_v: np.ndarray, k: np.ndarray, 
 
 
 @kernel
-def cycle_update_block(tau_nm: np.ndarray, qd_rad_s: np.ndarray, block: np.ndarray) -> None:  # pragma: no cover
-    """`load_update`, `rise_update` and `sums_update` in one call (the motion cycle's three estimates: one dispatch
-    from Python; numba puts the three bodies in here, they are `inlined_kernel`s), their arrays the rows of one
-    block (gear_friction.FUSED_ROWS): three arguments to dispatch instead of twelve, about 2 us a motion cycle."""
-    load_update(tau_nm, block[0], block[1], block[2])
-    rise_update(tau_nm, block[3], block[4], block[5], block[6])
-    sums_update(tau_nm, qd_rad_s, block[7], block[8], block[9])
+def cycle_update(tau_nm: np.ndarray, qd_rad_s: np.ndarray, load_gain: np.ndarray, load_decay: np.ndarray,
+                 load: np.ndarray, rise_gain: np.ndarray, rise_gain_per_k: np.ndarray, rise_decay: np.ndarray,
+                 rise: np.ndarray, speed_sum: np.ndarray, speed_sq_sum: np.ndarray,
+                 tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`load_update`, `rise_update` and `sums_update` in one call (the motion cycle's three estimates: one
+    dispatch from Python; numba puts the three bodies in here, they are `inlined_kernel`s)."""
+    load_update(tau_nm, load_gain, load_decay, load)
+    rise_update(tau_nm, rise_gain, rise_gain_per_k, rise_decay, rise)
+    sums_update(tau_nm, qd_rad_s, speed_sum, speed_sq_sum, tau_sq_sum)

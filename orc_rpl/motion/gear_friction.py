@@ -173,41 +173,17 @@ def change_since(before: FrictionState, now: FrictionState) -> FrictionChange:
                           tuple((CHANGE_SPREAD * np.abs(dv)).tolist()))
 
 
-#: The arrays of the three estimates the motion cycle updates at once, as the rows of one block (`_fused`):
-#: (object's attribute) in the order the compiled `cycle_update_block` reads them.
-FUSED_ROWS = (("thermal", "_gain"), ("thermal", "_decay"), ("thermal", "load"), ("winding", "_gain"),
-              ("winding", "_gain_per_k"), ("winding", "_decay"), ("winding", "rise_k"), ("gear", "_speed_sum"),
-              ("gear", "_speed_sq_sum"), ("gear", "_tau_sq_sum"))
-
-
-def _fused(thermal: ThermalModel, winding: WindingTemperature, gear: GearFriction) -> np.ndarray:
-    """The block whose rows are the three estimates' arrays (FUSED_ROWS): made at their first fused update, the
-    objects' arrays then being views of its rows (each is updated in place only, by its class and by the kernels;
-    the layer hands out copies). Made again when one of the objects or arrays is another (a new estimate)."""
-    fused = thermal._fused
-    if fused is not None:
-        block, views, owners = fused
-        if (owners[0] is winding and owners[1] is gear and thermal.load is views[2] and winding.rise_k is views[6]
-                and gear._speed_sum is views[7] and gear._speed_sq_sum is views[8] and gear._tau_sq_sum is views[9]):
-            return block  # type: ignore[no-any-return]
-    objects = {"thermal": thermal, "winding": winding, "gear": gear}
-    block = np.array([getattr(objects[o], name) for o, name in FUSED_ROWS], dtype=float)
-    views = tuple(block[i] for i in range(len(FUSED_ROWS)))
-    for (o, name), view in zip(FUSED_ROWS, views):
-        setattr(objects[o], name, view)
-    thermal._fused = (block, views, (winding, gear))
-    return block
-
-
 def update_estimates(thermal: ThermalModel, winding: WindingTemperature | None, gear: GearFriction | None,
                      tau_nm: np.ndarray, qd_rad_s: np.ndarray | None) -> None:
     """One motion cycle of the estimates the motion layer keeps (the thermal load, the windings' rise, the
     gearboxes' sums) from the cycle's torque and speed: with all three and the kernels on, their model parts in
-    one compiled call on their arrays as one block (estimate_kernels.cycle_update_block: each one's operations,
-    as its own update does them); else each one's own update (their numpy code the reference)."""
+    one compiled call (estimate_kernels.cycle_update: each one's operations, as its own update does them);
+    else each one's own update (their numpy code the reference)."""
     kernels = thermal._kernels
     if compiled.ON and kernels is not None and winding is not None and gear is not None and qd_rad_s is not None:
-        kernels.cycle_update_block(tau_nm, qd_rad_s, _fused(thermal, winding, gear))
+        kernels.cycle_update(tau_nm, qd_rad_s, thermal._gain, thermal._decay, thermal.load, winding._gain,
+                             winding._gain_per_k, winding._decay, winding.rise_k, gear._speed_sum, gear._speed_sq_sum,
+                             gear._tau_sq_sum)
         winding.measure()
         gear.count(winding.rise_k)
         return

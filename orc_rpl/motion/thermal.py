@@ -54,8 +54,6 @@ class ThermalModel:
         self._gain = (1.0 - self._decay) / (tau_c * tau_c)           #: (1 - a) / tau_c^2
         self._work = np.zeros(len(t))
         self.load = np.zeros(len(t))  #: the estimate, 1.0 = the motor's continuous limit (updated in place)
-        #: the block of the motion cycle's fused update of the estimates (gear_friction._fused), None before it
-        self._fused: tuple | None = None
         self._kernels = estimate_kernels()
 
     @classmethod

@@ -105,32 +105,6 @@ def test_the_fused_update_of_the_three_estimates_gives_each_ones_own_update() ->
         assert float(np.max(np.abs(got - want) / want)) <= 1e-10
 
 
-def test_the_fused_block_follows_the_numpy_updates_between_and_a_new_estimate_object() -> None:
-    """The estimates' arrays become views of one block at the first fused update: the numpy updates (kernels off)
-    in between write the same arrays, and an estimate replaced by a new object is fused anew, not left stale."""
-    from orc_rpl.motion.gear_friction import update_estimates
-
-    rng = np.random.default_rng(6)
-    fused, reference = _estimates(), _estimates()
-    for step in range(310):   # (not a whole number of gearbox integrations: the sums are not zero at the end)
-        tau, qd = rng.normal(0.0, 200.0, 6), rng.normal(0.0, 1.5, 6)
-        if step == 150:  # a new gearbox estimate in both (a reset robot, say): its sums start again
-            fused = (fused[0], fused[1], _estimates()[2])
-            reference = (reference[0], reference[1], _estimates()[2])
-        compiled.use_kernels(step % 3 != 1)   # every third cycle the numpy updates
-        update_estimates(*fused, tau, qd)
-        compiled.use_kernels(False)
-        update_estimates(*reference, tau, qd)
-    load = fused[0].load
-    for got, want in zip((fused[0].load, fused[1].rise_k, fused[2].rise_k, fused[2]._speed_sum),
-                         (reference[0].load, reference[1].rise_k, reference[2].rise_k, reference[2]._speed_sum)):
-        assert np.all(want > 0.0)
-        assert float(np.max(np.abs(got - want) / want)) <= 1e-10
-    compiled.use_kernels(True)
-    update_estimates(*fused, np.full(6, 300.0), np.zeros(6))
-    assert fused[0].load is load, "updated in place"
-
-
 def test_the_path_velocity_controllers_compiled_range_from_the_rows_parts_is_the_numpy_range() -> None:
     from orc_rpl.arm.pvc import PathVelocityController
 
