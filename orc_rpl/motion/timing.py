@@ -15,6 +15,10 @@ from orc_rpl.errors import PlanningError
 from orc_rpl.motion.toppra_passes import lean_toppra
 from orc_rpl.motion.trajectory import SplinePath, Trajectory, sample, segment_times
 
+#: TOPP-RA's passes with their Python made lean (toppra_passes.py, the same numbers); False: toppra's own
+#: (the reference; benchmarks/bench_motion_parts.py compares them)
+LEAN_PASSES = True
+
 #: grid density of the planner (rad of joint chord per grid interval) and its bounds
 GRID_STEP_RAD = 0.03
 GRID_MIN, GRID_MAX = 40, 150
@@ -183,16 +187,16 @@ def constraints(path: SplinePath, limits: TimingLimits) -> list[Any]:
 
 def toppra_profile(
     path: SplinePath, limits: TimingLimits, sd_start: float = 0.0, sd_end: float = 0.0, points: int | None = None,
-    lean: bool = True,
+    lean: bool | None = None,
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """(grid, sd) of the time-optimal profile, or None when toppra finds none (never raises for toppra's sake);
-    `lean` False: toppra's own passes (the reference of toppra_passes.py's)."""
+    `lean` False: toppra's own passes (the reference of toppra_passes.py's); None: LEAN_PASSES."""
     toppra, GeometricPath, _, _, _, LeanTOPPRA = _toppra()
     grid = grid_for(path, points)
     cons = constraints(path, limits)
     try:
         # toppra's TOPPRA with its passes' Python made lean (toppra_passes.py: the same solves, the same numbers)
-        algorithm = LeanTOPPRA if lean else toppra.algorithm.TOPPRA
+        algorithm = LeanTOPPRA if (LEAN_PASSES if lean is None else lean) else toppra.algorithm.TOPPRA
         algo = algorithm(cons, GeometricPath(path), gridpoints=grid, solver_wrapper="seidel")
         result = algo.compute_parameterization(sd_start, sd_end, return_data=True)
         data = algo.problem_data
