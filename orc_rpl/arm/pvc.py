@@ -101,6 +101,7 @@ class PathVelocityController:
         # the rows' b2 in two terms (`parts(i)`: the model's, the servo's integral), summed inside the compiled range
         self._parts: Any = None if kernels is None else getattr(self._at_cycle, "parts", None)
         self._range_sum: Any = None if kernels is None else kernels.admissible_range_sum
+        self._kernels: Any = kernels   #: the compiled time-scaled cycle (scaled_profile, path_rates), None without
 
     # -- what the motion layer reads ----------------------------------------------------
 
@@ -160,6 +161,38 @@ class PathVelocityController:
         x_n, sd_n = (self.end_x, 0.0) if nominal_ended else (float(self.x_f[row]), float(self.sd_f[row]))
         sdd_n = 0.0 if nominal_ended else float(self._sdd_f[row - 1])
         lo, hi = self.admissible(x, sd)
+        kernels = self._kernels
+        if compiled.ON and kernels is not None:  # the compiled profile and rates (the Python below is their reference)
+            xs, sds = np.empty(self.sub), np.empty(self.sub)
+            sdd, changed = kernels.scaled_profile(x, sd, t_cycle, x_n, sd_n, sdd_n, lo, hi, self.end_x, nominal_ended,
+                                                  self._kv, self._kp, self.settings.overspeed, self._x_mono,
+                                                  self._sd_mono, self.h, STOP_DECEL_MIN, BRAKE_SHARE, xs, sds)
+        else:
+            sdd, changed, xs, sds = self._profile(x, sd, t_cycle, x_n, sd_n, sdd_n, lo, hi, nominal_ended)
+        if changed:
+            self.scaled_cycles += 1
+        x_end, sd_end = float(xs[-1]), float(sds[-1])
+        if self.end_x - x_end < RESYNC_X and (nominal_ended or sd_end < RESYNC_SD):
+            xs[-1], sds[-1], x_end, sd_end = self.end_x, 0.0, self.end_x, 0.0
+            self.done = True
+        self.x, self.sd = x_end, sd_end
+        if not nominal_ended and abs(x_end - x_n) < RESYNC_X and abs(sd_end - sd_n) < RESYNC_SD:
+            self.in_sync, self.x, self.sd = True, x_n, sd_n  # back in step: the nominal rows from the next cycle
+        q, d1, d2 = self._orders(xs)
+        if compiled.ON and kernels is not None:
+            qd, qdd = np.empty(d1.shape), np.empty(d1.shape)
+            kernels.path_rates(d1, d2, sds, sdd, qd, qdd)
+        else:
+            qdd = d2 * (sds * sds)[:, None] + d1 * np.where(sds > 0.0, sdd, 0.0)[:, None]
+            qd = d1 * sds[:, None]
+        if self.done:
+            qd[-1], qdd[-1] = 0.0, 0.0
+        return q, qd, qdd
+
+    def _profile(self, x: float, sd: float, t_cycle: float, x_n: float, sd_n: float, sdd_n: float, lo: float,
+                 hi: float, nominal_ended: bool) -> tuple[float, bool, np.ndarray, np.ndarray]:
+        """The cycle's s'' from the admissible range [lo, hi], whether it differs from the wanted one, and the path
+        parameter and its speed at the cycle's servo steps (the reference of pvc_kernels.scaled_profile)."""
         remaining = self.end_x - x
         braking = False
         if nominal_ended:  # the rest of the path: up to a braking profile at half the admissible deceleration
@@ -174,8 +207,7 @@ class PathVelocityController:
             x_ahead = min(x + sd * t_cycle, self.end_x)
             wanted = max(wanted, (float(np.interp(x_ahead, self._x_mono, self._sd_mono)) - sd) / t_cycle)
         sdd = wanted if braking else min(max(wanted, lo), hi) if lo <= hi else 0.5 * (lo + hi)
-        if sdd != wanted:
-            self.scaled_cycles += 1
+        changed = sdd != wanted
         # never faster than (1 + overspeed) times the nominal speed where the cycle ends: keeps the
         # speed and acceleration limits the nominal profile respects, and stops at the path's end
         x_next = min(x + sd * t_cycle + 0.5 * sdd * t_cycle * t_cycle, self.end_x)
@@ -199,16 +231,4 @@ class PathVelocityController:
             taus = np.minimum(taus, sd / -sdd)
         xs = np.minimum(x + sd * taus + 0.5 * sdd * taus * taus, self.end_x)
         sds = np.maximum(sd + sdd * taus, 0.0)
-        x_end, sd_end = float(xs[-1]), float(sds[-1])
-        if self.end_x - x_end < RESYNC_X and (nominal_ended or sd_end < RESYNC_SD):
-            xs[-1], sds[-1], x_end, sd_end = self.end_x, 0.0, self.end_x, 0.0
-            self.done = True
-        self.x, self.sd = x_end, sd_end
-        if not nominal_ended and abs(x_end - x_n) < RESYNC_X and abs(sd_end - sd_n) < RESYNC_SD:
-            self.in_sync, self.x, self.sd = True, x_n, sd_n  # back in step: the nominal rows from the next cycle
-        q, d1, d2 = self._orders(xs)
-        qdd = d2 * (sds * sds)[:, None] + d1 * np.where(sds > 0.0, sdd, 0.0)[:, None]
-        qd = d1 * sds[:, None]
-        if self.done:
-            qd[-1], qdd[-1] = 0.0, 0.0
-        return q, qd, qdd
+        return sdd, changed, xs, sds

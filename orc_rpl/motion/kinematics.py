@@ -9,6 +9,7 @@ import numpy as np
 from scipy.linalg.lapack import dgesv
 
 from orc_rpl.errors import JointLimit, OrcError, Unreachable
+from orc_rpl.plant import compiled
 
 
 class ArmLike(Protocol):
@@ -49,6 +50,23 @@ class Kinematics:
         self.n = len(arm.q_min)
         #: largest joint change between neighbouring IK samples before we call it a configuration flip
         self.joint_step_limit_rad = joint_step_limit_rad
+        self._chain: tuple | None = None  #: (kernels, the chain's kinematic rows, flange in the last joint), or ()
+        #: IK along paths tracked by the compiled Newton steps (ik_kernels.py) where numba is there; False: the
+        #: Python steps, their reference. A switch of its own, not compiled.use_kernels': the per-cycle kernels
+        #: give their numpy code's bits (tests compare whole runs), these the reference's to about 1e-15 rad
+        self.compiled_tracking = True
+
+    def _compiled_chain(self) -> tuple:
+        """(ik_kernels, the chain's rows, the flange in its last joint) for the compiled tracking (six revolute axes
+        in a chain, numba there), else (): looked up once (the kinematic columns do not change with the payload)."""
+        if self._chain is None:
+            rows_of = getattr(self.arm, "rigid_body_rows", None)
+            flange_of = getattr(self.arm, "flange_in_last_joint", None)
+            rows = None if rows_of is None or self.n != 6 else rows_of()
+            flange = None if rows is None or flange_of is None else flange_of()
+            kernels = None if flange is None else compiled.kernels("orc_rpl.motion.ik_kernels")
+            self._chain = () if kernels is None else (kernels, np.ascontiguousarray(rows[:, :15]), flange)
+        return self._chain
 
     def fk(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray:
         """TCP pose (4x4) at q."""
@@ -125,8 +143,21 @@ class Kinematics:
         prev = np.asarray(q_start, dtype=float)
         self.arm.fk(prev, tool)  # checks q_start and the tool once: _track's inner loop does not
         q_min, q_max, limit, n = self.arm.q_min, self.arm.q_max, self.joint_step_limit_rad, self.n
-        for i in range(1, len(poses)):
-            q = self._track(poses[i], prev, tool)
+        chain = self._compiled_chain() if self.compiled_tracking else ()
+        if chain:
+            kernels, rows, flange = chain
+            tip = flange if tool is None else flange @ self.arm.transform(tool)
+            poses = np.ascontiguousarray(poses, dtype=float)
+        i = 1
+        while i < len(poses):
+            if chain:  # the samples the Newton steps settle, compiled; the first they do not is the full IK's below
+                i = kernels.track_along(rows, tip, poses, qs, i, q_min, q_max, limit)
+                if i == len(poses):
+                    break
+                prev = qs[i - 1]
+                q = None
+            else:
+                q = self._track(poses[i], prev, tool)
             # (count_nonzero of the in-range test: a NaN counts as out of range, as with np.all)
             if (q is None or float(np.abs(q - prev).max()) > limit
                     or np.count_nonzero((q >= q_min) & (q <= q_max)) != n):
@@ -144,6 +175,7 @@ class Kinematics:
                 )
             qs[i] = q
             prev = q
+            i += 1
         return qs
 
     def jacobian_linear(self, q: np.ndarray, tool: np.ndarray | None = None) -> np.ndarray:

@@ -6,7 +6,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation, Slerp
 
 from orc_rpl.errors import JointLimit, PlanningError, Unreachable, UsageError
 from orc_rpl.motion.kinematics import Kinematics
@@ -81,15 +80,45 @@ def joint_segments(kin: Kinematics, q_start: np.ndarray, motion: JointMotion, ow
 
 
 def _slerp_poses(t0: np.ndarray, t1: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Orientations from t0 to t1 by slerp at fractions u (positions left zero)."""
-    rots = Rotation.from_matrix(np.stack([t0[:3, :3], t1[:3, :3]]))
+    """Orientations from t0 to t1 by slerp at fractions u (positions left zero): scipy's Slerp's rotations (the
+    relative rotation's rotation vector scaled by u), by Rodrigues' formula in numpy (a tenth of Slerp's time: it
+    builds several Rotation objects a path; the same rotations to about 1e-15, tests/motion/test_path_rotations.py)."""
+    r0 = t0[:3, :3]
+    axis, angle = _axis_angle(r0.T @ t1[:3, :3])
+    k = np.array(((0.0, -axis[2], axis[1]), (axis[2], 0.0, -axis[0]), (-axis[1], axis[0], 0.0)))
+    th = u * angle
+    turns = np.eye(3) + np.sin(th)[:, None, None] * k + (1.0 - np.cos(th))[:, None, None] * (k @ k)
     out = np.tile(np.eye(4), (len(u), 1, 1))
-    out[:, :3, :3] = Slerp([0.0, 1.0], rots)(u).as_matrix()
+    out[:, :3, :3] = r0 @ turns
     return out
 
 
+def _axis_angle(r: np.ndarray) -> tuple[np.ndarray, float]:
+    """Unit axis and angle in [0, pi] of a rotation matrix, through its quaternion (Shepperd's choice of the largest
+    component, as scipy's Rotation.from_matrix: exact near pi too); the axis is x for no rotation."""
+    tr = float(r[0, 0] + r[1, 1] + r[2, 2])
+    diag = (float(r[0, 0]), float(r[1, 1]), float(r[2, 2]))
+    i = max(range(3), key=lambda j: diag[j])
+    if tr >= diag[i]:
+        w = 0.5 * math.sqrt(1.0 + tr)
+        v = np.array((r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1])) / (4.0 * w)
+    else:
+        j, k = (i + 1) % 3, (i + 2) % 3
+        v = np.empty(3)
+        v[i] = 0.5 * math.sqrt(1.0 + 2.0 * diag[i] - tr)
+        v[j] = (r[j, i] + r[i, j]) / (4.0 * v[i])
+        v[k] = (r[k, i] + r[i, k]) / (4.0 * v[i])
+        w = (r[k, j] - r[j, k]) / (4.0 * v[i])
+    if w < 0.0:
+        v, w = -v, -w
+    norm = math.sqrt(float(v @ v))
+    if norm == 0.0:
+        return np.array((1.0, 0.0, 0.0)), 0.0
+    return v / norm, 2.0 * math.atan2(norm, w)
+
+
 def _rotation_angle(t0: np.ndarray, t1: np.ndarray) -> float:
-    return float(Rotation.from_matrix(t0[:3, :3].T @ t1[:3, :3]).magnitude())
+    return _axis_angle(t0[:3, :3].T @ t1[:3, :3])[1]
 
 
 def line_poses(t0: np.ndarray, t1: np.ndarray) -> np.ndarray:

@@ -12,7 +12,12 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.errors import PlanningError
+from orc_rpl.motion.toppra_passes import lean_toppra
 from orc_rpl.motion.trajectory import SplinePath, Trajectory, sample, segment_times
+
+#: TOPP-RA's passes with their Python made lean (toppra_passes.py, the same numbers); False: toppra's own
+#: (the reference; benchmarks/bench_motion_parts.py compares them)
+LEAN_PASSES = True
 
 #: grid density of the planner (rad of joint chord per grid interval) and its bounds
 GRID_STEP_RAD = 0.03
@@ -42,6 +47,7 @@ def _toppra() -> Any:
     """Import toppra on first use (it imports matplotlib) and build our two adapter classes."""
     import toppra
     import toppra.algorithm
+    import toppra.constants
     import toppra.constraint
     import toppra.interpolator
     import toppra.solverwrapper
@@ -130,7 +136,7 @@ def _toppra() -> Any:
             xb[:, 1] = self._xmax_at(gridpoints)
             return None, None, None, None, None, None, xb
 
-    return toppra, GeometricPath, SpeedBound, AccelerationBound, TorqueBound
+    return toppra, GeometricPath, SpeedBound, AccelerationBound, TorqueBound, lean_toppra(toppra)
 
 
 def preload() -> None:
@@ -164,12 +170,9 @@ def grid_for(path: SplinePath, points: int | None = None) -> np.ndarray:
     return np.linspace(0.0, path.length, n + 1)
 
 
-def toppra_profile(
-    path: SplinePath, limits: TimingLimits, sd_start: float = 0.0, sd_end: float = 0.0, points: int | None = None
-) -> tuple[np.ndarray, np.ndarray] | None:
-    """(grid, sd) of the time-optimal profile, or None when toppra finds none (never raises for toppra's sake)."""
-    toppra, GeometricPath, SpeedBound, AccelerationBound, TorqueBound = _toppra()
-    grid = grid_for(path, points)
+def constraints(path: SplinePath, limits: TimingLimits) -> list[Any]:
+    """toppra's constraints for timing `path` within `limits`: speeds (joint and TCP), accelerations, torques."""
+    _, _, SpeedBound, AccelerationBound, TorqueBound, _ = _toppra()
     cons: list[Any] = [
         SpeedBound(lambda g: xmax(path, g, limits), path.dof),
         AccelerationBound(np.stack([-limits.qdd_max, limits.qdd_max], axis=1)),
@@ -179,8 +182,22 @@ def toppra_profile(
             TorqueBound(limits.inverse_dynamics, np.stack([-limits.tau_max, limits.tau_max], axis=1), np.zeros(path.dof),
                         limits.inverse_dynamics_rows)
         )
+    return cons
+
+
+def toppra_profile(
+    path: SplinePath, limits: TimingLimits, sd_start: float = 0.0, sd_end: float = 0.0, points: int | None = None,
+    lean: bool | None = None,
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """(grid, sd) of the time-optimal profile, or None when toppra finds none (never raises for toppra's sake);
+    `lean` False: toppra's own passes (the reference of toppra_passes.py's); None: LEAN_PASSES."""
+    toppra, GeometricPath, _, _, _, LeanTOPPRA = _toppra()
+    grid = grid_for(path, points)
+    cons = constraints(path, limits)
     try:
-        algo = toppra.algorithm.TOPPRA(cons, GeometricPath(path), gridpoints=grid, solver_wrapper="seidel")
+        # toppra's TOPPRA with its passes' Python made lean (toppra_passes.py: the same solves, the same numbers)
+        algorithm = LeanTOPPRA if (LEAN_PASSES if lean is None else lean) else toppra.algorithm.TOPPRA
+        algo = algorithm(cons, GeometricPath(path), gridpoints=grid, solver_wrapper="seidel")
         result = algo.compute_parameterization(sd_start, sd_end, return_data=True)
         data = algo.problem_data
         if data.return_code != toppra.algorithm.algorithm.ParameterizationReturnCode.Ok:

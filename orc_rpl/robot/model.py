@@ -227,6 +227,13 @@ class ArmModel:
 
         return rows
 
+    def flange_in_last_joint(self) -> np.ndarray | None:
+        """The flange frame in the last joint's frame (4x4), for compiled kinematics on `rigid_body_rows`; None when
+        the flange does not hang on the chain's last joint."""
+        if self._last_joint != self.n_joints:
+            return None
+        return np.array(self._flange_in_joint.homogeneous)
+
     def rigid_body_rows(self) -> np.ndarray | None:
         """The chain's rigid-body parameters with the current payload, a row per joint, for a compiled RNEA
         (servo/rnea_kernel.py): the joint's placement in its parent (rotation row-major 0:9, translation 9:12),
