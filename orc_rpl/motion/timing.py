@@ -7,6 +7,7 @@ import logging
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from importlib.metadata import version
 from typing import Any
 
 import numpy as np
@@ -18,6 +19,7 @@ from orc_rpl.motion.trajectory import SplinePath, Trajectory, sample, segment_ti
 #: TOPP-RA's passes with their Python made lean (toppra_passes.py, the same numbers); False: toppra's own
 #: (the reference; benchmarks/bench_motion_parts.py compares them)
 LEAN_PASSES = True
+LEAN_PASSES_OF = "0.6."  #: the toppra release whose passes toppra_passes.py rewrites (tests compare them)
 
 #: grid density of the planner (rad of joint chord per grid interval) and its bounds
 GRID_STEP_RAD = 0.03
@@ -136,7 +138,9 @@ def _toppra() -> Any:
             xb[:, 1] = self._xmax_at(gridpoints)
             return None, None, None, None, None, None, xb
 
-    return toppra, GeometricPath, SpeedBound, AccelerationBound, TorqueBound, lean_toppra(toppra)
+    # the lean passes are toppra 0.6's own, rewritten: another toppra keeps its own passes until they are compared
+    lean = lean_toppra(toppra) if version("toppra").startswith(LEAN_PASSES_OF) else toppra.algorithm.TOPPRA
+    return toppra, GeometricPath, SpeedBound, AccelerationBound, TorqueBound, lean
 
 
 def preload() -> None:
