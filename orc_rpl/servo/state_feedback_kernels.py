@@ -13,13 +13,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from orc_rpl.plant.compiled import kernel
+from orc_rpl.plant.compiled import inlined_kernel, kernel
 from orc_rpl.servo.rnea_kernel import mass_matrix_block
+from orc_rpl.servo.state_feedback_layout import KEPT, SCHEDULED, SETTLING, law_views
 
-#: Entries of the `tuning` array (`TwoMassStateFeedback._tuning`): the kernel reads the design's constants by these.
+#: Entries of the `tuning` array (`TwoMassStateFeedback._tuning`): the kernel reads the design's constants by these
+#: (the schedule's tolerances as the module's constants were when the law was made).
 (BANDWIDTH, MOTOR_WEIGHT, ROTOR_NOISE, LINK_NOISE, WALK, REST_WALK, ANGLE_NOISE, SPEED_NOISE, PERIOD, EXPM_TERMS,
- FRICTION_GAIN, FRICTION_SMOOTH) = range(12)
-TUNING_SIZE = 12
+ FRICTION_GAIN, FRICTION_SMOOTH, INERTIA_TOLERANCE, GAINS_SETTLED, MOVING, REST_TO_LINK, ITERATIONS) = range(17)
+TUNING_SIZE = 17
+
+#: `law_views` compiled: a kernel finds the law's arrays in its buffer.
+compiled_law_views = inlined_kernel(law_views)
 
 
 @kernel
@@ -190,7 +195,61 @@ def link_inertia_at(body: np.ndarray, q: np.ndarray, joints: np.ndarray, rotor: 
     return moved, changed
 
 
+@inlined_kernel
+def _switch(state: np.ndarray, moving: np.ndarray, moving_now: np.ndarray, held_link: np.ndarray,
+            held_rotor: np.ndarray, rest_to_link: float) -> None:  # pragma: no cover - compiled
+    """`switch`: the joints that start moving take rest_to_link of their w to the link, those that stop hold it."""
+    m = moving.shape[0]
+    for i in range(m):
+        if moving_now[i] == moving[i]:
+            continue
+        w = state[4 * m + i]
+        if moving_now[i]:
+            held_rotor[i], state[4 * m + i] = (1.0 - rest_to_link) * w, held_link[i] + rest_to_link * w
+        else:
+            held_link[i], state[4 * m + i] = w, held_rotor[i]
+        moving[i] = moving_now[i]
+
+
+@inlined_kernel
+def _largest_change(now: np.ndarray, before: np.ndarray) -> float:  # pragma: no cover - compiled
+    """max |now - before| / max |now|."""
+    change, scale = 0.0, 0.0
+    for i in range(now.shape[0]):
+        for j in range(now.shape[1]):
+            change = max(change, abs(now[i, j] - before[i, j]))
+            scale = max(scale, abs(now[i, j]))
+    return change / scale
+
+
 @kernel
+def law_schedule(body: np.ndarray, q: np.ndarray, qd_ref: np.ndarray, joints: np.ndarray, buffer: np.ndarray,
+                 moving: np.ndarray, flags: np.ndarray, tuning: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`TwoMassStateFeedback.schedule(q, qd_ref)` of a law whose Riccati equations are solved: the law's arrays in
+    `buffer` (servo/state_feedback_layout.py), `moving` and the `flags` in place."""
+    n, m = q.shape[0], joints.shape[0]
+    (_, _, _, held_link, held_rotor, _, rotor, stiffness, damping, _, state, link_inertia, k, l, ad, bd, weights,
+     process, measurement, p, s, inertia_now, k_before, l_before) = compiled_law_views(buffer, n, m)
+    moving_now = np.empty(m, dtype=np.bool_)
+    moved, changed = link_inertia_at(body, q, joints, rotor, link_inertia, inertia_now, qd_ref, tuning[MOVING], moving,
+                                     moving_now)
+    if changed:
+        _switch(state, moving, moving_now, held_link, held_rotor, tuning[REST_TO_LINK])
+    remodel = changed or moved > tuning[INERTIA_TOLERANCE]
+    if not (remodel or flags[SETTLING]):
+        flags[KEPT] += 1
+        return
+    k_before[:, :] = k
+    l_before[:, :] = l
+    if remodel:   # else the iterations go on for the model they were started on
+        link_inertia[:, :] = inertia_now
+        sampled_model(link_inertia, rotor, stiffness, damping, moving, tuning, ad, bd, weights, process, measurement)
+    riccati_gains(ad, bd, weights, process, measurement, int(tuning[ITERATIONS]), p, s, k, l)
+    flags[SCHEDULED] += 1
+    flags[SETTLING] = max(_largest_change(k, k_before), _largest_change(l, l_before)) > tuning[GAINS_SETTLED]
+
+
+@inlined_kernel
 def law_references(q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, tau_ff: np.ndarray, joints: np.ndarray,
                    rotor_all: np.ndarray, stiffness_all: np.ndarray, state: np.ndarray, moving: np.ndarray,
                    held_link: np.ndarray, link_inertia: np.ndarray, tuning: np.ndarray, twist_rad: np.ndarray,
@@ -217,7 +276,7 @@ def law_references(q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, t
         link_other[i] = (link_torque[joints[i]] + w_link) - inertia
 
 
-@kernel
+@inlined_kernel
 def law_update(q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, theta_d_ref: np.ndarray,
                tau_ff: np.ndarray, theta: np.ndarray, theta_d: np.ndarray, joints: np.ndarray, state: np.ndarray,
                l: np.ndarray, k: np.ndarray, moving: np.ndarray, held_link: np.ndarray, held_rotor: np.ndarray,
@@ -255,7 +314,7 @@ def law_update(q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, the
         demand[i] = total - feedback
 
 
-@kernel
+@inlined_kernel
 def law_predict(tau: np.ndarray, theta_d: np.ndarray, joints: np.ndarray, state: np.ndarray, ad: np.ndarray,
                 bd: np.ndarray, moving: np.ndarray, held_rotor: np.ndarray, link_other: np.ndarray, friction: bool,
                 coulomb: np.ndarray, viscous: np.ndarray, tuning: np.ndarray) -> None:  # pragma: no cover - compiled
