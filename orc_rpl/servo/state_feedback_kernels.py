@@ -31,37 +31,67 @@ compiled_law_views = inlined_kernel(law_views)
 def sampled_model(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.ndarray, damping: np.ndarray,
                   moving: np.ndarray, tuning: np.ndarray, ad: np.ndarray, bd: np.ndarray, weights: np.ndarray,
                   process: np.ndarray, measurement: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`_model`: `slow_joints_model` into ad (5m x 5m) and bd (5m x 2m), `lqr_weights` and `noise_covariances`."""
+    """`_model`: `slow_joints_model` into ad (5m x 5m) and bd (5m x 2m), `lqr_weights` and `noise_covariances`.
+
+    The exponential's series as the numpy code sums it, on the rows that are not zero: [A B; 0 0] has its
+    last 3m rows zero (w and the inputs are constant over a step), and so has each power of it, whose
+    rows 4m..5m are zero too; the others have at most 6m entries (a joint's own, or the links' coupled
+    ones), which the products take one by one (some 40 times fewer sums than the dense 7m x 7m products)."""
     m = rotor.shape[0]
     period = tuning[PERIOD]
-    # slow_joints_model: [A B; 0 0], its exponential by the series
-    k_mat, d_mat, inv_rotor = np.diag(stiffness), np.diag(damping), np.diag(1.0 / rotor)
-    inv_link = np.linalg.inv(link_inertia)
-    a = np.zeros((7 * m, 7 * m))
-    eye = np.eye(m)
-    a[0:m, m : 2 * m] = eye
-    a[2 * m : 3 * m, 3 * m : 4 * m] = eye
-    a[m : 2 * m, 0:m] = -inv_rotor @ k_mat
-    a[m : 2 * m, m : 2 * m] = -inv_rotor @ d_mat
-    a[m : 2 * m, 2 * m : 3 * m] = inv_rotor @ k_mat
-    a[m : 2 * m, 3 * m : 4 * m] = inv_rotor @ d_mat
-    a[3 * m : 4 * m, 0:m] = inv_link @ k_mat
-    a[3 * m : 4 * m, m : 2 * m] = inv_link @ d_mat
-    a[3 * m : 4 * m, 2 * m : 3 * m] = -inv_link @ k_mat
-    a[3 * m : 4 * m, 3 * m : 4 * m] = -inv_link @ d_mat
-    for j in range(m):
-        for i in range(m):
-            a[3 * m + i, 4 * m + j] = inv_link[i, j] * (1.0 if moving[j] else 0.0)
-            a[m + i, 4 * m + j] = inv_rotor[i, j] * (0.0 if moving[j] else 1.0)
-    a[m : 2 * m, 5 * m : 6 * m] = inv_rotor
-    a[3 * m : 4 * m, 6 * m :] = -inv_link
-    a = a * period
-    e, term = np.eye(7 * m), np.eye(7 * m)
-    for i in range(1, int(tuning[EXPM_TERMS]) + 1):
-        term = term @ a / i
-        e = e + term
-    ad[:, :] = e[: 5 * m, : 5 * m]
-    bd[:, :] = e[: 5 * m, 5 * m :]
+    inv_link, low = np.empty((m, m)), np.empty((m, m))
+    _solve_spd(link_inertia, np.eye(m), low, inv_link)   # the links' inertia is symmetric positive definite
+    width = 7 * m
+    a = np.zeros((4 * m, width))   # the rows of [A B] * period that are not zero
+    for i in range(m):
+        inv_rotor = 1.0 / rotor[i]
+        a[i, m + i] = period
+        a[2 * m + i, 3 * m + i] = period
+        a[m + i, i] = -(inv_rotor * stiffness[i]) * period
+        a[m + i, m + i] = -(inv_rotor * damping[i]) * period
+        a[m + i, 2 * m + i] = (inv_rotor * stiffness[i]) * period
+        a[m + i, 3 * m + i] = (inv_rotor * damping[i]) * period
+        a[m + i, 4 * m + i] = (inv_rotor * (0.0 if moving[i] else 1.0)) * period
+        a[m + i, 5 * m + i] = inv_rotor * period
+        for j in range(m):
+            a[3 * m + i, j] = (inv_link[i, j] * stiffness[j]) * period
+            a[3 * m + i, m + j] = (inv_link[i, j] * damping[j]) * period
+            a[3 * m + i, 2 * m + j] = -(inv_link[i, j] * stiffness[j]) * period
+            a[3 * m + i, 3 * m + j] = -(inv_link[i, j] * damping[j]) * period
+            a[3 * m + i, 4 * m + j] = (inv_link[i, j] * (1.0 if moving[j] else 0.0)) * period
+            a[3 * m + i, 6 * m + j] = -inv_link[i, j] * period
+    columns, count = np.empty((4 * m, width), dtype=np.int64), np.zeros(4 * m, dtype=np.int64)
+    for r in range(4 * m):
+        for c in range(width):
+            if a[r, c] != 0.0:
+                columns[r, count[r]] = c
+                count[r] += 1
+    e, term, product = np.zeros((4 * m, width)), a.copy(), np.empty((4 * m, width))
+    for r in range(4 * m):
+        for c in range(width):
+            e[r, c] = a[r, c]
+    for i in range(2, int(tuning[EXPM_TERMS]) + 1):   # term = term @ a / i, rows 0..4m (the others stay zero)
+        product[:, :] = 0.0
+        for r in range(4 * m):
+            for k in range(4 * m):
+                factor = term[r, k]
+                if factor != 0.0:
+                    for z in range(count[k]):
+                        c = columns[k, z]
+                        product[r, c] += factor * a[k, c]
+        for r in range(4 * m):
+            for c in range(width):
+                term[r, c] = product[r, c] / i
+                e[r, c] += term[r, c]
+    ad[:, :] = 0.0
+    bd[:, :] = 0.0
+    for r in range(5 * m):
+        ad[r, r] = 1.0
+    for r in range(4 * m):
+        for c in range(5 * m):
+            ad[r, c] += e[r, c]
+        for c in range(2 * m):
+            bd[r, c] = e[r, 5 * m + c]
     # lqr_weights and noise_covariances
     w = tuning[BANDWIDTH]
     weights[:, :] = 0.0
