@@ -105,6 +105,27 @@ def test_the_fused_update_of_the_three_estimates_gives_each_ones_own_update() ->
         assert float(np.max(np.abs(got - want) / want)) <= 1e-10
 
 
+def test_after_a_reset_the_fused_update_still_updates_each_estimates_own_arrays() -> None:
+    from orc_rpl.motion.gear_friction import update_estimates
+
+    rng = np.random.default_rng(6)
+    fused, reference = _estimates(), _estimates()
+    for estimates in (fused, reference):
+        for estimate in estimates:
+            estimate.reset()   # a cold start: what each one hands the fused update must still be what it reports
+        estimates[2].warm_up(10.0)
+    for _ in range(60):
+        tau, qd = rng.normal(0.0, 200.0, 6), rng.normal(0.0, 1.5, 6)
+        compiled.use_kernels(True)
+        update_estimates(*fused, tau, qd)
+        compiled.use_kernels(False)
+        update_estimates(*reference, tau, qd)
+    for got, want in zip((fused[0].load, fused[1].rise_k, fused[2].rise_k),
+                         (reference[0].load, reference[1].rise_k, reference[2].rise_k)):
+        assert np.all(want > 0.0)
+        assert float(np.max(np.abs(got - want) / want)) <= 1e-10
+
+
 def test_the_path_velocity_controllers_compiled_range_from_the_rows_parts_is_the_numpy_range() -> None:
     from orc_rpl.arm.pvc import PathVelocityController
 
