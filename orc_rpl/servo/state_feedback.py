@@ -197,6 +197,7 @@ class TwoMassStateFeedback:
         self.moving = np.zeros(m, dtype=bool)
         self._no_friction = np.zeros(n)
         self._no_speeds = np.zeros(n)
+        self._work = np.empty(max(n, 7 * m))   # the compiled step's scratch
         #: the compiled schedule (servo/state_feedback_kernels.py), None where numba is not; `compiled.ON` picks
         self._kernels: Any = compiled.kernels("orc_rpl.servo.state_feedback_kernels")
         if self._kernels is not None:   # the design's constants, as the kernels read them (when the law is made)
@@ -365,7 +366,7 @@ class TwoMassStateFeedback:
             theta_ref, theta_d_ref = np.empty(len(q_ref)), np.empty(len(q_ref))
             self._kernels.law_references(q_ref, qd_ref, qdd_ref, tau_ff, self.joints, self.rotor_all, self.stiffness_all,
                                          self.state, self.moving, self.held_link_nm, self.link_inertia, self._tuning,
-                                         self.twist_rad, self._link_other, theta_ref, theta_d_ref)
+                                         self.twist_rad, self._link_other, theta_ref, theta_d_ref, self._work)
             return theta_ref, theta_d_ref
         sel = self.joints
         link_torque = tau_ff - self.rotor_all * qdd_ref
@@ -389,7 +390,7 @@ class TwoMassStateFeedback:
             coulomb, viscous = self._friction_rows()
             self._kernels.law_update(q_ref, qd_ref, theta_ref, theta_d_ref, tau_ff, theta, theta_d, self.joints, self.state,
                                      self.l, self.k, self.moving, self.held_link_nm, self.held_rotor_nm,
-                                     self.friction is not None, coulomb, viscous, self._tuning, demand, ff)
+                                     self.friction is not None, coulomb, viscous, self._tuning, demand, ff, self._work)
             return demand, ff
         sel, x, m = self.joints, self.state, self.m
         x += self.l @ (np.concatenate([theta[sel], theta_d[sel]]) - x[: 2 * m])
@@ -408,7 +409,7 @@ class TwoMassStateFeedback:
             coulomb, viscous = self._friction_rows()
             self._kernels.law_predict(tau_nm, theta_d, self.joints, self.state, self.ad, self.bd, self.moving,
                                       self.held_rotor_nm, self._link_other, self.friction is not None, coulomb, viscous,
-                                      self._tuning)
+                                      self._tuning, self._work)
             return
         sel = self.joints
         u = tau_nm[sel] + np.where(self.moving, self.held_rotor_nm, 0.0)   # the held rotor torque: an input while moving

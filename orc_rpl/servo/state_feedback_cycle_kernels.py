@@ -59,13 +59,13 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
     last, mass = integral_before.copy(), np.empty(n)
     demand, ff = np.empty(m), np.empty(m)
     tau = np.empty(n)
-    work = np.empty((n, 15))
+    work, law_work = np.empty((n, 15)), np.empty(max(n, 7 * m))
     for i in range(n_steps):
         for j in range(n):   # copies: the measurement is overwritten after the step
             q[j], qd[j] = q_meas[j], qd_meas[j]
         rnea_row(body, gravity, q_ref[i], qd_ref[i], qdd_ref[i], tau_link, work)
         law_references(q_ref[i], qd_ref[i], qdd_ref[i], tau_link, joints, rotor_all, stiffness_all, state, moving,
-                       held_link, link_inertia, tuning, twist_rad, link_other, theta_ref, theta_d_ref)
+                       held_link, link_inertia, tuning, twist_rad, link_other, theta_ref, theta_d_ref, law_work)
         # JointServo.update (with _update_tuned's friction) on the rotors' references, every joint
         if steps % inertia_every == 0:
             mass_diagonal_at(body, q, mass)
@@ -93,7 +93,7 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
             tau[j] = t
         # the slow joints: the state feedback's torques in place of the cascade's
         law_update(q_ref[i], qd_ref[i], theta_ref, theta_d_ref, tau_link, q, qd, joints, state, l, k, moving,
-                   held_link, held_rotor, friction, coulomb, viscous, tuning, demand, ff)
+                   held_link, held_rotor, friction, coulomb, viscous, tuning, demand, ff, law_work)
         for c in range(m):
             j = joints[c]
             wanted = demand[c] + torque_offset[j]
@@ -109,7 +109,8 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
             f = force[j]
             tau_sq_sum[j] = tau_sq_sum[j] + f * f
         measure(qpos, qvel, qpos_address, qvel_address, noise[i + 1], count_per_rad, rad_per_count, q_meas, qd_meas)
-        law_predict(tau, qd, joints, state, ad, bd, moving, held_rotor, link_other, friction, coulomb, viscous, tuning)
+        law_predict(tau, qd, joints, state, ad, bd, moving, held_rotor, link_other, friction, coulomb, viscous, tuning,
+                    law_work)
     for j in range(n):
         velocity[j] = qd[j]
     for c in range(m):   # what the path velocity controller adds to the model's torque: the filter's unknown torque

@@ -283,11 +283,13 @@ def law_schedule(body: np.ndarray, q: np.ndarray, qd_ref: np.ndarray, joints: np
 def law_references(q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, tau_ff: np.ndarray, joints: np.ndarray,
                    rotor_all: np.ndarray, stiffness_all: np.ndarray, state: np.ndarray, moving: np.ndarray,
                    held_link: np.ndarray, link_inertia: np.ndarray, tuning: np.ndarray, twist_rad: np.ndarray,
-                   link_other: np.ndarray, theta_ref: np.ndarray, theta_d_ref: np.ndarray) -> None:  # pragma: no cover
+                   link_other: np.ndarray, theta_ref: np.ndarray, theta_d_ref: np.ndarray,
+                   work: np.ndarray) -> None:  # pragma: no cover - compiled
     """`references`: the rotors' reference row into theta_ref and theta_d_ref, the twist into twist_rad (in place,
-    its last row's read first), the slow joints' other link torques into link_other."""
+    its last row's read first), the slow joints' other link torques into link_other. work: scratch, at least
+    max(n, 7m) floats (these three kernels' only memory: they run every 1 ms step)."""
     n, m = q_ref.shape[0], joints.shape[0]
-    link_torque = np.empty(n)
+    link_torque = work[:n]
     for j in range(n):
         link_torque[j] = tau_ff[j] - rotor_all[j] * qdd_ref[j]
     for i in range(m):
@@ -311,11 +313,11 @@ def law_update(q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, the
                tau_ff: np.ndarray, theta: np.ndarray, theta_d: np.ndarray, joints: np.ndarray, state: np.ndarray,
                l: np.ndarray, k: np.ndarray, moving: np.ndarray, held_link: np.ndarray, held_rotor: np.ndarray,
                friction: bool, coulomb: np.ndarray, viscous: np.ndarray, tuning: np.ndarray, demand: np.ndarray,
-               ff: np.ndarray) -> None:  # pragma: no cover - compiled
+               ff: np.ndarray, work: np.ndarray) -> None:  # pragma: no cover - compiled
     """`update`: the filter's correction of `state` (in place), the demanded torques and their feed-forward
-    (the slow joints') into demand and ff."""
+    (the slow joints') into demand and ff; work: scratch (`law_references`)."""
     m = joints.shape[0]
-    innovation = np.empty(2 * m)
+    innovation = work[: 2 * m]
     for i in range(m):
         innovation[i] = theta[joints[i]] - state[i]
         innovation[m + i] = theta_d[joints[i]] - state[m + i]
@@ -324,7 +326,7 @@ def law_update(q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, the
         for c in range(2 * m):
             correction += l[r, c] * innovation[c]
         state[r] = state[r] + correction
-    error = np.empty(4 * m)
+    error = work[2 * m : 6 * m]
     for i in range(m):
         j = joints[i]
         error[i] = state[i] - theta_ref[j]
@@ -347,17 +349,19 @@ def law_update(q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, the
 @inlined_kernel
 def law_predict(tau: np.ndarray, theta_d: np.ndarray, joints: np.ndarray, state: np.ndarray, ad: np.ndarray,
                 bd: np.ndarray, moving: np.ndarray, held_rotor: np.ndarray, link_other: np.ndarray, friction: bool,
-                coulomb: np.ndarray, viscous: np.ndarray, tuning: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`applied`: the filter's prediction over the step, `state` in place."""
+                coulomb: np.ndarray, viscous: np.ndarray, tuning: np.ndarray,
+                work: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`applied`: the filter's prediction over the step, `state` in place; work: scratch (`law_references`)."""
     m = joints.shape[0]
-    inputs = np.empty(2 * m)
+    inputs = work[: 2 * m]
     for i in range(m):
         j = joints[i]
         u = tau[j] + (held_rotor[i] if moving[i] else 0.0)
         if friction:
             u = u - (coulomb[j] * np.tanh(theta_d[j] / tuning[FRICTION_SMOOTH]) + viscous[j] * theta_d[j])
         inputs[i], inputs[m + i] = u, link_other[i]
-    before = state.copy()
+    before = work[2 * m : 7 * m]
+    before[:] = state
     for r in range(5 * m):
         total = 0.0
         for c in range(5 * m):
