@@ -131,17 +131,27 @@ def _solve_spd(a: np.ndarray, b: np.ndarray, low: np.ndarray, out: np.ndarray) -
             for k in range(j):
                 total -= low[i, k] * low[j, k]
             low[i, j] = np.sqrt(total) if i == j else total / low[j, j]
-    for c in range(b.shape[1]):
-        for i in range(n):   # forward, then back substitution
-            total = b[i, c]
-            for k in range(i):
-                total -= low[i, k] * out[k, c]
-            out[i, c] = total / low[i, i]
-        for i in range(n - 1, -1, -1):
-            total = out[i, c]
-            for k in range(i + 1, n):
-                total -= low[k, i] * out[k, c]
-            out[i, c] = total / low[i, i]
+    # forward, then back substitution, a row of every right-hand side at a time (sums along rows: no chain of
+    # dependent sums, one division a row)
+    cols = b.shape[1]
+    for i in range(n):
+        for c in range(cols):
+            out[i, c] = b[i, c]
+        for k in range(i):
+            factor = low[i, k]
+            for c in range(cols):
+                out[i, c] -= factor * out[k, c]
+        inverse = 1.0 / low[i, i]
+        for c in range(cols):
+            out[i, c] *= inverse
+    for i in range(n - 1, -1, -1):
+        for k in range(i + 1, n):
+            factor = low[k, i]
+            for c in range(cols):
+                out[i, c] -= factor * out[k, c]
+        inverse = 1.0 / low[i, i]
+        for c in range(cols):
+            out[i, c] *= inverse
 
 
 @kernel
@@ -158,7 +168,7 @@ def riccati_gains(ad: np.ndarray, bd: np.ndarray, weights: np.ndarray, process: 
     bp, small, rhs, low_m = np.empty((m, 4 * m)), np.empty((m, m)), np.empty((m, 4 * m)), np.empty((m, m))
     closed, work4, p_new = np.empty((4 * m, 4 * m)), np.empty((4 * m, 4 * m)), np.empty((4 * m, 4 * m))
     innovation, low_2m, x = np.empty((2 * m, 2 * m)), np.empty((2 * m, 2 * m)), np.empty((2 * m, 5 * m))
-    post, work5 = np.empty((5 * m, 5 * m)), np.empty((5 * m, 5 * m))
+    post, work5, ad_t = np.empty((5 * m, 5 * m)), np.empty((5 * m, 5 * m)), np.ascontiguousarray(ad.T)
     for it in range(iterations + 1):   # the last pass makes the gains only
         # the LQR: gain = (r + b' p b)^-1 b' p a, p = weights + a' p (a - b gain)
         _product(b4, p, bp, True)
@@ -190,12 +200,10 @@ def riccati_gains(ad: np.ndarray, bd: np.ndarray, weights: np.ndarray, process: 
             for j in range(5 * m):
                 post[i, j] = s[i, j] - post[i, j]
         _product(ad, post, work5, False)
-        for i in range(5 * m):   # (ad post) ad': row i of work5 against row j of ad
+        _product(work5, ad_t, post, False)   # (ad post) ad' as rows of ad' summed: no chain of dependent sums
+        for i in range(5 * m):
             for j in range(5 * m):
-                total = 0.0
-                for c in range(5 * m):
-                    total += work5[i, c] * ad[j, c]
-                s[i, j] = total + process[i, j]
+                s[i, j] = post[i, j] + process[i, j]
     # l = s c' (c s c' + measurement)^-1: the transpose of (c s c' + measurement)^-1 c s (both symmetric)
     for i in range(2 * m):
         for j in range(2 * m):
