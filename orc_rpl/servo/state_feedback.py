@@ -234,11 +234,11 @@ class TwoMassStateFeedback:
         `iterations` None the model and gains are kept while the inertia has moved less than INERTIA_TOLERANCE
         since they were made, no joint started or stopped, and the last iterations had settled (GAINS_SETTLED)."""
         flags = self._flags
-        if (iterations is None and qd_ref is not None and self._kernels is not None and compiled.ON and flags[SOLVED]
-                and self.arm.rigid_body_rows() is not None):   # all of it compiled (the rest is its reference)
-            self._kernels.law_schedule(self.arm.rigid_body_rows(), q, qd_ref, self.joints, self._buffer, self.moving,
-                                       flags, self._tuning)
-            return
+        if iterations is None and qd_ref is not None and self._kernels is not None and compiled.ON and flags[SOLVED]:
+            body = self.arm.rigid_body_rows()   # the model's rows for the compiled M(q) (None: Pinocchio's)
+            if body is not None:   # all of it compiled (the rest is its reference)
+                self._kernels.law_schedule(body, q, qd_ref, self.joints, self._buffer, self.moving, flags, self._tuning)
+                return
         inertia, moved, moving = self._link_inertia_at(q, qd_ref)
         switched = moving is not None and self.switch(moving)
         remodel = iterations is not None or not flags[SOLVED] or switched or moved > INERTIA_TOLERANCE
