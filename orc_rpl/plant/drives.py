@@ -112,8 +112,8 @@ class PidDrives:
     def run_kernel(self, cycle: Any, head: tuple[Any, ...], tail: tuple[Any, ...]) -> None:
         """`cycle(model, data, *head, *tail)`: a compiled motion cycle (servo/drive_kernels.py) that steps
         the plant len(head[0]) times through `drive_kernels.drive_rows` and measures
-        (`drive_kernels.measure`); `tail` ends with `kernel_arrays()` (or `torque_kernel_arrays()`). Then the cell's bookkeeping as
-        after `drive`: the noise rows used, the thermal model's steps."""
+        (`drive_kernels.measure`); `tail` ends with `kernel_arrays()` (or `torque_kernel_arrays()`). Then the
+        cell's bookkeeping as after `drive`: the noise rows used, the thermal model's steps."""
         cycle(*self._addresses, *head, *tail)
         cell, n_steps = self.cell, len(head[0])
         cell._noise_row += n_steps

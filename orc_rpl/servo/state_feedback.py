@@ -48,6 +48,7 @@ REST_TORQUE_TO_LINK = 0.5
 #: share since they were made (any entry, over sqrt(M_ii M_jj)), a joint started or stopped moving, or the last Riccati
 #: iterations still moved the gains (k or l) by more than GAINS_SETTLED of their largest entry; otherwise the steps
 #: keep them (the schedule cost some 60 us a 4 ms cycle, more than the rest of the servo and plant together).
+#: (This and the schedule's other constants are read when a law is made: set them before.)
 INERTIA_TOLERANCE = 0.02
 GAINS_SETTLED = 3e-2
 
@@ -197,6 +198,9 @@ class TwoMassStateFeedback:
         self.moving = np.zeros(m, dtype=bool)
         self._no_friction = np.zeros(n)
         self._no_speeds = np.zeros(n)
+        # the schedule's constants as the module has them when the law is made (the compiled schedule's `_tuning` too)
+        self._iterations, self._moving_rad_s, self._rest_to_link = RICCATI_ITERATIONS, MOVING_RAD_S, REST_TORQUE_TO_LINK
+        self._inertia_tolerance, self._gains_settled = INERTIA_TOLERANCE, GAINS_SETTLED
         self._work = np.empty(max(n, 7 * m))   # the compiled step's scratch
         #: the compiled schedule (servo/state_feedback_kernels.py), None where numba is not; `compiled.ON` picks
         self._kernels: Any = compiled.kernels("orc_rpl.servo.state_feedback_kernels")
@@ -209,8 +213,8 @@ class TwoMassStateFeedback:
                           kernels.GAINS_SETTLED, kernels.MOVING, kernels.REST_TO_LINK, kernels.ITERATIONS]] = (
                 self.bandwidth_rad_s, MOTOR_WEIGHT, ROTOR_NOISE_NM, LINK_NOISE_NM, DISTURBANCE_WALK_NM, REST_WALK_NM,
                 ANGLE_NOISE_RAD, SPEED_NOISE_RAD_S, self.period_s, EXPM_TERMS, FRICTION_POSITION_GAIN_1_S,
-                FRICTION_SMOOTH_RAD_S, INERTIA_TOLERANCE, GAINS_SETTLED, MOVING_RAD_S, REST_TORQUE_TO_LINK,
-                RICCATI_ITERATIONS)
+                FRICTION_SMOOTH_RAD_S, self._inertia_tolerance, self._gains_settled, self._moving_rad_s,
+                self._rest_to_link, self._iterations)
 
     @property
     def scheduled(self) -> int:
@@ -241,12 +245,12 @@ class TwoMassStateFeedback:
                 return
         inertia, moved, moving = self._link_inertia_at(q, qd_ref)
         switched = moving is not None and self.switch(moving)
-        remodel = iterations is not None or not flags[SOLVED] or switched or moved > INERTIA_TOLERANCE
+        remodel = iterations is not None or not flags[SOLVED] or switched or moved > self._inertia_tolerance
         if not (remodel or flags[SETTLING]):
             flags[KEPT] += 1
             return
         self._k_before[:], self._l_before[:] = self.k, self.l
-        count = RICCATI_ITERATIONS if iterations is None else iterations
+        count = self._iterations if iterations is None else iterations
         compiled_now = self._kernels is not None and compiled.ON and bool(flags[SOLVED]) and count > 0
         if remodel:   # else the iterations go on for the model they were started on (the inertia has not moved)
             self.link_inertia[:] = inertia
@@ -259,7 +263,7 @@ class TwoMassStateFeedback:
         flags[SCHEDULED] += 1
         change = max(np.max(np.abs(self.k - self._k_before)) / np.max(np.abs(self.k)),
                      np.max(np.abs(self.l - self._l_before)) / np.max(np.abs(self.l)))
-        flags[SETTLING] = change > GAINS_SETTLED
+        flags[SETTLING] = change > self._gains_settled
 
     def _model(self, compiled_now: bool) -> None:
         """The sampled model, the LQR's weights and the filter's noises for self.link_inertia and self.moving."""
@@ -307,12 +311,12 @@ class TwoMassStateFeedback:
                 inertia, moving = np.empty((self.m, self.m)), np.empty(self.m, dtype=bool)
                 speeds = self._no_speeds if qd_ref is None else qd_ref
                 moved, changed = self._kernels.link_inertia_at(body, q, sel, self.rotor, self.link_inertia,
-                                                               inertia, speeds, MOVING_RAD_S, self.moving, moving)
+                                                               inertia, speeds, self._moving_rad_s, self.moving, moving)
                 return inertia, moved, (moving if changed and qd_ref is not None else None)
         payload = arm.payload   # (kg, com): the model keeps its payload
         inertia = arm.mass_matrix(q, payload[0], payload[1:])[np.ix_(sel, sel)] - np.diag(self.rotor)
         scale = np.sqrt(np.outer(np.diag(self.link_inertia), np.diag(self.link_inertia)))
-        moving = None if qd_ref is None else np.abs(np.asarray(qd_ref)[sel]) > MOVING_RAD_S
+        moving = None if qd_ref is None else np.abs(np.asarray(qd_ref)[sel]) > self._moving_rad_s
         return inertia, float(np.max(np.abs(inertia - self.link_inertia) / scale)), moving
 
     def reset(self, q_link: np.ndarray, link_torque_nm: np.ndarray) -> None:
@@ -353,7 +357,8 @@ class TwoMassStateFeedback:
         w = self.state[4 * self.m :]
         start, stop = change & moving, change & ~moving
         rest = w[start].copy()
-        self.held_rotor_nm[start], w[start] = (1.0 - REST_TORQUE_TO_LINK) * rest, self.held_link_nm[start] + REST_TORQUE_TO_LINK * rest
+        share = self._rest_to_link
+        self.held_rotor_nm[start], w[start] = (1.0 - share) * rest, self.held_link_nm[start] + share * rest
         self.held_link_nm[stop], w[stop] = w[stop], self.held_rotor_nm[stop]
         self.moving[:] = moving
         return True
