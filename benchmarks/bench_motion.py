@@ -15,7 +15,9 @@ feedback, servo/state_feedback.py), measured alike; _elastic_state_feedback_pyth
 feedback's motion cycle as the Python loop the one kernel of servo/state_feedback_cycle_kernels.py is
 tested against (the law's own kernels on). motion_layer_ms_per_sim_s (and _elastic_state_feedback) is
 the wall time per simulated second spent above the servo (the motion layer's cycle, recording and planning; the
-median run of each).
+median run of each), servo_plant_ms_per_sim_s_elastic_state_feedback the rest (the servo, the plant and mj_step).
+--only elastic_state_feedback: the state feedback's five runs alone (its ratio, the raw mj_step it is measured
+against, and the two parts of its wall time), for profiling that variant.
 """
 
 from __future__ import annotations
@@ -148,6 +150,11 @@ def motion_layer_ms(x_realtime: float, servo_share: float) -> float:
     return 1000.0 / x_realtime * (1.0 - servo_share)
 
 
+def servo_plant_ms(x_realtime: float, servo_share: float) -> float:
+    """Wall time (ms) per simulated second in `layer.backend.advance` (the servo, the plant, mj_step) of a run."""
+    return 1000.0 / x_realtime * servo_share
+
+
 def naive_quintic_time(layer: MotionLayer, q0: np.ndarray, q1: np.ndarray) -> float:
     """Shortest duration of q0 + (q1-q0) * (10t^3 - 15t^4 + 6t^5) that keeps speed, acceleration and torque limits."""
     arm = layer.kin.arm
@@ -234,14 +241,26 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--robot", default="irb2400")
     ap.add_argument("--seconds", type=float, default=60.0)
+    ap.add_argument("--only", choices=["elastic_state_feedback"], default=None,
+                    help="run only this variant's speed runs (median of five)")
     args = ap.parse_args()
+    elastic = {"elastic": True, "gear_feedforward": True}
+    if args.only == "elastic_state_feedback":
+        sf_runs = sorted((bench_speed(args.robot, args.seconds / 5, **elastic, state_feedback=True) for _ in range(5)),
+                         key=lambda r: r[2])
+        ours, raw, ratio, share = sf_runs[2]
+        print(f"robot={args.robot}")
+        print(f"raw_mujoco_x_realtime={raw:.0f}")
+        print(f"sim_vs_raw_mujoco_ratio_elastic_state_feedback={ratio:.3f}")
+        print(f"motion_layer_ms_per_sim_s_elastic_state_feedback={motion_layer_ms(ours, share):.2f}")
+        print(f"servo_plant_ms_per_sim_s_elastic_state_feedback={servo_plant_ms(ours, share):.2f}")
+        return
     # the machine is shared: the median of five runs of the stack, each against raw mj_step in the same run
     runs = sorted((bench_speed(args.robot, args.seconds / 5) for _ in range(5)), key=lambda r: r[2])
     ours, raw, ratio, servo_share = runs[2]
     python_law = sorted(bench_speed(args.robot, args.seconds / 5, compiled=False)[2] for _ in range(5))[2]
     numpy_bookkeeping = sorted(bench_speed(args.robot, args.seconds / 5, kernels=False)[2] for _ in range(5))[2]
     # the elastic gears (opt-in): the cascade with the twist fed forward, and the state feedback (slow joints)
-    elastic = {"elastic": True, "gear_feedforward": True}
     elastic_ff = sorted(bench_speed(args.robot, args.seconds / 5, **elastic)[2] for _ in range(5))[2]
     sf_runs = sorted((bench_speed(args.robot, args.seconds / 5, **elastic, state_feedback=True) for _ in range(5)),
                      key=lambda r: r[2])
@@ -267,6 +286,7 @@ def main() -> None:
     print(f"sim_vs_raw_mujoco_ratio_elastic_state_feedback_python_loop={elastic_sf_loop:.3f}")
     print(f"motion_layer_ms_per_sim_s={motion_layer_ms(ours, servo_share):.2f}")
     print(f"motion_layer_ms_per_sim_s_elastic_state_feedback={motion_layer_ms(sf_runs[2][0], sf_runs[2][3]):.2f}")
+    print(f"servo_plant_ms_per_sim_s_elastic_state_feedback={servo_plant_ms(sf_runs[2][0], sf_runs[2][3]):.2f}")
     print(f"time_optimality_ratio={worst:.4f}")
     print(f"vs_naive_ratio={naive:.3f}")
     print(f"lmove_path_deviation_mm={dev:.3f}")

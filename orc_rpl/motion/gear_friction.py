@@ -126,6 +126,11 @@ class GearFriction:
             np.add(self._tau_sq_sum, work, out=self._tau_sq_sum)
         self.count(winding_rise_k)
 
+    def kernel_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """What `estimate_kernels.sums_update` adds the cycle's |qd|, qd^2 and tau^2 to (in place); the kernel's
+        caller calls `count` after it."""
+        return self._speed_sum, self._speed_sq_sum, self._tau_sq_sum
+
     def count(self, winding_rise_k: np.ndarray | None) -> None:
         """A cycle summed (`update` runs it after the sums; so does `update_estimates`): the rise integrated every
         UPDATE_EVERY_CYCLES cycles."""
@@ -179,11 +184,9 @@ def update_estimates(thermal: ThermalModel, winding: WindingTemperature | None, 
     gearboxes' sums) from the cycle's torque and speed: with all three and the kernels on, their model parts in
     one compiled call (estimate_kernels.cycle_update: each one's operations, as its own update does them);
     else each one's own update (their numpy code the reference)."""
-    kernels = thermal._kernels
+    kernels = thermal.kernels
     if compiled.ON and kernels is not None and winding is not None and gear is not None and qd_rad_s is not None:
-        kernels.cycle_update(tau_nm, qd_rad_s, thermal._gain, thermal._decay, thermal.load, winding._gain,
-                             winding._gain_per_k, winding._decay, winding.rise_k, gear._speed_sum, gear._speed_sq_sum,
-                             gear._tau_sq_sum)
+        kernels.cycle_update(tau_nm, qd_rad_s, *thermal.kernel_state(), *winding.kernel_state(), *gear.kernel_state())
         winding.measure()
         gear.count(winding.rise_k)
         return

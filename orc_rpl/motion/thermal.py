@@ -79,6 +79,16 @@ class ThermalModel:
         """Cold motors (a plant reset)."""
         self.load[:] = 0.0
 
+    @property
+    def kernels(self) -> Any:
+        """The estimates' compiled updates (motion/estimate_kernels.py), None where numba is not there."""
+        return self._kernels
+
+    def kernel_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """What `estimate_kernels.load_update` reads and writes after the torque: the gain, the decay and the
+        load (updated in place)."""
+        return self._gain, self._decay, self.load
+
 
 #: The drives' winding measurement is sampled every so many motion cycles (20 ms at 4 ms) ...
 SAMPLE_EVERY_CYCLES = 5
@@ -145,6 +155,11 @@ class WindingTemperature:
             multiply(rise, self._decay, rise)
             add(rise, work, rise)
         self.measure()
+
+    def kernel_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What `estimate_kernels.rise_update` reads and writes after the torque: the gain, its growth per
+        kelvin, the decay and the rise (updated in place); the kernel's caller calls `measure` after it."""
+        return self._gain, self._gain_per_k, self._decay, self.rise_k
 
     def measure(self) -> None:
         """The drives' measurement's part of a cycle (`update` runs it; so does the motion cycle's fused update of

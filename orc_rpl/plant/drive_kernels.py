@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from orc_rpl.plant.compiled import kernel, mj_step_intrinsic
+from orc_rpl.plant.compiled import inlined_kernel, kernel, mj_step_intrinsic
 
 step = mj_step_intrinsic()
 
@@ -30,7 +30,7 @@ def drive_rows(model_address: int, data_address: int, position_rows: np.ndarray,
         tau_sq_sum[j] = tau_sq_sum[j] + squares[j]
 
 
-@kernel
+@inlined_kernel
 def measure(qpos: np.ndarray, qvel: np.ndarray, qpos_address: np.ndarray, qvel_address: np.ndarray,
             noise_row: np.ndarray, count_per_rad: float, rad_per_count: float, q_meas: np.ndarray,
             qd_meas: np.ndarray) -> None:  # pragma: no cover - compiled

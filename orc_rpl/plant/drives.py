@@ -47,6 +47,10 @@ class PidDrives:
         self._kernel_arrays = (d.ctrl, d.act, d.actuator_force, m.actuator_gainprm, m.actuator_biasprm,
                                m.actuator_dynprm, d.qpos, d.qvel, cell._qpos, cell._qvel, cell._count_per_rad,
                                cell._rad_per_count, cell._q_meas, cell._qd_meas, cell._tau_sq_sum)
+        #: the part of them a cycle with the drives as torque motors reads and writes (no gains, no integrals)
+        self._torque_kernel_arrays = (d.ctrl, d.actuator_force, d.qpos, d.qvel, cell._qpos, cell._qvel,
+                                      cell._count_per_rad, cell._rad_per_count, cell._q_meas, cell._qd_meas,
+                                      cell._tau_sq_sum)
         self._addresses = (m._address, d._address)
 
     def torque_mode(self) -> None:
@@ -99,11 +103,17 @@ class PidDrives:
         """What a compiled motion cycle reads and writes of the plant, its last arguments (`run_kernel`)."""
         return self._kernel_arrays
 
+    def torque_kernel_arrays(self) -> tuple[Any, ...]:
+        """`kernel_arrays` less the drives' gains and integrals, for a cycle that runs them as torque motors:
+        ctrl, the forces, qpos, qvel, the joints' addresses in them, the encoder's counts per rad and rad per
+        count, the measured angles and speeds, the copper sums."""
+        return self._torque_kernel_arrays
+
     def run_kernel(self, cycle: Any, head: tuple[Any, ...], tail: tuple[Any, ...]) -> None:
         """`cycle(model, data, *head, *tail)`: a compiled motion cycle (servo/drive_kernels.py) that steps
         the plant len(head[0]) times through `drive_kernels.drive_rows` and measures
-        (`drive_kernels.measure`); `tail` ends with `kernel_arrays()`. Then the cell's bookkeeping as
-        after `drive`: the noise rows used, the thermal model's steps."""
+        (`drive_kernels.measure`); `tail` ends with `kernel_arrays()` (or `torque_kernel_arrays()`). Then the
+        cell's bookkeeping as after `drive`: the noise rows used, the thermal model's steps."""
         cycle(*self._addresses, *head, *tail)
         cell, n_steps = self.cell, len(head[0])
         cell._noise_row += n_steps

@@ -186,11 +186,11 @@ class ServoLoop:
         servo, cell, law = self.servo, self.cell, self.state_feedback
         rnea, sel = servo.inverse_dynamics, law.joints
         law.friction = servo.friction_in_use()
-        law.schedule(cell.q, qd_ref[0])
         cycle = self._state_feedback_cycle
-        if self.compiled_law and cycle is not None and not self.on_step and cycle.fits():   # the steps as one kernel
+        if self.compiled_law and cycle is not None and not self.on_step and cycle.fits():   # schedule and steps: one kernel
             cycle.run(q_ref, qd_ref, qdd_ref)
             return self.state()
+        law.schedule(cell.q, qd_ref[0])
         for i in range(len(q_ref)):
             q, qd = np.array(cell.q), np.array(cell.qd)   # copies: the cell overwrites its measurements
             tau_ff = np.array(rnea(q_ref[i], qd_ref[i], qdd_ref[i]))

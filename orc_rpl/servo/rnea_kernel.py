@@ -14,13 +14,13 @@ import math
 
 import numpy as np
 
-from orc_rpl.plant.compiled import kernel
+from orc_rpl.plant.compiled import inlined_kernel, kernel
 
 #: Columns of a row of `ArmModel.rigid_body_rows`.
 ROTATION, TRANSLATION, AXIS, MASS, LEVER, INERTIA, ARMATURE = 0, 9, 12, 15, 16, 19, 28
 
 
-@kernel
+@inlined_kernel
 def _in_child(work: np.ndarray, i: int, px: float, py: float, pz: float, l0: float, l1: float, l2: float, w0: float,
               w1: float, w2: float) -> tuple[float, float, float, float, float, float]:  # pragma: no cover - compiled
     """A motion (linear l, angular w) of body i's parent in body i's frame (Pinocchio's actInv): R^T (l - p x w),
@@ -31,7 +31,7 @@ def _in_child(work: np.ndarray, i: int, px: float, py: float, pz: float, l0: flo
             work[i, 1] * w0 + work[i, 4] * w1 + work[i, 7] * w2, work[i, 2] * w0 + work[i, 5] * w1 + work[i, 8] * w2)
 
 
-@kernel
+@inlined_kernel
 def _inertia_times(body: np.ndarray, i: int, l0: float, l1: float, l2: float, w0: float, w1: float,
                    w2: float) -> tuple[float, float, float, float, float, float]:  # pragma: no cover - compiled
     """Body i's spatial inertia times a motion (linear l, angular w) in its frame: (mass (l - c x w), Ic w + c x f)."""
@@ -43,7 +43,7 @@ def _inertia_times(body: np.ndarray, i: int, l0: float, l1: float, l2: float, w0
             body[i, INERTIA + 6] * w0 + body[i, INERTIA + 7] * w1 + body[i, INERTIA + 8] * w2 + (cx * f1 - cy * f0))
 
 
-@kernel
+@inlined_kernel
 def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
              tau: np.ndarray, work: np.ndarray) -> None:  # pragma: no cover - compiled
     """tau = RNEA(q, qd, qdd) for one state; work: a (n, 15) scratch array (a body's rotation 0:9, its force 9:15)."""
@@ -108,7 +108,7 @@ def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarra
             work[i - 1, 14] += work[i, 6] * work[i, 12] + work[i, 7] * work[i, 13] + work[i, 8] * work[i, 14] + (px * f1 - py * f0)
 
 
-@kernel
+@inlined_kernel
 def mass_diagonal(body: np.ndarray, q: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover - compiled
     """The mass matrix's diagonal M_ii(q) (Pinocchio's `crba` diagonal, armature included): each joint's axis
     through the rotational inertia, about the joint, of the bodies it carries (composited from the tip)."""

@@ -11,6 +11,7 @@ from orc_rpl.plant import compiled
 from orc_rpl.robot.friction import friction_torque_nm
 from orc_rpl.robot.model import ArmModel
 from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S
+from orc_rpl.servo.state_feedback_layout import FLAGS_SIZE, KEPT, SCHEDULED, SETTLING, SOLVED, law_size, law_views
 
 #: The closed-loop bandwidth (rad/s) of each joint's link position: the LQR's link poles sit there (damping
 #: about 0.8), above the anti-resonance where the cascade had to stay below it (j1 38, j2 48 rad/s).
@@ -47,6 +48,7 @@ REST_TORQUE_TO_LINK = 0.5
 #: share since they were made (any entry, over sqrt(M_ii M_jj)), a joint started or stopped moving, or the last Riccati
 #: iterations still moved the gains (k or l) by more than GAINS_SETTLED of their largest entry; otherwise the steps
 #: keep them (the schedule cost some 60 us a 4 ms cycle, more than the rest of the servo and plant together).
+#: (This and the schedule's other constants are read when a law is made: set them before.)
 INERTIA_TOLERANCE = 0.02
 GAINS_SETTLED = 3e-2
 
@@ -159,7 +161,6 @@ class TwoMassStateFeedback:
         n = arm.n_joints
         rotor = np.asarray(rotor_kg_m2, dtype=float)
         stiffness = np.asarray(stiffness_nm_rad, dtype=float)
-        self.rotor_all, self.stiffness_all = rotor, stiffness
         _, high = link_inertia_range(arm, rotor)
         #: the joints under state feedback (the slow gears), the others' indices in `cascade`
         self.joints = (np.flatnonzero(np.sqrt(stiffness / high) < STATE_FEEDBACK_BELOW_RAD_S) if joints is None
@@ -167,38 +168,68 @@ class TwoMassStateFeedback:
         self.cascade = np.setdiff1d(np.arange(n), self.joints)
         sel = self.joints
         m = self.m = len(sel)
-        self.rotor, self.stiffness = rotor[sel], stiffness[sel]
-        self.damping = np.asarray(damping_nm_s, dtype=float)[sel]
-        self.tau_max = np.array(arm.tau_max, dtype=float)[sel]
+        # Every float array the law keeps is a view of one buffer (servo/state_feedback_layout.py: a compiled motion
+        # cycle takes the law as one argument); they are written in place, never rebound.
+        self._buffer = np.zeros(law_size(n, m))
+        (self.twist_rad,        #: the twist of the last row commanded, every joint (rad)
+         self.rotor_all, self.stiffness_all,
+         self.held_link_nm, self.held_rotor_nm, self._link_other,
+         self.rotor, self.stiffness, self.damping, self.tau_max,
+         self.state,            #: the filter's (theta, theta', q, q', w) blocks of the slow joints
+         self.link_inertia,     #: the links' inertia matrix the model and gains were made for
+         self.k, self.l,        #: the gains (`schedule` makes them)
+         self.ad, self.bd, self._weights, self._process, self._measurement,
+         self._p, self._s,      # the LQR's Riccati solution, the filter's prior covariance
+         self._inertia_now, self._k_before, self._l_before) = law_views(self._buffer, n, m)
+        self.rotor_all[:], self.stiffness_all[:] = rotor, stiffness
+        self.rotor[:], self.stiffness[:] = rotor[sel], stiffness[sel]
+        self.damping[:] = np.asarray(damping_nm_s, dtype=float)[sel]
+        self.tau_max[:] = np.array(arm.tau_max, dtype=float)[sel]
+        self.link_inertia[:] = np.eye(m)
+        #: solved, settling (the last schedule's iterations still moved the gains by more than GAINS_SETTLED), and
+        #: the counts of motion cycles whose schedule made the gains again and kept them (`state_feedback_layout`)
+        self._flags = np.zeros(FLAGS_SIZE, dtype=np.int64)
+        self._flags[SETTLING] = 1
         self.c = np.zeros((2 * m, 5 * m))   # the filter measures the rotors' angles and speeds
         self.c[:, : 2 * m] = np.eye(2 * m)
-        self.state = np.zeros(5 * m)             #: the filter's (theta, theta', q, q', w) blocks of the slow joints
-        self.twist_rad = np.zeros(n)             #: the twist of the last row commanded, every joint (rad)
         self.friction: tuple[np.ndarray, np.ndarray] | None = None   #: the rotors' friction estimate (all joints)
         #: per slow joint: True while its reference moves faster than MOVING_RAD_S (the filter's w is then the
         #: link's unknown torque, the rotor's held), False at rest (w the rotor's, the link's held)
         self.moving = np.zeros(m, dtype=bool)
-        self.held_link_nm, self.held_rotor_nm = np.zeros(m), np.zeros(m)
-        self.link_inertia = np.eye(m)
-        self._link_other = np.zeros(m)
         self._no_friction = np.zeros(n)
-        self._p: np.ndarray | None = None   # the LQR's Riccati solution, the filter's prior covariance
-        self._s: np.ndarray | None = None
-        self.k, self.l = np.zeros((m, 4 * m)), np.zeros((5 * m, 2 * m))   #: the gains (`schedule` makes them)
-        self._settling = True   #: the last schedule's iterations still moved the gains by more than GAINS_SETTLED
-        self.scheduled = self.kept = 0   #: motion cycles whose schedule made the gains again, and kept them
         self._no_speeds = np.zeros(n)
+        # the schedule's constants as the module has them when the law is made (the compiled schedule's `_tuning` too)
+        self._iterations, self._moving_rad_s, self._rest_to_link = RICCATI_ITERATIONS, MOVING_RAD_S, REST_TORQUE_TO_LINK
+        self._inertia_tolerance, self._gains_settled = INERTIA_TOLERANCE, GAINS_SETTLED
+        self._work = np.empty(max(n, 7 * m))   # the compiled step's scratch
         #: the compiled schedule (servo/state_feedback_kernels.py), None where numba is not; `compiled.ON` picks
         self._kernels: Any = compiled.kernels("orc_rpl.servo.state_feedback_kernels")
-        if self._kernels is not None:   # the design's constants, as the kernels read them
+        if self._kernels is not None:   # the design's constants, as the kernels read them (when the law is made)
             kernels = self._kernels
             self._tuning = np.zeros(kernels.TUNING_SIZE)
             self._tuning[[kernels.BANDWIDTH, kernels.MOTOR_WEIGHT, kernels.ROTOR_NOISE, kernels.LINK_NOISE, kernels.WALK,
                           kernels.REST_WALK, kernels.ANGLE_NOISE, kernels.SPEED_NOISE, kernels.PERIOD, kernels.EXPM_TERMS,
-                          kernels.FRICTION_GAIN, kernels.FRICTION_SMOOTH]] = (
+                          kernels.FRICTION_GAIN, kernels.FRICTION_SMOOTH, kernels.INERTIA_TOLERANCE,
+                          kernels.GAINS_SETTLED, kernels.MOVING, kernels.REST_TO_LINK, kernels.ITERATIONS]] = (
                 self.bandwidth_rad_s, MOTOR_WEIGHT, ROTOR_NOISE_NM, LINK_NOISE_NM, DISTURBANCE_WALK_NM, REST_WALK_NM,
                 ANGLE_NOISE_RAD, SPEED_NOISE_RAD_S, self.period_s, EXPM_TERMS, FRICTION_POSITION_GAIN_1_S,
-                FRICTION_SMOOTH_RAD_S)
+                FRICTION_SMOOTH_RAD_S, self._inertia_tolerance, self._gains_settled, self._moving_rad_s,
+                self._rest_to_link, self._iterations)
+
+    @property
+    def scheduled(self) -> int:
+        """Motion cycles whose schedule made the gains again."""
+        return int(self._flags[SCHEDULED])
+
+    @property
+    def kept(self) -> int:
+        """Motion cycles whose schedule kept the gains."""
+        return int(self._flags[KEPT])
+
+    @property
+    def solved(self) -> bool:
+        """The Riccati equations have been solved (since the last `reset`): the schedule iterates from their solutions."""
+        return bool(self._flags[SOLVED])
 
     def schedule(self, q: np.ndarray, qd_ref: np.ndarray | None = None, iterations: int | None = None) -> None:
         """The model at pose q (the links' inertia matrix from the model's M(q)) and for the reference speeds qd_ref
@@ -206,41 +237,45 @@ class TwoMassStateFeedback:
         iterations from the last solutions (`iterations`, None: RICCATI_ITERATIONS; 0: solved anew). With
         `iterations` None the model and gains are kept while the inertia has moved less than INERTIA_TOLERANCE
         since they were made, no joint started or stopped, and the last iterations had settled (GAINS_SETTLED)."""
+        flags = self._flags
+        if iterations is None and qd_ref is not None and self._kernels is not None and compiled.ON and flags[SOLVED]:
+            body = self.arm.rigid_body_rows()   # the model's rows for the compiled M(q) (None: Pinocchio's)
+            if body is not None:   # all of it compiled (the rest is its reference)
+                self._kernels.law_schedule(body, q, qd_ref, self.joints, self._buffer, self.moving, flags, self._tuning)
+                return
         inertia, moved, moving = self._link_inertia_at(q, qd_ref)
         switched = moving is not None and self.switch(moving)
-        remodel = iterations is not None or self._p is None or switched or moved > INERTIA_TOLERANCE
-        if not (remodel or self._settling):
-            self.kept += 1
+        remodel = iterations is not None or not flags[SOLVED] or switched or moved > self._inertia_tolerance
+        if not (remodel or flags[SETTLING]):
+            flags[KEPT] += 1
             return
-        gains_before = (self.k, self.l)
-        count = RICCATI_ITERATIONS if iterations is None else iterations
-        compiled_now = self._kernels is not None and compiled.ON and self._p is not None and count > 0
+        self._k_before[:], self._l_before[:] = self.k, self.l
+        count = self._iterations if iterations is None else iterations
+        compiled_now = self._kernels is not None and compiled.ON and bool(flags[SOLVED]) and count > 0
         if remodel:   # else the iterations go on for the model they were started on (the inertia has not moved)
-            self.link_inertia = inertia
+            self.link_inertia[:] = inertia
             self._model(compiled_now)
         if compiled_now:
-            self._iterate_compiled(count)
+            self._kernels.riccati_gains(self.ad, self.bd, self._weights, self._process, self._measurement, count,
+                                        self._p, self._s, self.k, self.l)
         else:
             self._iterate_numpy(count)
-        self.scheduled += 1
-        change = max(np.max(np.abs(self.k - gains_before[0])) / np.max(np.abs(self.k)),
-                     np.max(np.abs(self.l - gains_before[1])) / np.max(np.abs(self.l)))
-        self._settling = bool(change > GAINS_SETTLED)
+        flags[SCHEDULED] += 1
+        change = max(np.max(np.abs(self.k - self._k_before)) / np.max(np.abs(self.k)),
+                     np.max(np.abs(self.l - self._l_before)) / np.max(np.abs(self.l)))
+        flags[SETTLING] = change > self._gains_settled
 
     def _model(self, compiled_now: bool) -> None:
         """The sampled model, the LQR's weights and the filter's noises for self.link_inertia and self.moving."""
-        m = self.m
         if compiled_now:   # servo/state_feedback_kernels.py: the same, compiled
-            self.ad, self.bd = np.empty((5 * m, 5 * m)), np.empty((5 * m, 2 * m))
-            self._weights, self._process = np.empty((4 * m, 4 * m)), np.empty((5 * m, 5 * m))
-            self._measurement = np.empty((2 * m, 2 * m))
             self._kernels.sampled_model(self.link_inertia, self.rotor, self.stiffness, self.damping, self.moving,
                                         self._tuning, self.ad, self.bd, self._weights, self._process, self._measurement)
             return
-        self.ad, self.bd = slow_joints_model(self.rotor, self.link_inertia, self.stiffness, self.damping, self.moving,
-                                             self.period_s)
-        self._weights = lqr_weights(self.rotor, self.link_inertia, self.bandwidth_rad_s)
-        self._process, self._measurement = noise_covariances(self.rotor, self.link_inertia, self.moving, self.period_s)
+        self.ad[:], self.bd[:] = slow_joints_model(self.rotor, self.link_inertia, self.stiffness, self.damping,
+                                                   self.moving, self.period_s)
+        self._weights[:] = lqr_weights(self.rotor, self.link_inertia, self.bandwidth_rad_s)
+        self._process[:], self._measurement[:] = noise_covariances(self.rotor, self.link_inertia, self.moving,
+                                                                   self.period_s)
 
     def _iterate_numpy(self, count: int) -> None:
         """`count` Riccati iterations from the last solutions on the model (0: solved anew), and the gains; numpy."""
@@ -248,20 +283,21 @@ class TwoMassStateFeedback:
         a4, b4 = self.ad[: 4 * m, : 4 * m], self.bd[: 4 * m, :m]
         weights, process, measurement = self._weights, self._process, self._measurement
         r, a, c = np.eye(m), self.ad, self.c
-        if self._p is None or count == 0:
-            self._p = scipy.linalg.solve_discrete_are(a4, b4, weights, r)
-            self._s = scipy.linalg.solve_discrete_are(a.T, c.T, process, measurement)
-        p, s = self._p, self._s
+        if not self._flags[SOLVED] or count == 0:
+            self._p[:] = scipy.linalg.solve_discrete_are(a4, b4, weights, r)
+            self._s[:] = scipy.linalg.solve_discrete_are(a.T, c.T, process, measurement)
+            self._flags[SOLVED] = 1
+        p, s = self._p.copy(), self._s.copy()
         for _ in range(count):
             bp = b4.T @ p
             gain = np.linalg.solve(r + bp @ b4, bp @ a4)
             p = weights + a4.T @ p @ (a4 - b4 @ gain)
             innovation = c @ s @ c.T + measurement
             s = a @ (s - s @ c.T @ np.linalg.solve(innovation, c @ s)) @ a.T + process
-        self._p, self._s = p, s
+        self._p[:], self._s[:] = p, s
         bp = b4.T @ p
-        self.k = np.linalg.solve(r + bp @ b4, bp @ a4)                            #: the LQR's gain (m x 4m)
-        self.l = s @ c.T @ np.linalg.inv(c @ s @ c.T + measurement)              #: the filter's correction (5m x 2m)
+        self.k[:] = np.linalg.solve(r + bp @ b4, bp @ a4)                         # the LQR's gain (m x 4m)
+        self.l[:] = s @ c.T @ np.linalg.inv(c @ s @ c.T + measurement)           # the filter's correction (5m x 2m)
 
     def _link_inertia_at(self, q: np.ndarray, qd_ref: np.ndarray | None) -> tuple[np.ndarray, float, Any]:
         """The links' inertia matrix at q (the slow joints' block of the model's M(q) less the rotors), how far it has
@@ -275,31 +311,22 @@ class TwoMassStateFeedback:
                 inertia, moving = np.empty((self.m, self.m)), np.empty(self.m, dtype=bool)
                 speeds = self._no_speeds if qd_ref is None else qd_ref
                 moved, changed = self._kernels.link_inertia_at(body, q, sel, self.rotor, self.link_inertia,
-                                                               inertia, speeds, MOVING_RAD_S, self.moving, moving)
+                                                               inertia, speeds, self._moving_rad_s, self.moving, moving)
                 return inertia, moved, (moving if changed and qd_ref is not None else None)
         payload = arm.payload   # (kg, com): the model keeps its payload
         inertia = arm.mass_matrix(q, payload[0], payload[1:])[np.ix_(sel, sel)] - np.diag(self.rotor)
         scale = np.sqrt(np.outer(np.diag(self.link_inertia), np.diag(self.link_inertia)))
-        moving = None if qd_ref is None else np.abs(np.asarray(qd_ref)[sel]) > MOVING_RAD_S
+        moving = None if qd_ref is None else np.abs(np.asarray(qd_ref)[sel]) > self._moving_rad_s
         return inertia, float(np.max(np.abs(inertia - self.link_inertia) / scale)), moving
-
-    def _iterate_compiled(self, count: int) -> None:
-        """`_iterate_numpy` compiled (the numpy code is the reference); p and s new arrays each cycle, as numpy's."""
-        m = self.m
-        p, s = self._p.copy(), self._s.copy()   # type: ignore[union-attr]
-        self.k, self.l = np.empty((m, 4 * m)), np.empty((5 * m, 2 * m))
-        self._kernels.riccati_gains(self.ad, self.bd, self._weights, self._process, self._measurement, count, p, s,
-                                    self.k, self.l)
-        self._p, self._s = p, s
 
     def reset(self, q_link: np.ndarray, link_torque_nm: np.ndarray) -> None:
         """At rest, the links at q_link carrying link_torque_nm (the model's weight): the rotors ahead by the twist."""
         q_link, m = np.asarray(q_link, dtype=float), self.m
         self.moving[:] = False
         self.held_link_nm[:] = self.held_rotor_nm[:] = 0.0
-        self._p = self._s = None
+        self._flags[SOLVED] = 0
         self.schedule(q_link, None, 0)
-        self.twist_rad = np.asarray(link_torque_nm, dtype=float) / self.stiffness_all
+        self.twist_rad[:] = np.asarray(link_torque_nm, dtype=float) / self.stiffness_all
         sel, x = self.joints, self.state
         x[:] = 0.0
         x[:m], x[2 * m : 3 * m] = q_link[sel] + self.twist_rad[sel], q_link[sel]
@@ -330,9 +357,10 @@ class TwoMassStateFeedback:
         w = self.state[4 * self.m :]
         start, stop = change & moving, change & ~moving
         rest = w[start].copy()
-        self.held_rotor_nm[start], w[start] = (1.0 - REST_TORQUE_TO_LINK) * rest, self.held_link_nm[start] + REST_TORQUE_TO_LINK * rest
+        share = self._rest_to_link
+        self.held_rotor_nm[start], w[start] = (1.0 - share) * rest, self.held_link_nm[start] + share * rest
         self.held_link_nm[stop], w[stop] = w[stop], self.held_rotor_nm[stop]
-        self.moving = moving.copy()
+        self.moving[:] = moving
         return True
 
     def references(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray,
@@ -340,10 +368,10 @@ class TwoMassStateFeedback:
         """The rotors' reference angles and speeds for one row of link references (every joint): the link's plus
         the twist of the link torque (the slow joints' less the unknown link torque), its rate from the last row's."""
         if self._kernels is not None and compiled.ON:   # the same, compiled
-            theta_ref, theta_d_ref, self._link_other = np.empty(len(q_ref)), np.empty(len(q_ref)), np.empty(self.m)
+            theta_ref, theta_d_ref = np.empty(len(q_ref)), np.empty(len(q_ref))
             self._kernels.law_references(q_ref, qd_ref, qdd_ref, tau_ff, self.joints, self.rotor_all, self.stiffness_all,
                                          self.state, self.moving, self.held_link_nm, self.link_inertia, self._tuning,
-                                         self.twist_rad, self._link_other, theta_ref, theta_d_ref)
+                                         self.twist_rad, self._link_other, theta_ref, theta_d_ref, self._work)
             return theta_ref, theta_d_ref
         sel = self.joints
         link_torque = tau_ff - self.rotor_all * qdd_ref
@@ -351,9 +379,9 @@ class TwoMassStateFeedback:
         link_torque[sel] -= w_link
         twist = link_torque / self.stiffness_all
         rate = (twist - self.twist_rad) / self.period_s
-        self.twist_rad = twist
+        self.twist_rad[:] = twist
         # the links' torque other than their inertia's; the held unknown torque at rest is an input then
-        self._link_other = link_torque[sel] + np.where(self.moving, w_link, 0.0) - self.link_inertia @ qdd_ref[sel]
+        self._link_other[:] = link_torque[sel] + np.where(self.moving, w_link, 0.0) - self.link_inertia @ qdd_ref[sel]
         return q_ref + twist, qd_ref + rate
 
     def update(self, q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, theta_d_ref: np.ndarray,
@@ -367,7 +395,7 @@ class TwoMassStateFeedback:
             coulomb, viscous = self._friction_rows()
             self._kernels.law_update(q_ref, qd_ref, theta_ref, theta_d_ref, tau_ff, theta, theta_d, self.joints, self.state,
                                      self.l, self.k, self.moving, self.held_link_nm, self.held_rotor_nm,
-                                     self.friction is not None, coulomb, viscous, self._tuning, demand, ff)
+                                     self.friction is not None, coulomb, viscous, self._tuning, demand, ff, self._work)
             return demand, ff
         sel, x, m = self.joints, self.state, self.m
         x += self.l @ (np.concatenate([theta[sel], theta_d[sel]]) - x[: 2 * m])
@@ -386,13 +414,13 @@ class TwoMassStateFeedback:
             coulomb, viscous = self._friction_rows()
             self._kernels.law_predict(tau_nm, theta_d, self.joints, self.state, self.ad, self.bd, self.moving,
                                       self.held_rotor_nm, self._link_other, self.friction is not None, coulomb, viscous,
-                                      self._tuning)
+                                      self._tuning, self._work)
             return
         sel = self.joints
         u = tau_nm[sel] + np.where(self.moving, self.held_rotor_nm, 0.0)   # the held rotor torque: an input while moving
         if self.friction is not None:
             u = u - friction_torque_nm(self.friction[0][sel], self.friction[1][sel], theta_d[sel], FRICTION_SMOOTH_RAD_S)
-        self.state = self.ad @ self.state + self.bd @ np.concatenate([u, self._link_other])
+        self.state[:] = self.ad @ self.state + self.bd @ np.concatenate([u, self._link_other])
 
     def _friction_rows(self) -> tuple[np.ndarray, np.ndarray]:
         """The friction estimate's Coulomb and viscous rows (every joint) for the kernels; zeros where there is none."""

@@ -15,7 +15,7 @@ class StateFeedbackCycle:
 
     Made by the loop when the cell has drives and numba is there; `fits` says whether a call may take
     the kernel (no tuning, nothing to run between the steps, a model the compiled RNEA can read);
-    `run` then does what the Python loop's steps do after its schedule, to the rounding.
+    `run` then does what the Python loop does (its schedule, then its steps), to the rounding.
     """
 
     def __init__(self, servo: JointServo, cell: Any, law: Any, kernels: Any) -> None:
@@ -41,10 +41,13 @@ class StateFeedbackCycle:
         return body is not None
 
     def run(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
-        """The call's steps (the law scheduled for it already), the drives as torque motors."""
-        servo, law, kernels = self.servo, self.law, self._kernels
+        """The call's schedule (the law's, `schedule(cell.q, qd_ref[0])`) and steps, the drives as torque motors."""
+        servo, law = self.servo, self.law
         if self._law_of is None or self._law_of[0] is not servo._kp or self._law_of[1] is not servo._velocity_bw:
             self._law_rows()
+        schedule = law.solved   # else (after a reset) solved in Python first: numba has no DARE solver
+        if not schedule:
+            law.schedule(self.cell.q, qd_ref[0])
         if qdd_ref.strides[0] == 0:   # one acceleration broadcast over the rows: the kernel reads rows
             qdd_ref = np.ascontiguousarray(qdd_ref)
         n_steps = len(q_ref)
@@ -54,15 +57,13 @@ class StateFeedbackCycle:
         integral_before, integral = servo.integral, servo._integral_next
         tail = self._tail
         if tail is None:
-            tail = self._tail = (self._body, self._gravity, self._law, servo._inertia_every,
-                                 1.0 / FRICTION_SMOOTH_RAD_S,
-                                 law.joints, law.tau_max, law.rotor_all, law.stiffness_all, law._tuning, servo._kv,
-                                 servo._ki_dt, servo.position_error, servo.velocity_error, servo.torque,
-                                 servo.saturated, self._torque_ff, self._velocity, *self.cell.drives.kernel_arrays())
-        self.cell.drives.run_kernel(kernels.state_feedback_cycle, (
-            q_ref, qd_ref, qdd_ref, noise, servo.torque_offset, integral_before, integral, servo._steps,
-            friction is not None, coulomb, viscous, law.state, law.moving, law.held_link_nm, law.held_rotor_nm,
-            law.link_inertia, law.twist_rad, law._link_other, law.l, law.k, law.ad, law.bd), tail)
+            tail = self._tail = (law._buffer, law.moving, law._flags, law.joints, law._tuning, self._body, self._gravity,
+                                 self._law, servo._inertia_every, 1.0 / FRICTION_SMOOTH_RAD_S, servo._kv, servo._ki_dt,
+                                 servo.position_error, servo.velocity_error, servo.torque, servo.saturated,
+                                 self._torque_ff, self._velocity, *self.cell.drives.torque_kernel_arrays())
+        self.cell.drives.run_kernel(self._kernels.state_feedback_cycle, (
+            q_ref, qd_ref, qdd_ref, noise, schedule, servo.torque_offset, integral_before, integral, servo._steps,
+            friction is not None, coulomb, viscous), tail)
         servo._steps += n_steps
         servo.integral, servo._integral_next = integral, integral_before
         servo.torque_ff, servo.velocity = self._torque_ff, self._velocity

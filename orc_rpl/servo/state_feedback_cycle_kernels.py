@@ -18,7 +18,7 @@ import numpy as np
 from orc_rpl.plant.compiled import kernel, mj_step_intrinsic
 from orc_rpl.plant.drive_kernels import measure
 from orc_rpl.servo.rnea_kernel import mass_diagonal as mass_diagonal_at, rnea_row
-from orc_rpl.servo.state_feedback_kernels import law_predict, law_references, law_update
+from orc_rpl.servo.state_feedback_kernels import compiled_law_views, law_predict, law_references, law_schedule, law_update
 
 step = mj_step_intrinsic()
 
@@ -29,42 +29,43 @@ LAW_ROWS = 6
 
 @kernel
 def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarray, qd_ref: np.ndarray,
-                         qdd_ref: np.ndarray, noise: np.ndarray, torque_offset: np.ndarray,
+                         qdd_ref: np.ndarray, noise: np.ndarray, schedule: bool, torque_offset: np.ndarray,
                          integral_before: np.ndarray, integral: np.ndarray, steps: int, friction: bool,
-                         coulomb: np.ndarray, viscous: np.ndarray, state: np.ndarray, moving: np.ndarray,
-                         held_link: np.ndarray, held_rotor: np.ndarray, link_inertia: np.ndarray,
-                         twist_rad: np.ndarray, link_other: np.ndarray, l: np.ndarray, k: np.ndarray, ad: np.ndarray,
-                         bd: np.ndarray, body: np.ndarray, gravity: np.ndarray, law: np.ndarray, inertia_every: int,
-                         smooth_inv: float, joints: np.ndarray, law_tau_max: np.ndarray, rotor_all: np.ndarray,
-                         stiffness_all: np.ndarray, tuning: np.ndarray, kv: np.ndarray, ki_dt: np.ndarray,
-                         position_error: np.ndarray, velocity_error: np.ndarray, torque: np.ndarray,
-                         saturated: np.ndarray, torque_ff: np.ndarray, velocity: np.ndarray,
-                         ctrl: np.ndarray, act: np.ndarray, force: np.ndarray, gainprm: np.ndarray,
-                         biasprm: np.ndarray, dynprm: np.ndarray, qpos: np.ndarray, qvel: np.ndarray,
-                         qpos_address: np.ndarray, qvel_address: np.ndarray, count_per_rad: float,
-                         rad_per_count: float, q_meas: np.ndarray, qd_meas: np.ndarray,
-                         tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
-    """len(q_ref) steps of `_run_state_feedback` after its schedule, the drives as torque motors.
+                         coulomb: np.ndarray, viscous: np.ndarray, law_buffer: np.ndarray, moving: np.ndarray,
+                         flags: np.ndarray, joints: np.ndarray, tuning: np.ndarray, body: np.ndarray,
+                         gravity: np.ndarray, law: np.ndarray, inertia_every: int, smooth_inv: float, kv: np.ndarray,
+                         ki_dt: np.ndarray, position_error: np.ndarray, velocity_error: np.ndarray, torque: np.ndarray,
+                         saturated: np.ndarray, torque_ff: np.ndarray, velocity: np.ndarray, ctrl: np.ndarray,
+                         force: np.ndarray, qpos: np.ndarray, qvel: np.ndarray, qpos_address: np.ndarray,
+                         qvel_address: np.ndarray, count_per_rad: float, rad_per_count: float, q_meas: np.ndarray,
+                         qd_meas: np.ndarray, tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`schedule` (the law's `schedule(q, qd_ref[0])`, q the measurement now), then len(q_ref) steps of
+    `_run_state_feedback` after its schedule, the drives as torque motors.
 
-    `noise` has len(q_ref) + 1 rows (the speed noise the current measurement has, then each step's).
-    The servo's signals end as the Python law leaves them: kv and ki_dt (scheduled every
+    The state feedback is `law_buffer` (its arrays: servo/state_feedback_layout.py), `moving`, `flags`, `joints` and
+    `tuning`; `law` the cascade's rows. `noise` has len(q_ref) + 1 rows (the speed noise the current measurement
+    has, then each step's). The servo's signals end as the Python law leaves them: kv and ki_dt (scheduled every
     `inertia_every` steps counted from `steps`), the last step's position and velocity errors, torques,
     saturation flags, the cascade's feed-forward and the speeds it read; `integral` gets the cascade's
     integral with the slow joints' unknown torque (the filter's) in place of theirs.
     """
     n_steps, n = q_ref.shape
     m = joints.shape[0]
+    if schedule:
+        law_schedule(body, q_meas, qd_ref[0], joints, law_buffer, moving, flags, tuning)
+    (twist_rad, rotor_all, stiffness_all, held_link, held_rotor, link_other, _, _, _, law_tau_max, state, link_inertia,
+     k, l, ad, bd, _, _, _, _, _, _, _, _) = compiled_law_views(law_buffer, n, m)
     q, qd, tau_link, theta_ref, theta_d_ref = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     last, mass = integral_before.copy(), np.empty(n)
     demand, ff = np.empty(m), np.empty(m)
     tau = np.empty(n)
-    work = np.empty((n, 15))
+    work, law_work = np.empty((n, 15)), np.empty(max(n, 7 * m))
     for i in range(n_steps):
         for j in range(n):   # copies: the measurement is overwritten after the step
             q[j], qd[j] = q_meas[j], qd_meas[j]
         rnea_row(body, gravity, q_ref[i], qd_ref[i], qdd_ref[i], tau_link, work)
         law_references(q_ref[i], qd_ref[i], qdd_ref[i], tau_link, joints, rotor_all, stiffness_all, state, moving,
-                       held_link, link_inertia, tuning, twist_rad, link_other, theta_ref, theta_d_ref)
+                       held_link, link_inertia, tuning, twist_rad, link_other, theta_ref, theta_d_ref, law_work)
         # JointServo.update (with _update_tuned's friction) on the rotors' references, every joint
         if steps % inertia_every == 0:
             mass_diagonal_at(body, q, mass)
@@ -92,7 +93,7 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
             tau[j] = t
         # the slow joints: the state feedback's torques in place of the cascade's
         law_update(q_ref[i], qd_ref[i], theta_ref, theta_d_ref, tau_link, q, qd, joints, state, l, k, moving,
-                   held_link, held_rotor, friction, coulomb, viscous, tuning, demand, ff)
+                   held_link, held_rotor, friction, coulomb, viscous, tuning, demand, ff, law_work)
         for c in range(m):
             j = joints[c]
             wanted = demand[c] + torque_offset[j]
@@ -108,7 +109,8 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
             f = force[j]
             tau_sq_sum[j] = tau_sq_sum[j] + f * f
         measure(qpos, qvel, qpos_address, qvel_address, noise[i + 1], count_per_rad, rad_per_count, q_meas, qd_meas)
-        law_predict(tau, qd, joints, state, ad, bd, moving, held_rotor, link_other, friction, coulomb, viscous, tuning)
+        law_predict(tau, qd, joints, state, ad, bd, moving, held_rotor, link_other, friction, coulomb, viscous, tuning,
+                    law_work)
     for j in range(n):
         velocity[j] = qd[j]
     for c in range(m):   # what the path velocity controller adds to the model's torque: the filter's unknown torque

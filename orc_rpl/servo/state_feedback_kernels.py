@@ -13,50 +13,85 @@ from __future__ import annotations
 
 import numpy as np
 
-from orc_rpl.plant.compiled import kernel
+from orc_rpl.plant.compiled import inlined_kernel, kernel
 from orc_rpl.servo.rnea_kernel import mass_matrix_block
+from orc_rpl.servo.state_feedback_layout import KEPT, SCHEDULED, SETTLING, law_views
 
-#: Entries of the `tuning` array (`TwoMassStateFeedback._tuning`): the kernel reads the design's constants by these.
+#: Entries of the `tuning` array (`TwoMassStateFeedback._tuning`): the kernel reads the design's constants by these
+#: (the schedule's tolerances as the module's constants were when the law was made).
 (BANDWIDTH, MOTOR_WEIGHT, ROTOR_NOISE, LINK_NOISE, WALK, REST_WALK, ANGLE_NOISE, SPEED_NOISE, PERIOD, EXPM_TERMS,
- FRICTION_GAIN, FRICTION_SMOOTH) = range(12)
-TUNING_SIZE = 12
+ FRICTION_GAIN, FRICTION_SMOOTH, INERTIA_TOLERANCE, GAINS_SETTLED, MOVING, REST_TO_LINK, ITERATIONS) = range(17)
+TUNING_SIZE = 17
+
+#: `law_views` compiled: a kernel finds the law's arrays in its buffer.
+compiled_law_views = inlined_kernel(law_views)
 
 
 @kernel
 def sampled_model(link_inertia: np.ndarray, rotor: np.ndarray, stiffness: np.ndarray, damping: np.ndarray,
                   moving: np.ndarray, tuning: np.ndarray, ad: np.ndarray, bd: np.ndarray, weights: np.ndarray,
                   process: np.ndarray, measurement: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`_model`: `slow_joints_model` into ad (5m x 5m) and bd (5m x 2m), `lqr_weights` and `noise_covariances`."""
+    """`_model`: `slow_joints_model` into ad (5m x 5m) and bd (5m x 2m), `lqr_weights` and `noise_covariances`.
+
+    The exponential's series as the numpy code sums it, on the rows that are not zero: [A B; 0 0] has its
+    last 3m rows zero (w and the inputs are constant over a step), and so has each power of it, whose
+    rows 4m..5m are zero too; the others have at most 6m entries (a joint's own, or the links' coupled
+    ones), which the products take one by one (some 40 times fewer sums than the dense 7m x 7m products)."""
     m = rotor.shape[0]
     period = tuning[PERIOD]
-    # slow_joints_model: [A B; 0 0], its exponential by the series
-    k_mat, d_mat, inv_rotor = np.diag(stiffness), np.diag(damping), np.diag(1.0 / rotor)
-    inv_link = np.linalg.inv(link_inertia)
-    a = np.zeros((7 * m, 7 * m))
-    eye = np.eye(m)
-    a[0:m, m : 2 * m] = eye
-    a[2 * m : 3 * m, 3 * m : 4 * m] = eye
-    a[m : 2 * m, 0:m] = -inv_rotor @ k_mat
-    a[m : 2 * m, m : 2 * m] = -inv_rotor @ d_mat
-    a[m : 2 * m, 2 * m : 3 * m] = inv_rotor @ k_mat
-    a[m : 2 * m, 3 * m : 4 * m] = inv_rotor @ d_mat
-    a[3 * m : 4 * m, 0:m] = inv_link @ k_mat
-    a[3 * m : 4 * m, m : 2 * m] = inv_link @ d_mat
-    a[3 * m : 4 * m, 2 * m : 3 * m] = -inv_link @ k_mat
-    a[3 * m : 4 * m, 3 * m : 4 * m] = -inv_link @ d_mat
-    for j in range(m):
-        for i in range(m):
-            a[3 * m + i, 4 * m + j] = inv_link[i, j] * (1.0 if moving[j] else 0.0)
-            a[m + i, 4 * m + j] = inv_rotor[i, j] * (0.0 if moving[j] else 1.0)
-    a[m : 2 * m, 5 * m : 6 * m] = inv_rotor
-    a[3 * m : 4 * m, 6 * m :] = -inv_link
-    a = a * period
-    e, term = np.eye(7 * m), np.eye(7 * m)
-    for i in range(1, int(tuning[EXPM_TERMS]) + 1):
-        term = term @ a / i
-        e = e + term
-    ad[:, :] = e[: 5 * m, : 5 * m]
-    bd[:, :] = e[: 5 * m, 5 * m :]
+    inv_link, low = np.empty((m, m)), np.empty((m, m))
+    _solve_spd(link_inertia, np.eye(m), low, inv_link)   # the links' inertia is symmetric positive definite
+    width = 7 * m
+    a = np.zeros((4 * m, width))   # the rows of [A B] * period that are not zero
+    for i in range(m):
+        inv_rotor = 1.0 / rotor[i]
+        a[i, m + i] = period
+        a[2 * m + i, 3 * m + i] = period
+        a[m + i, i] = -(inv_rotor * stiffness[i]) * period
+        a[m + i, m + i] = -(inv_rotor * damping[i]) * period
+        a[m + i, 2 * m + i] = (inv_rotor * stiffness[i]) * period
+        a[m + i, 3 * m + i] = (inv_rotor * damping[i]) * period
+        a[m + i, 4 * m + i] = (inv_rotor * (0.0 if moving[i] else 1.0)) * period
+        a[m + i, 5 * m + i] = inv_rotor * period
+        for j in range(m):
+            a[3 * m + i, j] = (inv_link[i, j] * stiffness[j]) * period
+            a[3 * m + i, m + j] = (inv_link[i, j] * damping[j]) * period
+            a[3 * m + i, 2 * m + j] = -(inv_link[i, j] * stiffness[j]) * period
+            a[3 * m + i, 3 * m + j] = -(inv_link[i, j] * damping[j]) * period
+            a[3 * m + i, 4 * m + j] = (inv_link[i, j] * (1.0 if moving[j] else 0.0)) * period
+            a[3 * m + i, 6 * m + j] = -inv_link[i, j] * period
+    columns, count = np.empty((4 * m, width), dtype=np.int64), np.zeros(4 * m, dtype=np.int64)
+    for r in range(4 * m):
+        for c in range(width):
+            if a[r, c] != 0.0:
+                columns[r, count[r]] = c
+                count[r] += 1
+    e, term, product = np.zeros((4 * m, width)), a.copy(), np.empty((4 * m, width))
+    for r in range(4 * m):
+        for c in range(width):
+            e[r, c] = a[r, c]
+    for i in range(2, int(tuning[EXPM_TERMS]) + 1):   # term = term @ a / i, rows 0..4m (the others stay zero)
+        product[:, :] = 0.0
+        for r in range(4 * m):
+            for k in range(4 * m):
+                factor = term[r, k]
+                if factor != 0.0:
+                    for z in range(count[k]):
+                        c = columns[k, z]
+                        product[r, c] += factor * a[k, c]
+        for r in range(4 * m):
+            for c in range(width):
+                term[r, c] = product[r, c] / i
+                e[r, c] += term[r, c]
+    ad[:, :] = 0.0
+    bd[:, :] = 0.0
+    for r in range(5 * m):
+        ad[r, r] = 1.0
+    for r in range(4 * m):
+        for c in range(5 * m):
+            ad[r, c] += e[r, c]
+        for c in range(2 * m):
+            bd[r, c] = e[r, 5 * m + c]
     # lqr_weights and noise_covariances
     w = tuning[BANDWIDTH]
     weights[:, :] = 0.0
@@ -96,17 +131,27 @@ def _solve_spd(a: np.ndarray, b: np.ndarray, low: np.ndarray, out: np.ndarray) -
             for k in range(j):
                 total -= low[i, k] * low[j, k]
             low[i, j] = np.sqrt(total) if i == j else total / low[j, j]
-    for c in range(b.shape[1]):
-        for i in range(n):   # forward, then back substitution
-            total = b[i, c]
-            for k in range(i):
-                total -= low[i, k] * out[k, c]
-            out[i, c] = total / low[i, i]
-        for i in range(n - 1, -1, -1):
-            total = out[i, c]
-            for k in range(i + 1, n):
-                total -= low[k, i] * out[k, c]
-            out[i, c] = total / low[i, i]
+    # forward, then back substitution, a row of every right-hand side at a time (sums along rows: no chain of
+    # dependent sums, one division a row)
+    cols = b.shape[1]
+    for i in range(n):
+        for c in range(cols):
+            out[i, c] = b[i, c]
+        for k in range(i):
+            factor = low[i, k]
+            for c in range(cols):
+                out[i, c] -= factor * out[k, c]
+        inverse = 1.0 / low[i, i]
+        for c in range(cols):
+            out[i, c] *= inverse
+    for i in range(n - 1, -1, -1):
+        for k in range(i + 1, n):
+            factor = low[k, i]
+            for c in range(cols):
+                out[i, c] -= factor * out[k, c]
+        inverse = 1.0 / low[i, i]
+        for c in range(cols):
+            out[i, c] *= inverse
 
 
 @kernel
@@ -123,7 +168,7 @@ def riccati_gains(ad: np.ndarray, bd: np.ndarray, weights: np.ndarray, process: 
     bp, small, rhs, low_m = np.empty((m, 4 * m)), np.empty((m, m)), np.empty((m, 4 * m)), np.empty((m, m))
     closed, work4, p_new = np.empty((4 * m, 4 * m)), np.empty((4 * m, 4 * m)), np.empty((4 * m, 4 * m))
     innovation, low_2m, x = np.empty((2 * m, 2 * m)), np.empty((2 * m, 2 * m)), np.empty((2 * m, 5 * m))
-    post, work5 = np.empty((5 * m, 5 * m)), np.empty((5 * m, 5 * m))
+    post, work5, ad_t = np.empty((5 * m, 5 * m)), np.empty((5 * m, 5 * m)), np.ascontiguousarray(ad.T)
     for it in range(iterations + 1):   # the last pass makes the gains only
         # the LQR: gain = (r + b' p b)^-1 b' p a, p = weights + a' p (a - b gain)
         _product(b4, p, bp, True)
@@ -155,12 +200,10 @@ def riccati_gains(ad: np.ndarray, bd: np.ndarray, weights: np.ndarray, process: 
             for j in range(5 * m):
                 post[i, j] = s[i, j] - post[i, j]
         _product(ad, post, work5, False)
-        for i in range(5 * m):   # (ad post) ad': row i of work5 against row j of ad
+        _product(work5, ad_t, post, False)   # (ad post) ad' as rows of ad' summed: no chain of dependent sums
+        for i in range(5 * m):
             for j in range(5 * m):
-                total = 0.0
-                for c in range(5 * m):
-                    total += work5[i, c] * ad[j, c]
-                s[i, j] = total + process[i, j]
+                s[i, j] = post[i, j] + process[i, j]
     # l = s c' (c s c' + measurement)^-1: the transpose of (c s c' + measurement)^-1 c s (both symmetric)
     for i in range(2 * m):
         for j in range(2 * m):
@@ -190,15 +233,71 @@ def link_inertia_at(body: np.ndarray, q: np.ndarray, joints: np.ndarray, rotor: 
     return moved, changed
 
 
+@inlined_kernel
+def _switch(state: np.ndarray, moving: np.ndarray, moving_now: np.ndarray, held_link: np.ndarray,
+            held_rotor: np.ndarray, rest_to_link: float) -> None:  # pragma: no cover - compiled
+    """`switch`: the joints that start moving take rest_to_link of their w to the link, those that stop hold it."""
+    m = moving.shape[0]
+    for i in range(m):
+        if moving_now[i] == moving[i]:
+            continue
+        w = state[4 * m + i]
+        if moving_now[i]:
+            held_rotor[i], state[4 * m + i] = (1.0 - rest_to_link) * w, held_link[i] + rest_to_link * w
+        else:
+            held_link[i], state[4 * m + i] = w, held_rotor[i]
+        moving[i] = moving_now[i]
+
+
+@inlined_kernel
+def _largest_change(now: np.ndarray, before: np.ndarray) -> float:  # pragma: no cover - compiled
+    """max |now - before| / max |now|."""
+    change, scale = 0.0, 0.0
+    for i in range(now.shape[0]):
+        for j in range(now.shape[1]):
+            change = max(change, abs(now[i, j] - before[i, j]))
+            scale = max(scale, abs(now[i, j]))
+    return change / scale
+
+
 @kernel
+def law_schedule(body: np.ndarray, q: np.ndarray, qd_ref: np.ndarray, joints: np.ndarray, buffer: np.ndarray,
+                 moving: np.ndarray, flags: np.ndarray, tuning: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`TwoMassStateFeedback.schedule(q, qd_ref)` of a law whose Riccati equations are solved: the law's arrays in
+    `buffer` (servo/state_feedback_layout.py), `moving` and the `flags` in place."""
+    n, m = q.shape[0], joints.shape[0]
+    (_, _, _, held_link, held_rotor, _, rotor, stiffness, damping, _, state, link_inertia, k, l, ad, bd, weights,
+     process, measurement, p, s, inertia_now, k_before, l_before) = compiled_law_views(buffer, n, m)
+    moving_now = np.empty(m, dtype=np.bool_)
+    moved, changed = link_inertia_at(body, q, joints, rotor, link_inertia, inertia_now, qd_ref, tuning[MOVING], moving,
+                                     moving_now)
+    if changed:
+        _switch(state, moving, moving_now, held_link, held_rotor, tuning[REST_TO_LINK])
+    remodel = changed or moved > tuning[INERTIA_TOLERANCE]
+    if not (remodel or flags[SETTLING]):
+        flags[KEPT] += 1
+        return
+    k_before[:, :] = k
+    l_before[:, :] = l
+    if remodel:   # else the iterations go on for the model they were started on
+        link_inertia[:, :] = inertia_now
+        sampled_model(link_inertia, rotor, stiffness, damping, moving, tuning, ad, bd, weights, process, measurement)
+    riccati_gains(ad, bd, weights, process, measurement, int(tuning[ITERATIONS]), p, s, k, l)
+    flags[SCHEDULED] += 1
+    flags[SETTLING] = max(_largest_change(k, k_before), _largest_change(l, l_before)) > tuning[GAINS_SETTLED]
+
+
+@inlined_kernel
 def law_references(q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, tau_ff: np.ndarray, joints: np.ndarray,
                    rotor_all: np.ndarray, stiffness_all: np.ndarray, state: np.ndarray, moving: np.ndarray,
                    held_link: np.ndarray, link_inertia: np.ndarray, tuning: np.ndarray, twist_rad: np.ndarray,
-                   link_other: np.ndarray, theta_ref: np.ndarray, theta_d_ref: np.ndarray) -> None:  # pragma: no cover
+                   link_other: np.ndarray, theta_ref: np.ndarray, theta_d_ref: np.ndarray,
+                   work: np.ndarray) -> None:  # pragma: no cover - compiled
     """`references`: the rotors' reference row into theta_ref and theta_d_ref, the twist into twist_rad (in place,
-    its last row's read first), the slow joints' other link torques into link_other."""
+    its last row's read first), the slow joints' other link torques into link_other. work: scratch, at least
+    max(n, 7m) floats (these three kernels' only memory: they run every 1 ms step)."""
     n, m = q_ref.shape[0], joints.shape[0]
-    link_torque = np.empty(n)
+    link_torque = work[:n]
     for j in range(n):
         link_torque[j] = tau_ff[j] - rotor_all[j] * qdd_ref[j]
     for i in range(m):
@@ -217,16 +316,16 @@ def law_references(q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray, t
         link_other[i] = (link_torque[joints[i]] + w_link) - inertia
 
 
-@kernel
+@inlined_kernel
 def law_update(q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, theta_d_ref: np.ndarray,
                tau_ff: np.ndarray, theta: np.ndarray, theta_d: np.ndarray, joints: np.ndarray, state: np.ndarray,
                l: np.ndarray, k: np.ndarray, moving: np.ndarray, held_link: np.ndarray, held_rotor: np.ndarray,
                friction: bool, coulomb: np.ndarray, viscous: np.ndarray, tuning: np.ndarray, demand: np.ndarray,
-               ff: np.ndarray) -> None:  # pragma: no cover - compiled
+               ff: np.ndarray, work: np.ndarray) -> None:  # pragma: no cover - compiled
     """`update`: the filter's correction of `state` (in place), the demanded torques and their feed-forward
-    (the slow joints') into demand and ff."""
+    (the slow joints') into demand and ff; work: scratch (`law_references`)."""
     m = joints.shape[0]
-    innovation = np.empty(2 * m)
+    innovation = work[: 2 * m]
     for i in range(m):
         innovation[i] = theta[joints[i]] - state[i]
         innovation[m + i] = theta_d[joints[i]] - state[m + i]
@@ -235,7 +334,7 @@ def law_update(q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, the
         for c in range(2 * m):
             correction += l[r, c] * innovation[c]
         state[r] = state[r] + correction
-    error = np.empty(4 * m)
+    error = work[2 * m : 6 * m]
     for i in range(m):
         j = joints[i]
         error[i] = state[i] - theta_ref[j]
@@ -255,20 +354,22 @@ def law_update(q_ref: np.ndarray, qd_ref: np.ndarray, theta_ref: np.ndarray, the
         demand[i] = total - feedback
 
 
-@kernel
+@inlined_kernel
 def law_predict(tau: np.ndarray, theta_d: np.ndarray, joints: np.ndarray, state: np.ndarray, ad: np.ndarray,
                 bd: np.ndarray, moving: np.ndarray, held_rotor: np.ndarray, link_other: np.ndarray, friction: bool,
-                coulomb: np.ndarray, viscous: np.ndarray, tuning: np.ndarray) -> None:  # pragma: no cover - compiled
-    """`applied`: the filter's prediction over the step, `state` in place."""
+                coulomb: np.ndarray, viscous: np.ndarray, tuning: np.ndarray,
+                work: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`applied`: the filter's prediction over the step, `state` in place; work: scratch (`law_references`)."""
     m = joints.shape[0]
-    inputs = np.empty(2 * m)
+    inputs = work[: 2 * m]
     for i in range(m):
         j = joints[i]
         u = tau[j] + (held_rotor[i] if moving[i] else 0.0)
         if friction:
             u = u - (coulomb[j] * np.tanh(theta_d[j] / tuning[FRICTION_SMOOTH]) + viscous[j] * theta_d[j])
         inputs[i], inputs[m + i] = u, link_other[i]
-    before = state.copy()
+    before = work[2 * m : 7 * m]
+    before[:] = state
     for r in range(5 * m):
         total = 0.0
         for c in range(5 * m):

@@ -88,12 +88,13 @@ def _estimates() -> tuple[Any, Any, Any]:
     return thermal, winding, gear
 
 
-def test_the_fused_update_of_the_three_estimates_gives_each_ones_own_update() -> None:
+def _fused_against_own_updates(fused: tuple[Any, Any, Any], reference: tuple[Any, Any, Any], cycles: int,
+                               seed: int) -> None:
+    """`cycles` random motion cycles of the fused update (kernels on) and of each one's own (numpy): the same."""
     from orc_rpl.motion.gear_friction import update_estimates
 
-    rng = np.random.default_rng(5)
-    fused, reference = _estimates(), _estimates()
-    for _ in range(300):   # 12 gearbox integrations
+    rng = np.random.default_rng(seed)
+    for _ in range(cycles):
         tau, qd = rng.normal(0.0, 200.0, 6), rng.normal(0.0, 1.5, 6)
         compiled.use_kernels(True)
         update_estimates(*fused, tau, qd)
@@ -103,6 +104,19 @@ def test_the_fused_update_of_the_three_estimates_gives_each_ones_own_update() ->
                          (reference[0].load, reference[1].rise_k, reference[2].rise_k)):
         assert np.all(want > 0.0)
         assert float(np.max(np.abs(got - want) / want)) <= 1e-10
+
+
+def test_the_fused_update_of_the_three_estimates_gives_each_ones_own_update() -> None:
+    _fused_against_own_updates(_estimates(), _estimates(), 300, 5)   # 12 gearbox integrations
+
+
+def test_after_a_reset_the_fused_update_still_updates_each_estimates_own_arrays() -> None:
+    fused, reference = _estimates(), _estimates()
+    for estimates in (fused, reference):
+        for estimate in estimates:
+            estimate.reset()   # a cold start: what each one hands the fused update must still be what it reports
+        estimates[2].warm_up(10.0)
+    _fused_against_own_updates(fused, reference, 60, 6)
 
 
 def test_the_path_velocity_controllers_compiled_range_from_the_rows_parts_is_the_numpy_range() -> None:

@@ -131,10 +131,10 @@ def test_the_gains_are_kept_until_the_inertia_moves_and_made_again_when_it_has()
     for _ in range(200):   # at rest: the Riccati iterations settle, then the gains are kept
         law.schedule(home, zero)
     assert law.kept > 100
-    gains, scheduled = law.k, law.scheduled
+    gains, scheduled = law.k.copy(), law.scheduled
     nudged = home + np.array([0.0, 0.001, 0.0, 0.0, 0.0, 0.0])   # the inertia moves far less than the tolerance
     law.schedule(nudged, zero)
-    assert law.k is gains and law.scheduled == scheduled
+    assert np.array_equal(law.k, gains) and law.scheduled == scheduled
     reach = home + np.array([0.0, 0.5, -0.6, 0.0, 0.0, 0.0])   # much further out: more than the tolerance
     _, moved, _ = law._link_inertia_at(reach, None)
     assert moved > state_feedback.INERTIA_TOLERANCE

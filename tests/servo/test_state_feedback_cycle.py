@@ -61,7 +61,8 @@ def _recorded_run(kernel: bool, monkeypatch: pytest.MonkeyPatch) -> tuple[np.nda
             cell, servo, law = loop.cell, loop.servo, loop.state_feedback
             rows.append(np.concatenate([cell.true_q, cell.link_q, cell.true_qd, cell.q, cell.qd, servo.integral,
                                         servo.position_error, servo.velocity_error, servo.torque, servo.torque_ff,
-                                        servo.saturated, law.state, law.twist_rad, cell._tau_sq_sum]))
+                                        servo.saturated, law.state, law.twist_rad, cell._tau_sq_sum,
+                                        law.k.ravel(), law.l.ravel(), [law.scheduled, law.kept]]))
     return np.array(rows), in_kernel[0]
 
 
@@ -76,3 +77,11 @@ def test_the_compiled_cycle_runs_the_python_loops_steps(monkeypatch: pytest.Monk
     # ... and from there the closed loop keeps the runs together: motors and links within 1e-6 rad all along
     angles = slice(0, 12)
     assert np.max(np.abs(compiled_run[:, angles] - reference[:, angles])) < 1e-6
+    # the schedule inside the kernel made the gains again, and kept them, on the Python schedule's cycles
+    np.testing.assert_array_equal(compiled_run[:, -2:], reference[:, -2:])
+    gains = slice(-2 - (3 * 12 + 15 * 6), -2)   # k (m x 4m) and l (5m x 2m) of the three slow joints
+    # and the gains it made are the Python schedule's: to the rounding at first, then within what the encoders' counts
+    # move the pose (measured 2.3e-7 of the largest gain)
+    assert np.max(np.abs(compiled_run[:25, gains] - reference[:25, gains])) <= 1e-9 * np.max(np.abs(reference[:25, gains]))
+    assert np.max(np.abs(compiled_run[:, gains] - reference[:, gains])) <= 1e-5 * np.max(np.abs(reference[:, gains]))
+    assert compiled_run[-1, -2] > 50 and compiled_run[-1, -1] > 50

@@ -16,8 +16,8 @@ pytestmark = [pytest.mark.sim, pytest.mark.skipif(not compiled.AVAILABLE, reason
 
 #: What a schedule leaves that the steps use: the sampled model, the gains, the Riccati solutions carried on.
 OUTPUTS = ("ad", "bd", "k", "l", "_p", "_s")
-#: What the schedule compares to keep the gains (`INERTIA_TOLERANCE`, `GAINS_SETTLED`), and its counts.
-KEPT = ("link_inertia", "k", "l", "ad", "bd", "_settling", "scheduled", "kept")
+#: What the schedule compares to keep the gains (`INERTIA_TOLERANCE`, `GAINS_SETTLED`), and its flags and counts.
+KEPT = ("link_inertia", "k", "l", "ad", "bd", "_flags")
 
 
 @pytest.fixture(autouse=True)
@@ -46,24 +46,24 @@ def _moves(layer: Any) -> None:
 
 def test_the_compiled_schedule_gives_the_numpy_schedules_model_and_gains_over_a_recorded_run() -> None:
     layer = _layer()
+    layer.backend.loop.use_compiled_law(False)   # the Python loop, which calls the law's schedule (the kernel's runs it inside)
     law = layer.backend.loop.state_feedback
     schedule = law.schedule
     worst, compared = [0.0], [0]
 
     def both(q: np.ndarray, qd_ref: Any = None, iterations: Any = None) -> None:
         # the same cycle twice from the same state: numpy first (the reference), then the kernel, which goes on
-        saved = (law._p, law._s, law.moving.copy(), law.state.copy(), law.held_link_nm.copy(), law.held_rotor_nm.copy())
-        kept = {name: getattr(law, name) for name in KEPT}   # what decides whether the gains are made again
+        solved = law.solved
+        saved = {name: np.array(getattr(law, name)) for name in ("_p", "_s", "moving", "state", "held_link_nm",
+                                                                 "held_rotor_nm", *KEPT)}
         compiled.use_kernels(False)
         schedule(q, qd_ref, iterations)
         reference = [np.array(getattr(law, name)) for name in OUTPUTS]
-        law._p, law._s, law.moving = saved[0], saved[1], saved[2].copy()
-        law.state[:], law.held_link_nm[:], law.held_rotor_nm[:] = saved[3], saved[4], saved[5]
-        for name, value in kept.items():
-            setattr(law, name, value)
+        for name, value in saved.items():   # the law's arrays are written in place, never rebound
+            getattr(law, name)[...] = value
         compiled.use_kernels(True)
         schedule(q, qd_ref, iterations)
-        if saved[0] is None or iterations == 0:
+        if not solved or iterations == 0:
             return   # solved anew: numpy's solver in both
         compared[0] += 1
         for name, want in zip(OUTPUTS, reference):
@@ -97,7 +97,7 @@ def test_the_compiled_step_gives_the_numpy_steps_references_torques_and_filter_o
             want = method(*[np.array(a) for a in args])
             want_state = [np.array(getattr(law, name)) for name in outputs]
             for name, value in before.items():
-                setattr(law, name, value.copy())
+                getattr(law, name)[...] = value
             compiled.use_kernels(True)
             got = method(*args)
             for name, value in zip(outputs, want_state):
