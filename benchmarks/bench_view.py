@@ -34,10 +34,12 @@
   be done), the `--fast` run's session at its ordinary nice value instead of above the browser's (`_normal_session`;
   `fast_session_priority` says whether the raise was permitted here, and `fast_slowdown_pct_same_priority` compares
   against the run without a view at the raised priority too), the scene with viser's default environment map
-  (`_with_environment_map`), everything as it was before those three changes (`_before`: also the plan made on the
-  worker thread in `--fast`, against the run without a view as it was), and the paced motion cycle at normal
-  priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority with the threads it waits on
-  through the interpreter lock left at normal priority (`_helpers_normal`), as before those changes.
+  (`_with_environment_map`), the view's process in the run's session instead of a session of its own
+  (`_view_in_run_session`, `_view_without_browser_in_run_session`), everything as it was before those four changes
+  (`_before`: also the plan made on the worker thread in `--fast`, against the run without a view as it was), and the
+  paced motion cycle at normal priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority
+  with the threads it waits on through the interpreter lock left at normal priority (`_helpers_normal`), as before
+  those changes.
 
 The paced runs are repeated `--runs` times and their medians printed. Run it alone:
 `python benchmarks/bench_view.py [--runs 3] [--repeats 5]` (needs chromium and the [view] extra; about ten minutes;
@@ -178,7 +180,7 @@ def browser_cpu_s(root: int) -> dict[str, float]:
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False, environment_map: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
             helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ, session: bool | str = True,
-            plan_ahead_worker: bool = False,
+            plan_ahead_worker: bool = False, own_session: bool = True,
             after_run: Any = None) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
     memory), "sender" (the server in its own process, each update sent by the run's sending thread, as before),
@@ -186,7 +188,8 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     `slice_s`: the scheduler slice the paced motion cycle asks for (None: the system's default, as before);
     `realtime`: a paced run's motion cycle at real-time priority, as `orc run` asks for it (False: normal priority);
     `helpers`: the threads the cycle waits on through the interpreter lock follow its priority (False: they stay at
-    normal priority, as before)."""
+    normal priority, as before); `own_session`: the view's process in a session of its own, as `orc run` starts it
+    (False: in the run's session, as before)."""
     scheduling.PACED_SLICE_S = slice_s
     source, program = load_program(path)
     robot = CellRobot.virtual(realtime=paced)
@@ -199,7 +202,7 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     view_pid = None
     if view != "none":
         if view in ("process", "sender"):
-            server = ViewProcess("127.0.0.1", 0, shadows, environment_map)
+            server = ViewProcess("127.0.0.1", 0, shadows, environment_map, own_session)
             scene, url, view_pid = server.scene, server.url, server.pid
         else:
             server = open_server(port=0)
@@ -277,6 +280,7 @@ PACED: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_view_without_browser": (None, "process", {}),
     "_sender": ("small", "sender", {}),
     "_without_view": (None, "none", {}),
+    "_view_in_run_session": ("small", "process", {"own_session": False}),
     "_helpers_normal": ("plain_large", "process", {"helpers": False}),
     "_normal_priority": ("plain_large", "process", {"realtime": False}),
     "_normal_priority_without_view": (None, "none", {"realtime": False}),
@@ -298,8 +302,11 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_gpu_idle_group": ("small", "process", {"gpu_idle_group": True}),
     "_with_environment_map": ("small", "process", {"environment_map": True}),
     "_normal_session": ("small", "process", {"session": False}),
+    "_view_in_run_session": ("small", "process", {"own_session": False}),
+    "_view_without_browser_in_run_session": (None, "process", {"own_session": False}),
     "_without_view_session_priority": (None, "none", {"session": "always"}),
-    "_before": ("small", "process", {"session": False, "environment_map": True, "plan_ahead_worker": True}),
+    "_before": ("small", "process", {"session": False, "environment_map": True, "plan_ahead_worker": True,
+                                     "own_session": False}),
     "_without_view_before": (None, "none", {"plan_ahead_worker": True}),
 }
 #: The pages' sizes (CSS pixels). SwiftShader's cost per frame grows with the pixels, but far less than in proportion.
@@ -504,10 +511,12 @@ def main() -> None:
         if runs is not None:
             print(f"fast_wall_s_without_view{name}={np.median([r['wall_s'] for r in runs]):.3f}")
             _fast_parts(runs, f"_without_view{name}")
-    if others["_session_priority"] is not None and "" in fast_runs:
-        slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in zip(fast_runs[""], others["_session_priority"])]
-        print(f"fast_slowdown_pct_same_priority_runs={','.join(f'{x:.1f}' for x in slowdowns)}")
-        print(f"fast_slowdown_pct_same_priority={np.median(slowdowns):.1f}")
+    # every variant whose run raised its session's priority, against the run without a view raised alike
+    raised = [suffix for suffix in fast_runs if FAST[suffix][1] != "none" and FAST[suffix][2].get("session", True)]
+    for suffix in raised if others["_session_priority"] is not None else []:
+        slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in zip(fast_runs[suffix], others["_session_priority"])]
+        print(f"fast_slowdown_pct_same_priority_runs{suffix}={','.join(f'{x:.1f}' for x in slowdowns)}")
+        print(f"fast_slowdown_pct_same_priority{suffix}={np.median(slowdowns):.1f}")
 
 
 def _paced_figures(runs: list[dict[str, Any]], suffix: str, browser: bool) -> None:
