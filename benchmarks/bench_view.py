@@ -418,9 +418,13 @@ def main() -> None:
     parser.add_argument("--browser-nice", type=int, default=0,
                         help="run the browser at this nice value (a user's browser on the controller's own machine "
                              "started with `nice -n 10`); 0: as a browser normally runs")
-    parser.add_argument("--fast-only", metavar="SUFFIXES",
+    quick = parser.add_mutually_exclusive_group()
+    quick.add_argument("--fast-only", metavar="SUFFIXES",
                         help="a quick look: no paced runs, and of the fast variants only these (comma-separated "
                              "suffixes, e.g. ',_gpu_idle_group'; the run without a view is always made)")
+    quick.add_argument("--paced-only", metavar="SUFFIXES",
+                        help="a quick look: no fast runs, and of the paced variants only these (comma-separated "
+                             "suffixes, e.g. ',_without_view'; the run with the benchmark browser is always made)")
     args = parser.parse_args()
     paced_variants, fast_variants = PACED, FAST
     if args.fast_only is not None:
@@ -429,6 +433,12 @@ def main() -> None:
         if unknown:
             parser.error(f"--fast-only: no such fast variant: {', '.join(sorted(unknown))}")
         paced_variants, fast_variants = {}, {suffix: FAST[suffix] for suffix in FAST if suffix in chosen}
+    if args.paced_only is not None:
+        chosen = set(args.paced_only.split(",")) | {""}
+        unknown = chosen - set(PACED)
+        if unknown:
+            parser.error(f"--paced-only: no such paced variant: {', '.join(sorted(unknown))}")
+        paced_variants, fast_variants = {suffix: PACED[suffix] for suffix in PACED if suffix in chosen}, {}
     load_before = os.getloadavg()[0]
     from playwright.sync_api import sync_playwright
 
@@ -498,6 +508,8 @@ def main() -> None:
         print(f"paced_simulated_s={paced_runs[''][0]['sim_s']:.3f}")
     for suffix, runs in paced_runs.items():
         _paced_figures(runs, suffix, PACED[suffix][0] is not None)
+    if not fast_runs:
+        return
     print(f"fast_simulated_s={fast_runs['_without_view'][0]['sim_s']:.3f}")
     baseline = fast_runs.pop("_without_view")
     print(f"fast_wall_s_without_view={np.median([r['wall_s'] for r in baseline]):.3f}")
