@@ -6,7 +6,8 @@
   the simulated clock, from the pacing's own start), 99th percentile; target at most 2 ms. The paced motion cycle runs
   at real-time priority, as `orc run` asks for it (`realtime_priority=1` when the system granted it).
 * `fast_slowdown_pct`: wall time of a `--view --fast` run against the same run without a view (the median of the
-  ratios of N interleaved rounds); target at most 10 %.
+  ratios of N interleaved rounds); target at most 10 %. The `--fast` view draws FAST_RATE_HZ states a second, as
+  `orc run --view --fast` does.
 * The benchmark browser: headless Chromium drawing WebGL with SwiftShader, whose GPU process (SwiftShader: the
   pixels a user's graphics card draws) runs at SCHED_IDLE, meant to run on the CPU time nothing else wants (with
   autogroup, only against the browser's own session: see `_gpu_idle_group`); the page's JavaScript
@@ -25,8 +26,9 @@
   waited for the plan-ahead worker (`fast_plan_ahead_waits`, `fast_plan_ahead_waited_s`).
 * Baselines in the same run: no view (`_without_view`), the view's server with no browser
   (`_view_without_browser`), the run's process sending each update through the view's sending thread as before the
-  shared-memory stream (`_sender`, and `_sender_view_without_browser`), the view drawing 30 states a second instead of
-  40 (`_30_updates_per_s`) or 2 (`_2_updates_per_s`: below the 4 a second under which the page stops rendering
+  shared-memory stream (`_sender`, and `_sender_view_without_browser`), the `--fast` view drawing 40 states a second
+  as the paced one does, instead of the 15 of `orc run --view --fast` (`_40_updates_per_s`, as it was), or 30
+  (`_30_updates_per_s`) or 2 (`_2_updates_per_s`: below the 4 a second under which the page stops rendering
   between updates), the server inside the run's process as it was before it got a process of its own
   (`_in_process`), the default light casting shadows (`_with_shadows`), the benchmark browser's GPU process in a
   cgroup marked idle (`_gpu_idle_group`: idle against every session, see idle_group; `sched_autogroup`,
@@ -34,10 +36,12 @@
   be done), the `--fast` run's session at its ordinary nice value instead of above the browser's (`_normal_session`;
   `fast_session_priority` says whether the raise was permitted here, and `fast_slowdown_pct_same_priority` compares
   against the run without a view at the raised priority too), the scene with viser's default environment map
-  (`_with_environment_map`), everything as it was before those three changes (`_before`: also the plan made on the
-  worker thread in `--fast`, against the run without a view as it was), and the paced motion cycle at normal
-  priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority with the threads it waits on
-  through the interpreter lock left at normal priority (`_helpers_normal`), as before those changes.
+  (`_with_environment_map`), the view's process in the run's session instead of a session of its own
+  (`_view_in_run_session`, `_view_without_browser_in_run_session`), everything as it was before those four changes
+  (`_before`: also the plan made on the worker thread in `--fast`, against the run without a view as it was), and the
+  paced motion cycle at normal priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority
+  with the threads it waits on through the interpreter lock left at normal priority (`_helpers_normal`), as before
+  those changes.
 
 The paced runs are repeated `--runs` times and their medians printed. Run it alone:
 `python benchmarks/bench_view.py [--runs 3] [--repeats 5]` (needs chromium and the [view] extra; about ten minutes;
@@ -62,7 +66,7 @@ from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
 from orc_rpl.motion import scheduling
 from orc_rpl.transform.loading import load_program
-from orc_rpl.view.live import RATE_HZ
+from orc_rpl.view.live import FAST_RATE_HZ, RATE_HZ
 from orc_rpl.view.remote import ViewProcess
 from orc_rpl.view.scene import CellScene
 from orc_rpl.view.server import close_server, open_server, url_of
@@ -177,8 +181,8 @@ def browser_cpu_s(root: int) -> dict[str, float]:
 
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False, environment_map: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
-            helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ, session: bool | str = True,
-            plan_ahead_worker: bool = False,
+            helpers: bool = True, before_run: Any = None, rate_hz: float | None = None, session: bool | str = True,
+            plan_ahead_worker: bool = False, own_session: bool = True,
             after_run: Any = None) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
     memory), "sender" (the server in its own process, each update sent by the run's sending thread, as before),
@@ -186,8 +190,10 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     `slice_s`: the scheduler slice the paced motion cycle asks for (None: the system's default, as before);
     `realtime`: a paced run's motion cycle at real-time priority, as `orc run` asks for it (False: normal priority);
     `helpers`: the threads the cycle waits on through the interpreter lock follow its priority (False: they stay at
-    normal priority, as before)."""
+    normal priority, as before); `own_session`: the view's process in a session of its own, as `orc run` starts it
+    (False: in the run's session, as before)."""
     scheduling.PACED_SLICE_S = slice_s
+    rate_hz = rate_hz or (RATE_HZ if paced else FAST_RATE_HZ)  # as `orc run --view` draws, paced or `--fast`
     source, program = load_program(path)
     robot = CellRobot.virtual(realtime=paced)
     if plan_ahead_worker and robot.layer.ahead is not None:  # as before: the plan made on the worker in --fast too
@@ -199,7 +205,7 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     view_pid = None
     if view != "none":
         if view in ("process", "sender"):
-            server = ViewProcess("127.0.0.1", 0, shadows, environment_map)
+            server = ViewProcess("127.0.0.1", 0, shadows, environment_map, own_session)
             scene, url, view_pid = server.scene, server.url, server.pid
         else:
             server = open_server(port=0)
@@ -277,6 +283,7 @@ PACED: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_view_without_browser": (None, "process", {}),
     "_sender": ("small", "sender", {}),
     "_without_view": (None, "none", {}),
+    "_view_in_run_session": ("small", "process", {"own_session": False}),
     "_helpers_normal": ("plain_large", "process", {"helpers": False}),
     "_normal_priority": ("plain_large", "process", {"realtime": False}),
     "_normal_priority_without_view": (None, "none", {"realtime": False}),
@@ -291,6 +298,7 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_view_without_browser": (None, "process", {}),
     "_sender": ("small", "sender", {}),
     "_30_updates_per_s": ("small", "process", {"rate_hz": 30.0}),
+    "_40_updates_per_s": ("small", "process", {"rate_hz": 40.0}),
     "_2_updates_per_s": ("small", "process", {"rate_hz": 2.0}),
     "_sender_view_without_browser": (None, "sender", {}),
     "_in_process": ("small", "in-process", {}),
@@ -298,8 +306,11 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_gpu_idle_group": ("small", "process", {"gpu_idle_group": True}),
     "_with_environment_map": ("small", "process", {"environment_map": True}),
     "_normal_session": ("small", "process", {"session": False}),
+    "_view_in_run_session": ("small", "process", {"own_session": False}),
+    "_view_without_browser_in_run_session": (None, "process", {"own_session": False}),
     "_without_view_session_priority": (None, "none", {"session": "always"}),
-    "_before": ("small", "process", {"session": False, "environment_map": True, "plan_ahead_worker": True}),
+    "_before": ("small", "process", {"session": False, "environment_map": True, "plan_ahead_worker": True,
+                                     "own_session": False, "rate_hz": 40.0}),
     "_without_view_before": (None, "none", {"plan_ahead_worker": True}),
 }
 #: The pages' sizes (CSS pixels). SwiftShader's cost per frame grows with the pixels, but far less than in proportion.
@@ -407,9 +418,13 @@ def main() -> None:
     parser.add_argument("--browser-nice", type=int, default=0,
                         help="run the browser at this nice value (a user's browser on the controller's own machine "
                              "started with `nice -n 10`); 0: as a browser normally runs")
-    parser.add_argument("--fast-only", metavar="SUFFIXES",
+    quick = parser.add_mutually_exclusive_group()
+    quick.add_argument("--fast-only", metavar="SUFFIXES",
                         help="a quick look: no paced runs, and of the fast variants only these (comma-separated "
                              "suffixes, e.g. ',_gpu_idle_group'; the run without a view is always made)")
+    quick.add_argument("--paced-only", metavar="SUFFIXES",
+                        help="a quick look: no fast runs, and of the paced variants only these (comma-separated "
+                             "suffixes, e.g. ',_without_view'; the run with the benchmark browser is always made)")
     args = parser.parse_args()
     paced_variants, fast_variants = PACED, FAST
     if args.fast_only is not None:
@@ -418,6 +433,12 @@ def main() -> None:
         if unknown:
             parser.error(f"--fast-only: no such fast variant: {', '.join(sorted(unknown))}")
         paced_variants, fast_variants = {}, {suffix: FAST[suffix] for suffix in FAST if suffix in chosen}
+    if args.paced_only is not None:
+        chosen = set(args.paced_only.split(",")) | {""}
+        unknown = chosen - set(PACED)
+        if unknown:
+            parser.error(f"--paced-only: no such paced variant: {', '.join(sorted(unknown))}")
+        paced_variants, fast_variants = {suffix: PACED[suffix] for suffix in PACED if suffix in chosen}, {}
     load_before = os.getloadavg()[0]
     from playwright.sync_api import sync_playwright
 
@@ -487,6 +508,8 @@ def main() -> None:
         print(f"paced_simulated_s={paced_runs[''][0]['sim_s']:.3f}")
     for suffix, runs in paced_runs.items():
         _paced_figures(runs, suffix, PACED[suffix][0] is not None)
+    if not fast_runs:
+        return
     print(f"fast_simulated_s={fast_runs['_without_view'][0]['sim_s']:.3f}")
     baseline = fast_runs.pop("_without_view")
     print(f"fast_wall_s_without_view={np.median([r['wall_s'] for r in baseline]):.3f}")
@@ -504,10 +527,12 @@ def main() -> None:
         if runs is not None:
             print(f"fast_wall_s_without_view{name}={np.median([r['wall_s'] for r in runs]):.3f}")
             _fast_parts(runs, f"_without_view{name}")
-    if others["_session_priority"] is not None and "" in fast_runs:
-        slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in zip(fast_runs[""], others["_session_priority"])]
-        print(f"fast_slowdown_pct_same_priority_runs={','.join(f'{x:.1f}' for x in slowdowns)}")
-        print(f"fast_slowdown_pct_same_priority={np.median(slowdowns):.1f}")
+    # every variant whose run raised its session's priority, against the run without a view raised alike
+    raised = [suffix for suffix in fast_runs if FAST[suffix][1] != "none" and FAST[suffix][2].get("session", True)]
+    for suffix in raised if others["_session_priority"] is not None else []:
+        slowdowns = [100 * (v["wall_s"] / b["wall_s"] - 1) for v, b in zip(fast_runs[suffix], others["_session_priority"])]
+        print(f"fast_slowdown_pct_same_priority_runs{suffix}={','.join(f'{x:.1f}' for x in slowdowns)}")
+        print(f"fast_slowdown_pct_same_priority{suffix}={np.median(slowdowns):.1f}")
 
 
 def _paced_figures(runs: list[dict[str, Any]], suffix: str, browser: bool) -> None:

@@ -9,11 +9,11 @@ differ from Pinocchio's in the last bits only (the order of the sums); every sam
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
 from orc_rpl.plant.compiled import inlined_kernel, kernel
+from orc_rpl.plant.rotation_kernel import axis_rotation
 
 #: Newton steps a sample may take before the full IK is asked (as `Kinematics._track`).
 TRACK_STEPS = 8
@@ -39,11 +39,7 @@ def pose_and_jacobian(rows: np.ndarray, tip: np.ndarray, q: np.ndarray, pose: np
         for a in range(3):
             p[a] = p[a] + r[a, 0] * rows[i, 9] + r[a, 1] * rows[i, 10] + r[a, 2] * rows[i, 11]
         x, y, z = rows[i, 12], rows[i, 13], rows[i, 14]
-        c, s = math.cos(q[i]), math.sin(q[i])
-        t = 1.0 - c
-        j00, j01, j02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
-        j10, j11, j12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
-        j20, j21, j22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
+        j00, j01, j02, j10, j11, j12, j20, j21, j22 = axis_rotation(x, y, z, q[i])
         for a in range(3):
             r0, r1, r2 = pr[a, 0], pr[a, 1], pr[a, 2]
             r[a, 0] = r0 * j00 + r1 * j10 + r2 * j20

@@ -10,11 +10,11 @@ the base accelerates against gravity. Its torques differ from Pinocchio's in the
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
 from orc_rpl.plant.compiled import inlined_kernel, kernel
+from orc_rpl.plant.rotation_kernel import axis_rotation
 
 #: Columns of a row of `ArmModel.rigid_body_rows`.
 ROTATION, TRANSLATION, AXIS, MASS, LEVER, INERTIA, ARMATURE = 0, 9, 12, 15, 16, 19, 28
@@ -54,12 +54,8 @@ def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarra
     aw0 = aw1 = aw2 = 0.0
     for i in range(n):
         x, y, z = body[i, AXIS], body[i, AXIS + 1], body[i, AXIS + 2]
-        c, s = math.cos(q[i]), math.sin(q[i])
-        t = 1.0 - c
         # joint rotation (Rodrigues) and the placement's before it: R = P Rj, rows of R map child to parent
-        j00, j01, j02 = c + x * x * t, x * y * t - z * s, x * z * t + y * s
-        j10, j11, j12 = y * x * t + z * s, c + y * y * t, y * z * t - x * s
-        j20, j21, j22 = z * x * t - y * s, z * y * t + x * s, c + z * z * t
+        j00, j01, j02, j10, j11, j12, j20, j21, j22 = axis_rotation(x, y, z, q[i])
         for r in range(3):
             p0, p1, p2 = body[i, ROTATION + 3 * r], body[i, ROTATION + 3 * r + 1], body[i, ROTATION + 3 * r + 2]
             work[i, 3 * r] = p0 * j00 + p1 * j10 + p2 * j20
@@ -121,11 +117,7 @@ def mass_diagonal(body: np.ndarray, q: np.ndarray, out: np.ndarray) -> None:  # 
         if i < n - 1:
             # the composite of the child (frame i+1) in this frame: x' = R x + p, R = placement * joint(q)
             x, y, z = body[i + 1, AXIS], body[i + 1, AXIS + 1], body[i + 1, AXIS + 2]
-            co, si = math.cos(q[i + 1]), math.sin(q[i + 1])
-            t = 1.0 - co
-            k00, k01, k02 = co + x * x * t, x * y * t - z * si, x * z * t + y * si
-            k10, k11, k12 = y * x * t + z * si, co + y * y * t, y * z * t - x * si
-            k20, k21, k22 = z * x * t - y * si, z * y * t + x * si, co + z * z * t
+            k00, k01, k02, k10, k11, k12, k20, k21, k22 = axis_rotation(x, y, z, q[i + 1])
             for row in range(3):
                 p0 = body[i + 1, ROTATION + 3 * row]
                 p1, p2 = body[i + 1, ROTATION + 3 * row + 1], body[i + 1, ROTATION + 3 * row + 2]

@@ -63,6 +63,12 @@ class StreamDrawer:
                 return False
             self._show(*self._last)  # the words came after the pose they belong with
             return True
+        with self.scene.together():  # one message window, one wake-up of the server's loop: trace, robot, caption
+            self._draw(rows)
+        return True
+
+    def _draw(self, rows: np.ndarray) -> None:
+        """The trace's new points, the process traces, and the robot and caption at the newest row."""
         trace = []
         for number, row in enumerate(rows, start=1 - len(rows)):
             if number < 0:
@@ -76,7 +82,6 @@ class StreamDrawer:
         for name, points, colours in self.process.take_points():
             self.scene.extend_process(name, points, colours)
         self._show(rows[-1], frames, flange)
-        return True
 
     def _place(self, row: np.ndarray) -> tuple[Any, np.ndarray]:
         """The geoms (None without a cell) and the flange at a row."""

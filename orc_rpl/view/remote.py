@@ -124,13 +124,21 @@ class ViewProcess:
     script again, which a script without a `__main__` guard cannot take.
     """
 
-    def __init__(self, host: str, port: int, shadows: bool = False, environment_map: bool = False) -> None:
+    def __init__(self, host: str, port: int, shadows: bool = False, environment_map: bool = False,
+                 own_session: bool = True) -> None:
         ours, theirs = socket.socketpair()
         self._notice, notice_w = os.pipe()      # a byte arrives when a browser opens the page
         light = ("shadows" if shadows else "flat") + (",environment" if environment_map else "")
+        # A session of its own (`own_session`): Linux shares the cores between sessions first (autogroup), and within
+        # the run's session the view's process, woken 40 times a second, took the motion thread's core as an equal
+        # whenever the other core was busy (a browser drawing, other programs): a `--view --fast` run waited for it
+        # (bench_view: `_view_in_run_session`). In a session of its own, at the ordinary priority, it gets the cores
+        # a browser would, and nothing of a run's raised priority (motion/scheduling.SessionPriority). Ctrl-C at the
+        # terminal then reaches the run alone, which closes the view as before; so does the end of the run's socket.
         self._process = subprocess.Popen(
             [sys.executable, "-m", "orc_rpl.view.remote", str(theirs.fileno()), str(notice_w), host, str(port), light],
-            pass_fds=(theirs.fileno(), notice_w), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
+            pass_fds=(theirs.fileno(), notice_w), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+            start_new_session=own_session)
         self.pid = self._process.pid
         theirs.close()
         os.close(notice_w)

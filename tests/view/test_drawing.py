@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from multiprocessing import resource_tracker
 from typing import Any
 
@@ -26,17 +28,30 @@ class Scene:
     def __init__(self) -> None:
         self.trace: list[np.ndarray] = []
         self.shown: list[tuple[Any, Any, str]] = []
+        self.blocks: list[list[str]] = []  #: the calls made in each `together` block
+
+    @contextmanager
+    def together(self) -> Iterator[None]:
+        self.blocks.append([])
+        yield
+        self.blocks.append([])  # what follows the block is not in it
+
+    def _call(self, name: str) -> None:
+        if self.blocks:
+            self.blocks[-1].append(name)
 
     def add_cell(self, shapes: Any, poses: Any) -> None:
         pass
 
     def extend_trace(self, points: list[np.ndarray]) -> None:
+        self._call("extend_trace")
         self.trace += points
 
     def extend_process(self, name: str, points: list[np.ndarray], colours: np.ndarray) -> None:
         pass
 
     def show(self, frames: Any, flange: Any, caption: str) -> None:
+        self._call("show")
         self.shown.append((frames, flange, caption))
 
 
@@ -75,6 +90,7 @@ def test_each_row_costs_one_forward_kinematics(monkeypatch: pytest.MonkeyPatch) 
         np.testing.assert_allclose(shown_frames.position_m, frames.position_m)
         np.testing.assert_allclose(scene.trace[-1], flange[:3, 3])
         assert caption.startswith("t = 0.06 s")
+        assert ["extend_trace", "show"] in scene.blocks, "the trace and the robot go to the browser as one"
         drawer.set_lines(["MOVE ARM TO a"])  # new words, no new row: drawn again without kinematics
         calls.clear()
         assert drawer.poll() and not calls
