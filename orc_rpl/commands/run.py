@@ -20,6 +20,7 @@ from orc_rpl.commands.interrupt import TimeLimit, positive_seconds, statement_bu
 from orc_rpl.commands.outputs import check_outputs, quiet_stdout
 from orc_rpl.errors import Diagnostic, OrcError, SourceError, UsageError, capped
 from orc_rpl.motion import scheduling
+from orc_rpl.robot.plants import SIMULATED_PLANTS, check_elastic_gears
 
 #: The progress display is refreshed every this many motion cycles.
 PROGRESS_EVERY_TICKS = 125
@@ -154,6 +155,8 @@ def run(args: argparse.Namespace) -> int:
             offline_world = world_file or declared_world(args.file, source)
             cell, cell_world = world_cell(None if offline_world is None else str(offline_world), args.robot,
                                           only_moving=True)
+        if args.port is None and args.plant == "elastic-gears":   # said before the program is checked for this robot
+            check_elastic_gears(cell.robot if cell is not None else args.robot, "--plant elastic-gears")
     except UsageError as error:
         return _fail_usage(str(error))
     except SourceError as error:
@@ -397,9 +400,12 @@ def add_cell_options(parser: argparse.ArgumentParser) -> None:
     """--allow-devices, --plant, --seed and --sim: what the simulated cell is made of (orc run and orc pendant)."""
     parser.add_argument("--allow-devices", action="store_true",
                         help="let the program open the serial devices its PORT attributes name (default: none is opened)")
-    parser.add_argument("--plant", choices=("realistic", "ideal"), default=None,
-                        help="realistic: friction, motor heat, encoders, masses off the model (default); "
-                             "ideal: the controller's own model, exactly (simulation only: not with --port)")
+    parser.add_argument("--plant", choices=SIMULATED_PLANTS, default=None,
+                        help="realistic: friction, motor heat, encoders, masses off the model, rigid gears (default); "
+                             "elastic-gears: the same with elastic gears under the gears' feed-forward and the state "
+                             "feedback (IRB 2400; slower, and some applications not yet tuned for them: "
+                             "docs/robots.md, 'Which plant'); ideal: the controller's own model, exactly "
+                             "(simulation only: not with --port)")
     parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
     parser.add_argument("--sim", metavar="FILE.sim.yaml",
                         help="the simulated equipment (IO events, weld guns, parts, castings, seam) instead of the "
@@ -420,6 +426,8 @@ def simulated_plant(args: argparse.Namespace, robot: str) -> str:
     from orc_rpl.robot.plants import PLANTS, default_plant
     from orc_rpl.robot.servo_plants import SERVO_PLANTS
 
+    if args.plant == "elastic-gears":
+        check_elastic_gears(robot, "--plant elastic-gears")
     if args.plant is not None:
         return str(args.plant)
     plant = default_plant(robot)

@@ -83,7 +83,7 @@ class CellRobot:
     def virtual(cls, robot: str = "irb2400", realtime: bool = False, backend: str = "servo", record: bool = False,
                 plant: str = "realistic", seed: int = 0, cell: Any = None) -> CellRobot:
         """The default simulated cell with `robot` (or the cell description `cell`), ready at its home position
-        (`plant`: "realistic" or "ideal")."""
+        (`plant`: "realistic", "elastic-gears" or "ideal": `robot.plants.SIMULATED_PLANTS`)."""
         from orc_rpl.motion import make_virtual_motion_layer
 
         return cls(make_virtual_motion_layer(robot=robot, realtime=realtime, backend=backend, record=record,

@@ -15,6 +15,7 @@ from orc_rpl.motion.planner import Planner
 from orc_rpl.motion.gear_friction import GearFriction
 from orc_rpl.motion.thermal import WindingTemperature
 from orc_rpl.motion.timing import preload as preload_planning
+from orc_rpl.robot.plants import SIMULATED_PLANTS, check_elastic_gears
 from orc_rpl.robot.servo_plants import servo_plant_spec
 
 
@@ -173,8 +174,9 @@ class PathDynamicsBlocks:
         self._coulomb = servo._coulomb
 
 
-#: The virtual robots: "realistic" is not the controller's model (docs/robots.md), "ideal" is its exact twin.
-PLANTS = ("realistic", "ideal")
+#: The virtual robots (docs/robots.md, "Which plant"): "realistic" is not the controller's model (rigid gears),
+#: "elastic-gears" is the realistic plant with elastic gears under the state feedback, "ideal" is the model's twin.
+PLANTS = SIMULATED_PLANTS
 
 
 def _make_cell(robot: str, plant: str, seed: int, cell: Any = None, elastic: bool = False) -> Any:
@@ -208,7 +210,9 @@ def make_virtual_motion_layer(
 
     backend "servo": ServoLoop + MuJoCo cell (1 ms steps); "kinematic": the reference is followed
     perfectly (fast; no plant). `plant` "realistic" (friction, hot motors, encoders, masses off the
-    model's; deterministic for `seed`) or "ideal" (the controller's own model, exactly). `record=True`
+    model's; deterministic for `seed`), "elastic-gears" (the realistic plant with elastic gears, the gears'
+    feed-forward and the state feedback: `elastic`, `gear_feedforward` and `state_feedback` all on; robots
+    with a gear stiffness only) or "ideal" (the controller's own model, exactly). `record=True`
     makes a signals Logger with q_ref, q, qd_ref, tau, tcp and s (available as `layer.logger`); pass
     your own `logger` to choose the signals yourself. `cell` (a `plant.CellDescription`, e.g. made from
     a world model by `plant.world_scene.cell_from_world`) replaces the default cell. `elastic`: the
@@ -226,6 +230,9 @@ def make_virtual_motion_layer(
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
+    if plant == "elastic-gears":   # the realistic plant with the elastic gears' whole servo
+        check_elastic_gears(robot, "plant='elastic-gears'")
+        plant, elastic, gear_feedforward, state_feedback = "realistic", True, True, True
     if elastic and plant != "realistic":
         raise UsageError(f"elastic gears are part of the realistic plant, not of the {plant} one")
     if gear_feedforward and not elastic:

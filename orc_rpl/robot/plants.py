@@ -113,6 +113,25 @@ def plant_spec(robot: str) -> PlantSpec:
                          f"{', '.join(sorted(PLANTS))}); use --plant ideal") from None
 
 
+#: The simulated plants a run can ask for (`--plant`, `plant=`; docs/robots.md, "Which plant"): "realistic" (rigid
+#: gears), "elastic-gears" (the realistic plant with elastic gears, their feed-forward and the state feedback: robots
+#: whose description has a gear stiffness), "ideal" (the controller's own model, exactly).
+SIMULATED_PLANTS = ("realistic", "elastic-gears", "ideal")
+
+
+def has_elastic_gears(robot: str) -> bool:
+    """True when the robot's realistic plant has elastic gears (its description gives a gear stiffness)."""
+    spec = PLANTS.get(robot)
+    return spec is not None and spec.gear_stiffness_nm_rad is not None
+
+
+def check_elastic_gears(robot: str, argument: str) -> None:
+    """A UsageError naming `argument` and the robots with elastic gears when `robot` has none."""
+    if not has_elastic_gears(robot):
+        robots = ", ".join(sorted(name for name in PLANTS if has_elastic_gears(name)))
+        raise UsageError(f"{argument}: robot {robot!r} has no elastic gears (robots with elastic gears: {robots})")
+
+
 def default_plant(robot: str) -> str:
     """The plant a simulated run gets when none is asked for: realistic where the robot has a description."""
     return "realistic" if robot in PLANTS or robot in SERVO_PLANTS else "ideal"
