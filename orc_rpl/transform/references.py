@@ -8,7 +8,7 @@ from types import MappingProxyType
 from orc_rpl.errors import Diagnostic, Location
 from orc_rpl.syntax import nodes as n
 from orc_rpl.world import WORLD, World
-from orc_rpl.world.objects import WorldObject
+from orc_rpl.world.objects import FLANGE, WorldObject
 from orc_rpl.world.source import did_you_mean
 from orc_rpl.transform.job import Job, TransformError
 from orc_rpl.transform.naming import FRAME, OBJECT, PATH
@@ -38,6 +38,20 @@ def _unknown(obj: WorldObject, attr: n.Name, world: World) -> tuple[str, str]:
     return f"'{obj.name}' has no frame, path or attribute '{attr.id}' in {world.path}", hint
 
 
+def _on_flange_not_tool(world: World, obj: WorldObject) -> bool:
+    """An object carried by the robot (below the flange) that is not a tool nor inside one: a program cannot name it as
+    a position (its pose is the flange's, known only at run time) and the transformation has no tool to make of it."""
+    if obj.tool:
+        return False
+    chain = world.ancestors(obj.name)
+    return FLANGE in chain and not any(name != FLANGE and world.object(name).tool for name in chain[:chain.index(FLANGE)])
+
+
+def _carried(obj: WorldObject, world: World) -> tuple[str, str]:
+    return (f"'{obj.name}' hangs on the flange in {world.path} but is not a tool: where it is is known only while the "
+            "robot runs", f"mark it `tool: true` in {world.path} (a tool, or a part of one)")
+
+
 def installed_names(program: n.Program) -> frozenset[str]:
     """Names the program INSTALLs equipment as: on a world tool (`install gripper as Gripper`), `gripper.Close` is a method."""
     return frozenset(node.name.id for stmt in program.body for node in stmt.walk() if isinstance(node, n.Install))
@@ -48,8 +62,16 @@ def world_diagnostics(program: n.Program, world: World, path: str) -> list[Diagn
     shadowed = declared_names(program)
     installed = installed_names(program)
     out: list[Diagnostic] = []
+    reported: set[str] = set()
     for expr in references(program):
-        if isinstance(expr, n.Field) and isinstance(expr.value, n.Name):
+        if isinstance(expr, n.Name):
+            obj = _object(world, expr.id, shadowed)
+            if obj is not None and obj.name not in reported and _on_flange_not_tool(world, obj):
+                reported.add(obj.name)   # once, at its first use
+                span = expr.span
+                out.append(Diagnostic(Location(path, span.line or 1, span.column or 1, span.end_line, span.end_column),
+                                      *_carried(obj, world)))
+        elif isinstance(expr, n.Field) and isinstance(expr.value, n.Name):
             obj = _object(world, expr.value.id, shadowed)
             if obj is not None and _attribute_kind(obj, expr.name.id) is None and obj.name not in installed:
                 message, hint = _unknown(obj, expr.name, world)
@@ -86,6 +108,8 @@ def resolve_positions(job: Job) -> Job:
             obj = _object(world, expr.value.id, shadowed)
             if obj is None:
                 return None
+            if _on_flange_not_tool(world, obj):
+                raise job.error(expr.value, *_carried(obj, world))
             kind = _attribute_kind(obj, expr.name.id)
             if kind is None and obj.name in installed:
                 return dataclasses.replace(expr, value=use(obj.name, expr.value))  # a method of the equipment on it
@@ -97,6 +121,8 @@ def resolve_positions(job: Job) -> Job:
             return use(f"{obj.name}.{expr.name.id}", expr)
         if isinstance(expr, n.Name):
             obj = _object(world, expr.id, shadowed)
+            if obj is not None and _on_flange_not_tool(world, obj):
+                raise job.error(expr, *_carried(obj, world))
             if obj is not None:
                 return use(obj.name, expr)
             if expr.id in names.entity and expr.id not in shadowed:

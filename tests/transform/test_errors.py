@@ -11,6 +11,7 @@ from orc_rpl.syntax.parser import parse
 from orc_rpl.syntax.printer import print_program
 from orc_rpl.transform.pipeline import to_offline, to_online
 from orc_rpl.transform.references import world_diagnostics
+from orc_rpl.world.pose import Pose
 from tests.transform.helpers import nested
 
 
@@ -56,3 +57,19 @@ def test_clashing_frame_names_go_online_qualified_and_come_back() -> None:
 def test_an_undeclared_name_that_is_a_frames_online_name_is_refused() -> None:
     with pytest.raises(SourceError, match=r"p.orl:1:7: 'grip' is the on-line name of 'clamp.grip' of the world model"):
         to_online(parse_offline("print(grip)\n", "p.orl"), nested(), "p.orl")
+
+
+
+@pytest.mark.parametrize(("text", "line", "column"), [
+    ("moveto camera\n", 1, 8),                    # the object itself, as a position
+    ("moveto camera.lens\n", 1, 8),               # its frame: where that is, too, is the flange's business
+    ("install camera as SpotGun close=DigOut[3] weld_ok=DigIn[2] reaction=80ms\nmove camera to fixture_b.p\n", 2, 6),
+])
+def test_an_object_on_the_flange_that_is_not_a_tool_is_refused_at_its_first_use(text: str, line: int, column: int) -> None:
+    world = nested().with_object("camera", "flange").with_frame("camera", "lens", Pose(0, 0, 0.05, frame="camera"))
+    program = parse_offline(text, "p.orl")
+    found = world_diagnostics(program, world, "p.orl")
+    assert [(d.location.line, d.location.column) for d in found] == [(line, column)]
+    assert "'camera' hangs on the flange" in found[0].message and "tool: true" in found[0].hint
+    with pytest.raises(SourceError, match=rf"p.orl:{line}:{column}: 'camera' hangs on the flange"):
+        to_online(program, world, "p.orl")
