@@ -6,8 +6,7 @@
   the simulated clock, from the pacing's own start), 99th percentile; target at most 2 ms. The paced motion cycle runs
   at real-time priority, as `orc run` asks for it (`realtime_priority=1` when the system granted it).
 * `fast_slowdown_pct`: wall time of a `--view --fast` run against the same run without a view (the median of the
-  ratios of N interleaved rounds); target at most 10 %. The `--fast` view draws FAST_RATE_HZ states a second, as
-  `orc run --view --fast` does.
+  ratios of N interleaved rounds); target at most 10 %.
 * The benchmark browser: headless Chromium drawing WebGL with SwiftShader, whose GPU process (SwiftShader: the
   pixels a user's graphics card draws) runs at SCHED_IDLE, meant to run on the CPU time nothing else wants (with
   autogroup, only against the browser's own session: see `_gpu_idle_group`); the page's JavaScript
@@ -26,9 +25,8 @@
   waited for the plan-ahead worker (`fast_plan_ahead_waits`, `fast_plan_ahead_waited_s`).
 * Baselines in the same run: no view (`_without_view`), the view's server with no browser
   (`_view_without_browser`), the run's process sending each update through the view's sending thread as before the
-  shared-memory stream (`_sender`, and `_sender_view_without_browser`), the `--fast` view drawing 40 states a second
-  as the paced one does, instead of the 15 of `orc run --view --fast` (`_40_updates_per_s`, as it was), or 30
-  (`_30_updates_per_s`) or 2 (`_2_updates_per_s`: below the 4 a second under which the page stops rendering
+  shared-memory stream (`_sender`, and `_sender_view_without_browser`), the view drawing 30 or 15 states a second
+  instead of 40 (`_30_updates_per_s`, `_15_updates_per_s`) or 2 (`_2_updates_per_s`: below the 4 a second under which the page stops rendering
   between updates), the server inside the run's process as it was before it got a process of its own
   (`_in_process`), the default light casting shadows (`_with_shadows`), the benchmark browser's GPU process in a
   cgroup marked idle (`_gpu_idle_group`: idle against every session, see idle_group; `sched_autogroup`,
@@ -66,7 +64,7 @@ from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
 from orc_rpl.motion import scheduling
 from orc_rpl.transform.loading import load_program
-from orc_rpl.view.live import FAST_RATE_HZ, RATE_HZ
+from orc_rpl.view.live import RATE_HZ
 from orc_rpl.view.remote import ViewProcess
 from orc_rpl.view.scene import CellScene
 from orc_rpl.view.server import close_server, open_server, url_of
@@ -181,7 +179,7 @@ def browser_cpu_s(root: int) -> dict[str, float]:
 
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False, environment_map: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
-            helpers: bool = True, before_run: Any = None, rate_hz: float | None = None, session: bool | str = True,
+            helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ, session: bool | str = True,
             plan_ahead_worker: bool = False, own_session: bool = True,
             after_run: Any = None) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
@@ -193,7 +191,6 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     normal priority, as before); `own_session`: the view's process in a session of its own, as `orc run` starts it
     (False: in the run's session, as before)."""
     scheduling.PACED_SLICE_S = slice_s
-    rate_hz = rate_hz or (RATE_HZ if paced else FAST_RATE_HZ)  # as `orc run --view` draws, paced or `--fast`
     source, program = load_program(path)
     robot = CellRobot.virtual(realtime=paced)
     if plan_ahead_worker and robot.layer.ahead is not None:  # as before: the plan made on the worker in --fast too
@@ -298,7 +295,7 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_view_without_browser": (None, "process", {}),
     "_sender": ("small", "sender", {}),
     "_30_updates_per_s": ("small", "process", {"rate_hz": 30.0}),
-    "_40_updates_per_s": ("small", "process", {"rate_hz": 40.0}),
+    "_15_updates_per_s": ("small", "process", {"rate_hz": 15.0}),
     "_2_updates_per_s": ("small", "process", {"rate_hz": 2.0}),
     "_sender_view_without_browser": (None, "sender", {}),
     "_in_process": ("small", "in-process", {}),
@@ -310,7 +307,7 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_view_without_browser_in_run_session": (None, "process", {"own_session": False}),
     "_without_view_session_priority": (None, "none", {"session": "always"}),
     "_before": ("small", "process", {"session": False, "environment_map": True, "plan_ahead_worker": True,
-                                     "own_session": False, "rate_hz": 40.0}),
+                                     "own_session": False}),
     "_without_view_before": (None, "none", {"plan_ahead_worker": True}),
 }
 #: The pages' sizes (CSS pixels). SwiftShader's cost per frame grows with the pixels, but far less than in proportion.

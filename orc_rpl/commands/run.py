@@ -91,7 +91,7 @@ def watching(args: argparse.Namespace) -> Any:
     check_port(args.view_port)
     return Watching(view=args.view, host=args.host or DEFAULT_HOST,
                     port=DEFAULT_PORT if args.view_port is None else args.view_port,
-                    video=args.video, interactive=sys.stdin.isatty() and sys.stderr.isatty(), fast=args.fast)
+                    video=args.video, interactive=sys.stdin.isatty() and sys.stderr.isatty())
 
 
 def speed_override(text: str) -> float:

@@ -21,10 +21,6 @@ from orc_rpl.world.pose import Pose, shown_pose
 
 #: Updates per second of wall-clock time the view draws at most (the robot, the trace, the caption).
 RATE_HZ = 40.0
-#: The same for a run that is not paced (`orc run --view --fast`): it shows the latest state, and the view's process
-#: works for each update on the cores the run needs (bench_view: `fast_slowdown_pct` against `_40_updates_per_s`).
-#: The trace keeps every point whatever the rate.
-FAST_RATE_HZ = 15.0
 #: The TCP trace takes a point every this many motion cycles (simulated time, so it is the same paced or fast).
 TRACE_EVERY_TICKS = 5
 

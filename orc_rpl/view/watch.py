@@ -15,7 +15,7 @@ from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
 from orc_rpl.view.framing import frame_work
 from orc_rpl.plant.shapes import cell_poses, cell_shapes
-from orc_rpl.view.live import FAST_RATE_HZ, RATE_HZ, sim_cell
+from orc_rpl.view.live import sim_cell
 from orc_rpl.view.positions import declared_names, evaluate_declarations, world_transforms
 from orc_rpl.view.remote import ViewProcess
 from orc_rpl.view.streamed import StreamedView
@@ -38,7 +38,6 @@ class Watching:
     port: int = DEFAULT_PORT
     video: str | None = None
     interactive: bool = False      #: a person at a terminal: wait for the browser, keep the page open at the end
-    fast: bool = False             #: the run is not paced (`--fast`): the view draws the latest state, less often
 
 
 @dataclass
@@ -116,8 +115,7 @@ def watch(executive: Executive, robot: Any, program: Any, world: Any, registry: 
             watchers.url = server.url
             stderr.write(f"orc: the 3D view is at {watchers.url}\n")
             stderr.flush()
-            rate_hz = FAST_RATE_HZ if how.fast else RATE_HZ
-            watchers.live = StreamedView(server.scene, executive, robot, world, rate_hz)  # the cycle only stores samples
+            watchers.live = StreamedView(server.scene, executive, robot, world)  # the cycle only stores samples
             watchers.live.attach(program)
             if how.interactive:
                 stderr.write(f"orc: open it in a browser; the run starts when it connects (at most {BROWSER_WAIT_S:.0f} s)\n")

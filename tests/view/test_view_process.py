@@ -53,24 +53,3 @@ def test_the_view_stops_serving_when_its_run_is_killed() -> None:
     finally:
         proc.kill()
         proc.communicate(timeout=60)
-
-
-@pytest.mark.parametrize(("fast", "rate"), [(True, "FAST_RATE_HZ"), (False, "RATE_HZ")], ids=["fast", "paced"])
-def test_a_fast_run_is_drawn_at_the_fast_rate(tmp_path, fast: bool, rate: str) -> None:  # noqa: ANN001
-    """`orc run --view --fast` draws the latest state FAST_RATE_HZ times a second; a paced run RATE_HZ times."""
-    pytest.importorskip("viser", reason="the 3D view is the [view] extra")
-    from orc_rpl.application.standard_behaviour import runtime_registry
-    from orc_rpl.executive.cell_robot import CellRobot
-    from orc_rpl.executive.executive import Executive
-    from orc_rpl.transform.loading import load_program
-    from orc_rpl.view import live
-    from orc_rpl.view.watch import Watching, watch
-
-    path = tmp_path / "home.rpl"
-    path.write_text("MOVE ARM TO HOME\n", encoding="utf-8")
-    source, program = load_program(path)
-    robot = CellRobot.virtual(backend="kinematic")
-    executive = Executive(program, robot, runtime_registry(), path=str(path), source=source, output=lambda line: None)
-    with watch(executive, robot, program, None, runtime_registry(), Watching(view=True, port=0, fast=fast)) as watchers:
-        assert watchers.live is not None
-        assert watchers.live.period_s == pytest.approx(1.0 / getattr(live, rate))
