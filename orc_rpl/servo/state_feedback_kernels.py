@@ -154,6 +154,18 @@ def _solve_spd(a: np.ndarray, b: np.ndarray, low: np.ndarray, out: np.ndarray) -
             out[i, c] *= inverse
 
 
+@inlined_kernel
+def _measured_gain(s: np.ndarray, measurement: np.ndarray, innovation: np.ndarray, low: np.ndarray,
+                   x: np.ndarray) -> None:  # pragma: no cover - compiled
+    """x = (c s c' + measurement)^-1 c s, c = [I 0] measuring the first rows of the state (the rotors' angles and
+    speeds): c s c' and c s are blocks of s; innovation and low are work arrays of measurement's shape."""
+    measured = measurement.shape[0]
+    for i in range(measured):
+        for j in range(measured):
+            innovation[i, j] = s[i, j] + measurement[i, j]
+    _solve_spd(innovation, s[:measured, :], low, x)
+
+
 @kernel
 def riccati_gains(ad: np.ndarray, bd: np.ndarray, weights: np.ndarray, process: np.ndarray, measurement: np.ndarray,
                   iterations: int, p: np.ndarray, s: np.ndarray, k: np.ndarray,
@@ -191,10 +203,7 @@ def riccati_gains(ad: np.ndarray, bd: np.ndarray, weights: np.ndarray, process: 
             for j in range(4 * m):
                 p[i, j] = weights[i, j] + p_new[i, j]
         # the filter: s = ad (s - s c' (c s c' + measurement)^-1 c s) ad' + process
-        for i in range(2 * m):
-            for j in range(2 * m):
-                innovation[i, j] = s[i, j] + measurement[i, j]
-        _solve_spd(innovation, s[: 2 * m, :], low_2m, x)
+        _measured_gain(s, measurement, innovation, low_2m, x)
         _product(np.ascontiguousarray(s[:, : 2 * m]), x, post, False)
         for i in range(5 * m):
             for j in range(5 * m):
@@ -205,10 +214,7 @@ def riccati_gains(ad: np.ndarray, bd: np.ndarray, weights: np.ndarray, process: 
             for j in range(5 * m):
                 s[i, j] = post[i, j] + process[i, j]
     # l = s c' (c s c' + measurement)^-1: the transpose of (c s c' + measurement)^-1 c s (both symmetric)
-    for i in range(2 * m):
-        for j in range(2 * m):
-            innovation[i, j] = s[i, j] + measurement[i, j]
-    _solve_spd(innovation, s[: 2 * m, :], low_2m, x)
+    _measured_gain(s, measurement, innovation, low_2m, x)
     for i in range(5 * m):
         for j in range(2 * m):
             l[i, j] = x[j, i]
