@@ -54,6 +54,10 @@ class PathVelocityController:
     path point; the references stay on the path f(s) whatever the time scale does.
     """
 
+    #: the rows' (b1, model's b2, servo's integral) and the compiled range of their sum, where both are there
+    _parts: Any = None
+    _range_sum: Any = None
+
     def __init__(self, path: PathFunction, x_f: np.ndarray, sd_f: np.ndarray, sub: int, servo_period_s: float,
                  dynamics: PathDynamics, tau_max: np.ndarray, settings: PvcSettings = PvcSettings(),
                  dynamics_rows: PathDynamicsRows | None = None, path_orders: PathOrders | None = None) -> None:
@@ -94,8 +98,7 @@ class PathVelocityController:
         self.cycles = 0
         kernels = compiled.kernels("orc_rpl.arm.pvc_kernels")   # numba's import only where a controller runs
         self._range: Any = None if kernels is None else kernels.admissible_range   #: the compiled range from b1, b2
-        # the rows' (b1, the model's b2, the servo's integral) by `parts(i)`, their b2 summed inside the compiled
-        # range, where both are there
+        # the rows' b2 in two terms (`parts(i)`: the model's, the servo's integral), summed inside the compiled range
         self._parts: Any = None if kernels is None else getattr(self._at_cycle, "parts", None)
         self._range_sum: Any = None if kernels is None else kernels.admissible_range_sum
         self._kernels: Any = kernels   #: the compiled time-scaled cycle (scaled_profile, path_rates), None without
