@@ -31,7 +31,8 @@ LAW_ROWS = 6
 def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarray, qd_ref: np.ndarray,
                          qdd_ref: np.ndarray, noise: np.ndarray, schedule: bool, torque_offset: np.ndarray,
                          integral_before: np.ndarray, integral: np.ndarray, steps: int, friction: bool,
-                         coulomb: np.ndarray, viscous: np.ndarray, law_buffer: np.ndarray, moving: np.ndarray,
+                         coulomb: np.ndarray, viscous: np.ndarray, snapshot: np.ndarray, law_buffer: np.ndarray,
+                         moving: np.ndarray,
                          flags: np.ndarray, joints: np.ndarray, tuning: np.ndarray, body: np.ndarray,
                          gravity: np.ndarray, law: np.ndarray, inertia_every: int, smooth_inv: float, kv: np.ndarray,
                          ki_dt: np.ndarray, position_error: np.ndarray, velocity_error: np.ndarray, torque: np.ndarray,
@@ -47,7 +48,9 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
     has, then each step's). The servo's signals end as the Python law leaves them: kv and ki_dt (scheduled every
     `inertia_every` steps counted from `steps`), the last step's position and velocity errors, torques,
     saturation flags, the cascade's feed-forward and the speeds it read; `integral` gets the cascade's
-    integral with the slow joints' unknown torque (the filter's) in place of theirs.
+    integral with the slow joints' unknown torque (the filter's) in place of theirs. `snapshot` (4 x n) gets what
+    `ServoLoop.state()` would copy after the call: the links' angles (the encoders' less the twist), the measured
+    speeds, the applied torques and the position errors (one new array instead of four copies and a subtraction).
     """
     n_steps, n = q_ref.shape
     m = joints.shape[0]
@@ -113,6 +116,10 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
                     law_work)
     for j in range(n):
         velocity[j] = qd[j]
+        snapshot[0, j] = q_meas[j] - twist_rad[j]
+        snapshot[1, j] = qd_meas[j]
+        snapshot[2, j] = force[j]
+        snapshot[3, j] = position_error[j]
     for c in range(m):   # what the path velocity controller adds to the model's torque: the filter's unknown torque
         w = state[4 * m + c]
         integral[joints[c]] = -((w if moving[c] else held_link[c]) + (held_rotor[c] if moving[c] else w))
