@@ -18,7 +18,8 @@ import numpy as np
 from orc_rpl.plant.compiled import kernel, mj_step_intrinsic
 from orc_rpl.plant.drive_kernels import measure
 from orc_rpl.servo.rnea_kernel import mass_diagonal as mass_diagonal_at, rnea_row
-from orc_rpl.servo.state_feedback_kernels import compiled_law_views, law_predict, law_references, law_schedule, law_update
+from orc_rpl.servo.state_feedback_kernels import (compiled_law_views, law_predict, law_references, law_update,
+                                                  schedule_on_views)
 
 step = mj_step_intrinsic()
 
@@ -54,10 +55,11 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
     """
     n_steps, n = q_ref.shape
     m = joints.shape[0]
+    views = compiled_law_views(law_buffer, n, m)   # once, for the schedule and the steps
     if schedule:
-        law_schedule(body, q_meas, qd_ref[0], joints, law_buffer, moving, flags, tuning)
+        schedule_on_views(body, q_meas, qd_ref[0], joints, views, moving, flags, tuning)
     (twist_rad, rotor_all, stiffness_all, held_link, held_rotor, link_other, _, _, _, law_tau_max, state, link_inertia,
-     k, l, ad, bd, _, _, _, _, _, _, _, _) = compiled_law_views(law_buffer, n, m)
+     k, l, ad, bd, _, _, _, _, _, _, _, _) = views
     q, qd, tau_link, theta_ref, theta_d_ref = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     last, mass = integral_before.copy(), np.empty(n)
     demand, ff = np.empty(m), np.empty(m)
