@@ -27,6 +27,7 @@ class StateFeedbackCycle:
         self._body: Any = None   #: the model's rows for the compiled RNEA (its own: a new array when the payload changes)
         self._gravity = servo.arm.gravity_m_s2
         self._torque_ff, self._velocity, self._no_friction = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._scratch = np.zeros(kernels.scratch_size(n, len(law.joints)))   #: the kernel's work arrays
         self._tail: Any = None
 
     def fits(self) -> bool:
@@ -62,7 +63,8 @@ class StateFeedbackCycle:
             tail = self._tail = (law._buffer, law.moving, law._flags, law.joints, law._tuning, self._body, self._gravity,
                                  self._law, servo._inertia_every, 1.0 / FRICTION_SMOOTH_RAD_S, servo._kv, servo._ki_dt,
                                  servo.position_error, servo.velocity_error, servo.torque, servo.saturated,
-                                 self._torque_ff, self._velocity, *self.cell.drives.torque_kernel_arrays())
+                                 self._torque_ff, self._velocity, self._scratch,
+                                 *self.cell.drives.torque_kernel_arrays())
         snapshot = np.empty((4, len(self._velocity)))
         self.cell.drives.run_kernel(self._kernels.state_feedback_cycle, (
             q_ref, qd_ref, qdd_ref, noise, schedule, servo.torque_offset, integral_before, integral, servo._steps,

@@ -23,6 +23,11 @@ from orc_rpl.servo.state_feedback_kernels import (compiled_law_views, law_predic
 
 step = mj_step_intrinsic()
 
+def scratch_size(n: int, m: int) -> int:
+    """Floats in the work array `state_feedback_cycle` takes (`scratch`) for an arm of n joints, m of them slow."""
+    return 23 * n + 2 * m + max(n, 7 * m)
+
+
 #: Rows of the cascade's constants (`StateFeedbackCycle._law`): the kernel reads them by these indices.
 KP, VELOCITY_BW, INTEGRAL_BW_DT, INTEGRAL_MAX, INTEGRAL_MIN, TAU_MAX = range(6)
 LAW_ROWS = 6
@@ -37,7 +42,8 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
                          flags: np.ndarray, joints: np.ndarray, tuning: np.ndarray, body: np.ndarray,
                          gravity: np.ndarray, law: np.ndarray, inertia_every: int, smooth_inv: float, kv: np.ndarray,
                          ki_dt: np.ndarray, position_error: np.ndarray, velocity_error: np.ndarray, torque: np.ndarray,
-                         saturated: np.ndarray, torque_ff: np.ndarray, velocity: np.ndarray, ctrl: np.ndarray,
+                         saturated: np.ndarray, torque_ff: np.ndarray, velocity: np.ndarray, scratch: np.ndarray,
+                         ctrl: np.ndarray,
                          force: np.ndarray, qpos: np.ndarray, qvel: np.ndarray, qpos_address: np.ndarray,
                          qvel_address: np.ndarray, count_per_rad: float, rad_per_count: float, q_meas: np.ndarray,
                          qd_meas: np.ndarray, tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
@@ -60,11 +66,15 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
         schedule_on_views(body, q_meas, qd_ref[0], joints, views, moving, flags, tuning)
     (twist_rad, rotor_all, stiffness_all, held_link, held_rotor, link_other, _, _, _, law_tau_max, state, link_inertia,
      k, l, ad, bd, _, _, _, _, _, _, _, _) = views
-    q, qd, tau_link, theta_ref, theta_d_ref = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    last, mass = integral_before.copy(), np.empty(n)
-    demand, ff = np.empty(m), np.empty(m)
-    tau = np.empty(n)
-    work, law_work = np.empty((n, 15)), np.empty(max(n, 7 * m))
+    # the steps' work arrays: slices of `scratch` (scratch_size floats: a dozen small allocations a call saved)
+    q, qd, tau_link, theta_ref, theta_d_ref = (scratch[0:n], scratch[n : 2 * n], scratch[2 * n : 3 * n],
+                                               scratch[3 * n : 4 * n], scratch[4 * n : 5 * n])
+    last, mass, tau = scratch[5 * n : 6 * n], scratch[6 * n : 7 * n], scratch[7 * n : 8 * n]
+    demand, ff = scratch[8 * n : 8 * n + m], scratch[8 * n + m : 8 * n + 2 * m]
+    at = 8 * n + 2 * m
+    work, law_work = scratch[at : at + 15 * n].reshape((n, 15)), scratch[at + 15 * n : at + 15 * n + max(n, 7 * m)]
+    for j in range(n):
+        last[j] = integral_before[j]
     for i in range(n_steps):
         for j in range(n):   # copies: the measurement is overwritten after the step
             q[j], qd[j] = q_meas[j], qd_meas[j]
