@@ -14,7 +14,7 @@ from orc_rpl.motion import MotionLayer, timing, toppra_passes
 from orc_rpl.motion.trajectory import SplinePath
 from orc_rpl.plant import compiled
 
-from .test_toppra_passes import _moves
+from .test_toppra_passes import _moves, _planned_paths
 
 pytestmark = pytest.mark.skipif(not compiled.AVAILABLE, reason="numba is not installed: no compiled passes")
 
@@ -52,16 +52,13 @@ def test_the_compiled_passes_run_without_toppras_wrapper_and_the_switch_turns_th
 
 def test_the_compiled_passes_give_the_python_passes_profiles_bit_for_bit(kinematic: MotionLayer, switch: None) -> None:
     compared = 0
-    for motion, params in _moves(kinematic):
-        plan = kinematic.planner.plan(1, motion, params, kinematic.current_q())
-        assert plan is not None
-        path = SplinePath(plan.pieces[0])
+    for path, limits in _planned_paths(kinematic):
         for points in (None, 300):
-            reference_sets = _algorithm(path, plan.limits, False, points).compute_controllable_sets(0.0, 0.0)
-            sets = _algorithm(path, plan.limits, True, points).compute_controllable_sets(0.0, 0.0)
+            reference_sets = _algorithm(path, limits, False, points).compute_controllable_sets(0.0, 0.0)
+            sets = _algorithm(path, limits, True, points).compute_controllable_sets(0.0, 0.0)
             assert np.array_equal(reference_sets, sets)
             for sd_start in (0.0, 0.2):
-                reference, ours = _profiles(path, plan.limits, sd_start, points)
+                reference, ours = _profiles(path, limits, sd_start, points)
                 assert reference is not None and ours is not None
                 assert np.array_equal(reference[0], ours[0]) and np.array_equal(reference[1], ours[1])
                 compared += 1
