@@ -28,7 +28,9 @@ COMPILED_PASSES = True
 
 class CompiledSeidel:
     """The compiled passes' solver wrapper: the LP rows of every grid point as toppra's seidelWrapper builds them
-    (toppra_kernels.stage_rows) and its warm start, kept across both passes and a retry, as toppra keeps its own."""
+    (toppra_kernels.stage_rows) and its warm start, kept across both passes and a retry, as toppra keeps its own.
+    It serves the two passes only: toppra's other uses of its wrapper (the feasible and reachable sets, which
+    nothing here asks for) need toppra's own (COMPILED_PASSES False)."""
 
     def __init__(self, constraints: list[Any], path: Any, gridpoints: np.ndarray, kernels: Any) -> None:
         grid = np.array(gridpoints)
