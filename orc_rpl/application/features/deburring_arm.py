@@ -9,6 +9,13 @@ points). So each grinding move is first run in free air, lifted LIFT_M off the e
 against the arc length is the move's signature, and in contact the force is the estimate minus the signature
 at the same arc length, averaged over AVERAGE_CYCLES cycles (the torque noise).
 
+The model's torque needs the links' acceleration; the controller measures the motors'. Through rigid gears the two
+are the same. Through elastic gears they are the same only below the gears' anti-resonance: above it a rotor,
+held stiffly by its servo, shakes against its gear while its link hardly follows, and the model's inertia times
+the rotor's acceleration reads as a contact force of hundreds of newtons (on the IRB 2400's elastic gears the
+loop rang with it and never felt the casting). So the acceleration is the motors' averaged over one period of the
+gears' lowest anti-resonance at the links' inertia (`acceleration_window`): a window of one cycle on rigid gears.
+
 The force loop moves the arm's path along -n (into the part) by an offset u, set at the motion rate as a path
 correction (TRACKMOVE's way):
 
@@ -72,6 +79,7 @@ class ArmForce:
                                      "(install a Grinder WITH FORCE_IN = AnalogIn[n] WITH STROKE = AnalogOut[n])")
         self.robot, self.tool, self.normal = robot, tool, normal
         self._angles: deque[tuple[float, np.ndarray]] = deque(maxlen=3)
+        self._accelerations: deque[np.ndarray] | None = None  #: made at the first reading (its pose's window)
         self.sticking = False  #: a joint carrying the normal force sticks (set by update)
 
     def _friction_nm(self, speed: np.ndarray) -> np.ndarray:
@@ -95,6 +103,10 @@ class ArmForce:
             (t0, q0), (t1, q1), (t2, q2) = self._angles
             if t2 > t1 > t0:
                 qdd = ((q2 - q1) / (t2 - t1) - (q1 - q0) / (t1 - t0)) / (0.5 * (t2 - t0))
+        if self._accelerations is None:
+            self._accelerations = deque(maxlen=acceleration_window(robot, q))
+        self._accelerations.append(qdd)
+        qdd = np.mean(self._accelerations, axis=0)
         needed = np.array(robot.inverse_dynamics(tuple(q), tuple(speed), tuple(qdd), 0.0)) + self._friction_nm(speed)
         external = needed - np.array(robot.torques())  # what the contact takes off the motors: J^T f
         jacobian_t = robot.jacobian_linear(self.tool).T
@@ -102,6 +114,22 @@ class ArmForce:
         self.sticking = bool(np.any((lever >= LEVER_SHARE * lever.max()) & (np.abs(speed) < STICK_RAD_S)))
         force = np.linalg.lstsq(jacobian_t, external, rcond=None)[0]
         return float(np.dot(force, self.normal))
+
+
+def acceleration_window(robot: Any, q: np.ndarray) -> int:
+    """Motion cycles in one period of the gears' lowest anti-resonance sqrt(k / J_link) at pose q (J_link: the
+    model's inertia of each joint less its rotor's); 1 on rigid gears (a robot whose servo names no gears)."""
+    gains = getattr(robot, "servo_gains", lambda: None)()
+    stiffness = np.array(getattr(gains, "gear_stiffness_nm_rad", ()) or (), dtype=float)
+    if not len(stiffness) or len(stiffness) != len(q):
+        return 1
+    rotor = np.array(gains.rotor_inertia_kg_m2 or np.zeros(len(q)), dtype=float)
+    zero = np.zeros(len(q))
+    weight = np.array(robot.inverse_dynamics(tuple(q), tuple(zero), tuple(zero), 0.0))
+    inertia = np.array([robot.inverse_dynamics(tuple(q), tuple(zero), tuple(unit), 0.0)[i] - weight[i]
+                        for i, unit in enumerate(np.eye(len(q)))])
+    lowest_rad_s = float(np.min(np.sqrt(stiffness / np.maximum(inertia - rotor, 1e-9))))
+    return max(1, round(2.0 * math.pi / lowest_rad_s / robot.dt_s))
 
 
 class Signature:
