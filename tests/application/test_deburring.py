@@ -290,28 +290,3 @@ def test_on_the_simulated_cell_the_bulges_are_ground_and_the_force_held() -> Non
     assert np.abs(samples[:, 4] - samples[:, 3]).max() < 6.0      # 15 % of 40 N, over the bulges
     assert np.sqrt(np.mean((samples[:, 4] - samples[:, 3]) ** 2)) < 1.5
 
-
-@pytest.mark.sim
-def test_grinding_through_the_arm_feels_the_casting_on_elastic_gears(capsys: pytest.CaptureFixture[str],
-                                                                      tmp_path: Path) -> None:
-    # the arm's force estimate takes the motors' acceleration only below the gears' anti-resonance: with the rotors'
-    # own shaking read as contact force, the loop rang and the arm felt nothing along the whole path
-    summary = tmp_path / "summary.json"
-    code = main(["run", str(ROOT / "programs/online/thesis_2_1_grindmove.rpl"), "--plant", "elastic-gears",
-                 "--summary-json", str(summary)])
-    out, err = capsys.readouterr()
-    assert code == 0, err
-    result = json.loads(summary.read_text())
-    assert result["status"] == "finished" and result["warnings"] == []
-    assert "bulges caught: 1" in out
-
-
-@pytest.mark.sim
-def test_the_arm_force_estimate_averages_the_acceleration_over_the_gears_anti_resonance_only_on_elastic_gears() -> None:
-    from orc_rpl.application.features.deburring_arm import acceleration_window
-    from orc_rpl.executive.cell_robot import CellRobot
-
-    q = np.array([0.0, 0.3, 0.2, 0.0, 1.0, 0.0])
-    assert acceleration_window(CellRobot.virtual(), q) == 1
-    window = acceleration_window(CellRobot.virtual(plant="elastic-gears"), q)
-    assert 20 <= window <= 40  # j2's anti-resonance, about 55 rad/s: 0.11 s of 4 ms cycles
