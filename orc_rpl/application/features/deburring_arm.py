@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.application.features.gears import lowest_anti_resonance_rad_s
 from orc_rpl.application.runtime import BehaviourError, MotionRequest, MotionView
 from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S  # the sharp Coulomb term of the friction estimate
 from orc_rpl.robot.friction import friction_torque_nm
@@ -117,19 +118,9 @@ class ArmForce:
 
 
 def acceleration_window(robot: Any, q: np.ndarray) -> int:
-    """Motion cycles in one period of the gears' lowest anti-resonance sqrt(k / J_link) at pose q (J_link: the
-    model's inertia of each joint less its rotor's); 1 on rigid gears (a robot whose servo names no gears)."""
-    gains = getattr(robot, "servo_gains", lambda: None)()
-    stiffness = np.array(getattr(gains, "gear_stiffness_nm_rad", ()) or (), dtype=float)
-    if not len(stiffness) or len(stiffness) != len(q):
-        return 1
-    rotor = np.array(gains.rotor_inertia_kg_m2 or np.zeros(len(q)), dtype=float)
-    zero = np.zeros(len(q))
-    weight = np.array(robot.inverse_dynamics(tuple(q), tuple(zero), tuple(zero), 0.0))
-    inertia = np.array([robot.inverse_dynamics(tuple(q), tuple(zero), tuple(unit), 0.0)[i] - weight[i]
-                        for i, unit in enumerate(np.eye(len(q)))])
-    lowest_rad_s = float(np.min(np.sqrt(stiffness / np.maximum(inertia - rotor, 1e-9))))
-    return max(1, round(2.0 * math.pi / lowest_rad_s / robot.dt_s))
+    """Motion cycles in one period of the gears' lowest anti-resonance at pose q; 1 on rigid gears."""
+    lowest_rad_s = lowest_anti_resonance_rad_s(robot, q)
+    return 1 if lowest_rad_s is None else max(1, round(2.0 * math.pi / lowest_rad_s / robot.dt_s))
 
 
 class Signature:
