@@ -289,4 +289,3 @@ def test_on_the_simulated_cell_the_bulges_are_ground_and_the_force_held() -> Non
     assert np.all(samples[:, 3] == 40.0)
     assert np.abs(samples[:, 4] - samples[:, 3]).max() < 6.0      # 15 % of 40 N, over the bulges
     assert np.sqrt(np.mean((samples[:, 4] - samples[:, 3]) ** 2)) < 1.5
-
