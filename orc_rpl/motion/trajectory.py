@@ -203,6 +203,7 @@ def _averaged(path: SplinePath, x: np.ndarray, sd: np.ndarray, dt_s: float, sub:
     """`smoothed`'s work on the servo-step samples of x(t) and its speed."""
     h = dt_s / sub
     sdd = np.append(np.diff(sd) / h, 0.0)
+    x_end = x[-1]
     for window_s in windows_s:
         n = max(1, int(round(window_s / h)))
         box = np.full(n, 1.0 / n)
@@ -210,6 +211,10 @@ def _averaged(path: SplinePath, x: np.ndarray, sd: np.ndarray, dt_s: float, sub:
         x = np.convolve(np.concatenate([np.full(pad, x[0]), x, np.full(pad, x[-1])]), box, "valid")
         sd = np.convolve(np.concatenate([np.zeros(pad), sd, np.zeros(pad)]), box, "valid")
         sdd = np.convolve(np.concatenate([np.zeros(pad), sdd, np.zeros(pad)]), box, "valid")
+    # the averages of the end's samples are the end up to rounding: the path ends where it ends (s = 1 exactly,
+    # as the moves that read it expect), never past it
+    np.minimum(x, x_end, out=x)
+    x[-1] = x_end
     rows = len(x)
     cycles = max(1, math.ceil((rows - 1) / sub))
     extra = cycles * sub + 1 - rows
