@@ -293,7 +293,7 @@ def make_virtual_motion_layer(
                 observer.friction_of = servo.friction_in_use
                 loop.set_gear_observer(observer)
                 twist.excess_of = lambda: observer.excess_nm
-            smoothing = smoothing_windows_s(arm, rotor, k_gear)
+            smoothing = smoothing_windows_s(arm, rotor, k_gear, state_feedback)   # shorter: the feedback damps
             if state_feedback:   # the two-mass joints' state feedback instead of the cascade and its twist
                 from orc_rpl.servo.state_feedback import TwoMassStateFeedback
 
