@@ -348,3 +348,7 @@ def print_elastic_optimality(robot: str) -> None:
         print(f"time_optimality_ratio_elastic_state_feedback{suffix}={worst:.4f}")
         print(f"vs_naive_ratio_elastic_state_feedback{suffix}={naive:.3f}")
         print(f"lmove_path_deviation_mm_elastic_state_feedback{suffix}={dev:.3f}")
+
+
+if __name__ == "__main__":
+    main()
