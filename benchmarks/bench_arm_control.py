@@ -28,8 +28,9 @@ is measured from its first move, the hold not counted). links_swing_after_{short
 or hunting at rest after moves that are not averaged (two short moves; zone blends; a stop from full speed), and
 links_swing_after_fine_moves_mrad after moves that are (two FINE moves from rest), the largest swing of j1..j3 (the
 links' own angles on elastic gears) from where they settle, from 0.1 s after the end. --smoothing-share SHARE: with
---elastic, moves from rest averaged over this share of the anti-resonance periods (two_mass.smoothing_windows_s;
-1: whole periods, the cascade's) instead of the layer's (the state feedback's STATE_FEEDBACK_PERIOD_SHARE). A warm plant (warm_up) is a robot known to have run a while: the
+--elastic, moves from rest averaged over this share of the anti-resonance periods (two_mass.smoothing_windows_s)
+instead of whole periods; --fixed-windows: with --state-feedback, every move from rest averaged over the whole
+windows, not over the share its steps' twist of the gears calls for (motion/gear_steps.py): the averaging before. A warm plant (warm_up) is a robot known to have run a while: the
 controller's gearbox estimate is told so too (GearFriction.warm_up).
 """
 
@@ -49,6 +50,7 @@ FEATURES = ("twist", "smoothing", "gain", "friction", "integral")
 OBSERVER = [False]   #: the gears' torque observer for the twist's extra torque (--observer)
 STATE_FEEDBACK = [False]   #: the two-mass joints' state feedback instead of the cascade (--state-feedback)
 SMOOTHING_SHARE: list[float | None] = [None]   #: the averaging windows' share of the periods (--smoothing-share)
+FIXED_WINDOWS = [False]   #: moves from rest averaged over the whole windows, not scaled to their steps (--fixed-windows)
 LOAD_AT_REST = [False]   #: the carried load hung on before the reset, the drives holding it first (--load-at-rest)
 REST_S = 1.0   #: --load-at-rest: how long the drives hold the arm under its load before the first move (s)
 
@@ -87,6 +89,8 @@ def _layer(robot: str, seed: int) -> MotionLayer:
         cell = layer.backend.loop.cell
         layer.smoothing_s = two_mass.smoothing_windows_s(layer.kin.arm, cell.motor_inertia_kg_m2,
                                                          cell.plant.gear_stiffness_nm_rad, share=SMOOTHING_SHARE[0])
+    if FIXED_WINDOWS[0]:
+        layer.planner.gear_steps = None
     if "smoothing" in WITHOUT:
         layer.smoothing_s = ()
     if "friction" in WITHOUT and layer.gear_friction is not None:
@@ -263,6 +267,9 @@ def main() -> None:
     ap.add_argument("--smoothing-share", type=float, default=None, metavar="SHARE",
                     help="with --elastic: average moves from rest over this share of the anti-resonance periods "
                          "(1: whole periods)")
+    ap.add_argument("--fixed-windows", action="store_true",
+                    help="with --state-feedback: every move from rest averaged over the whole windows (not scaled to "
+                         "its steps' twist of the gears)")
     ap.add_argument("--inertia-tolerance", type=float, default=None, metavar="SHARE",
                     help="with --state-feedback: the state feedback's INERTIA_TOLERANCE for this run (default 0.02)")
     ap.add_argument("--gains-settled", type=float, default=None, metavar="SHARE",
@@ -285,6 +292,9 @@ def main() -> None:
     if args.state_feedback and not args.elastic:
         ap.error("--state-feedback is for elastic gears (--elastic)")
     STATE_FEEDBACK[0] = args.state_feedback
+    if args.fixed_windows and not args.state_feedback:
+        ap.error("--fixed-windows is for the state feedback (--state-feedback)")
+    FIXED_WINDOWS[0] = args.fixed_windows
     LOAD_AT_REST[0] = args.load_at_rest
     WITHOUT.update(args.without)
     with_pvc = run_moves(args.robot, args.seed, True, True, CARRIED_KG)
@@ -301,6 +311,7 @@ def main() -> None:
         print(f"state_feedback={args.state_feedback}")
         layer = _layer(args.robot, args.seed)
         print(f"smoothing_windows_s={' '.join(f'{v:.3f}' for v in layer.smoothing_s) or 'none'}")
+        print(f"smoothing_scaled_to_gear_steps={layer.planner.gear_steps is not None}")
         law = layer.backend.loop.state_feedback
         if law is not None:
             print(f"state_feedback_joints={' '.join(str(j + 1) for j in law.joints)}")

@@ -20,9 +20,9 @@ median run of each), servo_plant_ms_per_sim_s_elastic_state_feedback the rest (t
 against, and the two parts of its wall time), for profiling that variant. --only optimality: the optimality figures
 alone. On a robot with elastic gears (IRB 2400) the optimality figures are printed for them too, under their state
 feedback (`--plant elastic-gears`), warm, the payload declared right, suffixed _elastic_state_feedback (the LMOVE
-deviation at the links' own angles), with the layer's averaging of moves from rest and, as baselines in the same run,
-suffixed _whole_periods, over whole anti-resonance periods (the cascade's, and the state feedback's before) and,
-suffixed _no_averaging, without averaging (what the averaging costs in time).
+deviation at the links' own angles), with the layer's averaging of moves from rest (scaled to each move's steps'
+twist of the gears) and, as baselines in the same run, suffixed _whole_periods, every move over whole anti-resonance
+periods (the averaging before) and, suffixed _no_averaging, without averaging (what the averaging costs in time).
 """
 
 from __future__ import annotations
@@ -96,14 +96,15 @@ def warm_realistic(robot: str, plant: str = "realistic", smoothing_s: tuple[floa
     """The realistic plant after a warm-up (friction about its warm value), no payload (none declared).
 
     `plant` "elastic-gears": with the elastic gears under their state feedback, the controller's gearbox estimate
-    told of the warm-up too; `smoothing_s`: the windows its moves from rest are averaged over (None: the layer's).
+    told of the warm-up too; `smoothing_s`: the windows every move from rest is averaged over, whole (None: the
+    layer's averaging, scaled to each move's steps' twist of the gears).
     """
     layer = make_virtual_motion_layer(robot, backend="servo", plant=plant)
     layer.backend.loop.cell.warm_up()
     if layer.gear_friction is not None and plant == "elastic-gears":
         layer.gear_friction.warm_up(layer.backend.loop.cell.gear_rise_k[0])
     if smoothing_s is not None:
-        layer.smoothing_s = smoothing_s
+        layer.smoothing_s, layer.planner.gear_steps = smoothing_s, None
     return layer
 
 
@@ -330,20 +331,23 @@ def print_optimality(robot: str) -> None:
 
 def print_elastic_optimality(robot: str) -> None:
     """Time optimality, gain over naive and LMOVE deviation (at the links) on the elastic gears under their state
-    feedback: with the layer's averaging of moves from rest and, as baselines in the same run, with the averaging
-    over whole anti-resonance periods (`_whole_periods`) and without averaging (`_no_averaging`)."""
+    feedback: with the layer's averaging of moves from rest (over as much of the anti-resonance periods as each move's
+    steps' twist of the gears calls for) and, as baselines in the same run, with every move averaged over the whole
+    periods (`_whole_periods`, the averaging before) and without averaging (`_no_averaging`)."""
     from orc_rpl.servo.two_mass import anti_resonance_periods_s
 
     probe = warm_realistic(robot, "elastic-gears")
     cell = probe.backend.loop.cell
-    variants = {"": probe.smoothing_s,
+    variants: dict[str, tuple[float, ...] | None] = {"": None,
                 "_whole_periods": anti_resonance_periods_s(probe.kin.arm, cell.motor_inertia_kg_m2,
                                                            cell.plant.gear_stiffness_nm_rad),
                 "_no_averaging": ()}
     for suffix, windows in variants.items():
         worst, mean, naive, _, _ = bench_optimality(robot, "elastic-gears", windows)
         dev = bench_lmove_deviation(robot, "elastic-gears", windows)
-        print(f"elastic_smoothing_windows_s{suffix}={' '.join(f'{w:.3f}' for w in windows) or 'none'}")
+        shown = probe.smoothing_s if windows is None else windows
+        print(f"elastic_smoothing_windows_s{suffix}={' '.join(f'{w:.3f}' for w in shown) or 'none'}")
+        print(f"elastic_smoothing_scaled_to_gear_steps{suffix}={windows is None}")
         print(f"time_optimality_mean_elastic_state_feedback{suffix}={mean:.4f}")
         print(f"time_optimality_ratio_elastic_state_feedback{suffix}={worst:.4f}")
         print(f"vs_naive_ratio_elastic_state_feedback{suffix}={naive:.3f}")

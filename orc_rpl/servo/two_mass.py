@@ -35,16 +35,6 @@ TWIST_INTEGRAL_MIN_SPEED_RAD_S = 0.2
 
 #: Anti-resonance periods over which a trajectory's time scaling is averaged (the lowest modes: j1, j2).
 SMOOTHING_WINDOWS = 2
-#: The averaging windows as a share of those periods under the state feedback (servo/state_feedback.py); the
-#: cascade keeps whole periods. What needs the averaging under the state feedback, which damps the links' modes,
-#: is the rotors' share of a torque step: the gear's twist (link torque / k, up to a few mm at the tool) changes
-#: with the path acceleration, and the rotor must carry that change within the window, or the links' estimate
-#: (encoders less the commanded twist) leaves the path. bench_arm_control's moves (--elastic --state-feedback,
-#: seed 0; total averaging s, encoders / links mm): 1.0 (0.295 s) 0.460 / 0.803; 0.75 (0.221 s) 0.461 / 0.906;
-#: 0.6 (0.177 s) 0.801 / 0.987; 0.5 (0.148 s) 0.536 / 1.097; one 0.02 s window 3.392 / 1.252; none 7.589 /
-#: 1.386, saturating in 1.4 % of the cycles. The cascade with 0.75: 2.138 / 2.041 mm against 1.063 / 1.602 with
-#: whole periods. Each move from rest lasts the windows' sum longer.
-STATE_FEEDBACK_PERIOD_SHARE = 0.75
 
 
 def link_inertia_max(arm: ArmModel, motor_inertia_kg_m2: Any) -> np.ndarray:
@@ -167,11 +157,10 @@ def anti_resonance_periods_s(arm: ArmModel, motor_inertia_kg_m2: Any, gear_stiff
 
 
 def smoothing_windows_s(arm: ArmModel, motor_inertia_kg_m2: Any, gear_stiffness_nm_rad: Any,
-                        state_feedback: bool = False, share: float | None = None) -> tuple[float, ...]:
+                        share: float = 1.0) -> tuple[float, ...]:
     """The windows (s) a trajectory's time scaling is averaged over, each in turn (motion/trajectory.py `smoothed`),
-    longest first: the lowest anti-resonance periods, whole for the cascade (an average over a mode's period does not
-    excite it), STATE_FEEDBACK_PERIOD_SHARE of them under the state feedback (which damps the modes itself), or
-    `share` of them when given. All keep the torques free of steps."""
-    if share is None:
-        share = STATE_FEEDBACK_PERIOD_SHARE if state_feedback else 1.0
+    longest first: the lowest anti-resonance periods (an average over a mode's period does not excite it, and keeps
+    the torques free of steps), or `share` of them (benchmarks: bench_arm_control --smoothing-share). Under the
+    state feedback a trajectory is averaged over as much of them as its steps' twist of the gears calls for
+    (motion/gear_steps.py)."""
     return tuple(share * period for period in anti_resonance_periods_s(arm, motor_inertia_kg_m2, gear_stiffness_nm_rad))

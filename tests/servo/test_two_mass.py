@@ -11,7 +11,7 @@ from orc_rpl.plant.realistic import RealisticCell
 from orc_rpl.robot import load_robot
 from orc_rpl.robot.plants import plant_spec
 from orc_rpl.servo.control import ServoGains
-from orc_rpl.servo.two_mass import (POSITION_OVER_VELOCITY, STATE_FEEDBACK_PERIOD_SHARE, GearTwist, anti_resonance_periods_s,
+from orc_rpl.servo.two_mass import (POSITION_OVER_VELOCITY, GearTwist, anti_resonance_periods_s,
                                     link_inertia_max, smoothing_windows_s, two_mass_gains)
 
 
@@ -105,15 +105,13 @@ def test_the_gear_twist_leads_the_rotor_by_the_link_torque_over_the_stiffness() 
     assert np.allclose(qd_m2[0], (tau[0] - link_torque[2]) / k / 0.001), "the rate carries over from the last call"
 
 
-def test_smoothing_windows_are_the_lowest_anti_resonance_periods_or_a_share_of_them_under_state_feedback() -> None:
+def test_smoothing_windows_are_the_periods_of_the_lowest_anti_resonances() -> None:
     arm, spec = load_robot("irb2400"), plant_spec("irb2400")
     rotor = RealisticCell("irb2400", elastic=True).motor_inertia_kg_m2
     anti = np.sort(np.sqrt(np.array(spec.gear_stiffness_nm_rad) / link_inertia_max(arm, rotor)))
-    assert np.allclose(anti_resonance_periods_s(arm, rotor, spec.gear_stiffness_nm_rad), 2.0 * np.pi / anti[:2])
     assert np.allclose(smoothing_windows_s(arm, rotor, spec.gear_stiffness_nm_rad), 2.0 * np.pi / anti[:2])
-    assert np.allclose(smoothing_windows_s(arm, rotor, spec.gear_stiffness_nm_rad, state_feedback=True),
-                       STATE_FEEDBACK_PERIOD_SHARE * 2.0 * np.pi / anti[:2])
-    assert np.allclose(smoothing_windows_s(arm, rotor, spec.gear_stiffness_nm_rad, True, share=1.0), 2.0 * np.pi / anti[:2])
+    assert np.allclose(anti_resonance_periods_s(arm, rotor, spec.gear_stiffness_nm_rad), 2.0 * np.pi / anti[:2])
+    assert np.allclose(smoothing_windows_s(arm, rotor, spec.gear_stiffness_nm_rad, 0.5), np.pi / anti[:2])
 
 
 def test_the_python_law_leads_the_rotors_as_the_drives_do() -> None:
