@@ -279,7 +279,7 @@ def spot_run(naive: bool, plant: str) -> tuple[float, list[float], float] | None
     robot = CellRobot.virtual(plant=cell_plant(plant))
     executive = Executive(parse(source, str(program)), robot, runtime_registry(), path=str(program), source=source,
                           output=lambda line: None)
-    script = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.tcp_pose(executive.machine.last_tool))
+    script = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.plant_tcp_pose(executive.machine.last_tool))
     ends: list[float] = []
     trace: list[tuple[float, tuple[float, float, float]]] = []
     submit, tick, tool = robot.submit, robot.tick, Pose(0, 0, 0.25)
@@ -435,7 +435,7 @@ def arm_grinding(plant: str) -> dict[str, float]:
     executive = Executive(parse(source, str(program)), robot, runtime_registry(), path=str(program),
                           source=source, output=lambda line: None)
     castings = load_script(program.with_suffix(".sim.yaml"), robot.io,
-                           lambda: robot.tcp_pose(executive.machine.last_tool), robot.set_plant_payload,
+                           lambda: robot.plant_tcp_pose(executive.machine.last_tool), robot.set_plant_payload,
                            robot.push_on_arm).castings
     step = deburring_arm.ArmForceLoop.step
     rows: list[tuple[float, float, float]] = []
@@ -575,7 +575,7 @@ def _grinding_run(plant: str, program: Path, source: str, casting_on: bool,
     executive = Executive(parse(source, str(program)), robot, runtime_registry(), path=str(program),
                           source=source, output=lambda line: None)
     machine = executive.machine
-    castings = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.tcp_pose(machine.last_tool),
+    castings = load_script(program.with_suffix(".sim.yaml"), robot.io, lambda: robot.plant_tcp_pose(machine.last_tool),
                            robot.set_plant_payload, robot.push_on_arm).castings if casting_on else []
     estimator = TorqueForce(robot, lambda: machine.last_tool)
     sample = deburring_flange.ForceLoop.step

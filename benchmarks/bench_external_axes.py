@@ -1,6 +1,6 @@
 """External axes benchmark: coordinated motion on the turning positioner, measured in the simulated cell.
 
-Run: python benchmarks/bench_external_axes.py [--plant realistic|ideal] [--seed 1]
+Run: python benchmarks/bench_external_axes.py [--plant realistic|elastic-gears|ideal] [--seed 1]
 
 The cell is worlds/positioner_cell.yaml: the robot on its track, the plate on the positioner's turn table.
 The torch moves along the plate's seam (200 mm) while the table turns a quarter and the track carries the
@@ -27,6 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from orc_rpl.motion import CartesianMotion, Params, make_virtual_motion_layer  # noqa: E402
 from orc_rpl.motion.external import coordinated_motion, external_axes_of, shortest_time_s, world_frame_in_base  # noqa: E402
 from orc_rpl.plant.world_scene import cell_from_world  # noqa: E402
+from orc_rpl.robot.plants import SIMULATED_PLANTS  # noqa: E402
 from orc_rpl.world import load_world  # noqa: E402
 from orc_rpl.world.pose import Pose  # noqa: E402
 
@@ -68,7 +69,7 @@ def run(plant: str, seed: int, lead: bool) -> dict[str, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--plant", default="realistic", choices=("realistic", "ideal"))
+    parser.add_argument("--plant", default="realistic", choices=SIMULATED_PLANTS)
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args()
     with_lead = run(args.plant, args.seed, lead=True)

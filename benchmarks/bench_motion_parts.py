@@ -12,8 +12,9 @@ CPU time less the servo's and plant's (`layer.backend.advance`).
 
 The baseline in the same run, `_reference`, plans with the Python references of this code's compiled and
 lean paths: the IK tracking in Python (Kinematics.compiled_tracking False) and toppra's own TOPP-RA passes
-(timing.LEAN_PASSES False); runs alternate, the median of `--rounds` runs of each is printed. The
-recordings are those of bench_motion's speed runs (the same program, the same plant).
+(timing.LEAN_PASSES False: neither the lean nor the compiled passes of toppra_passes.py); runs alternate, the
+median of `--rounds` runs of each is printed. The recordings are those of bench_motion's speed runs (the same
+program, the same plant).
 """
 
 from __future__ import annotations

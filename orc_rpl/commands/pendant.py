@@ -145,7 +145,7 @@ def _run(args: argparse.Namespace) -> int:
         message = _ask_recovery(session, args)
         io_script = equipment_script(args, args.file, args.world if args.world is None or Path(args.world).is_dir() else None)
         if io_script is not None:
-            load_script(io_script, robot.io, lambda: robot.tcp_pose(session.execution.tool_pose()),
+            load_script(io_script, robot.io, lambda: getattr(robot, "plant_tcp_pose", robot.tcp_pose)(session.execution.tool_pose()),
                         push=getattr(robot, "push_on_arm", None))
         with ExitStack() as stack:
             if args.view:

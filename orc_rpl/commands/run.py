@@ -268,7 +268,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     submit_process_signals(robot.layer.logger if record else None, robot, lambda: machine.last_tool)
     io_script = equipment_script(args, args.file, args.world)
     if io_script is not None:
-        load_script(io_script, robot.io, lambda: robot.tcp_pose(machine.last_tool), robot.set_plant_payload,
+        load_script(io_script, robot.io, lambda: robot.plant_tcp_pose(machine.last_tool), robot.set_plant_payload,
                     robot.push_on_arm)
     margins = MarginWatch(robot, machine) if args.margins else None
     # what watches the run listens to the robot's motion cycles while it runs: the executive drives the robot itself

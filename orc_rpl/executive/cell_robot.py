@@ -152,6 +152,19 @@ class CellRobot:
             self.tick()
         return bool(backend.servo_holding(servo_id))
 
+    def plant_tcp_pose(self, tool: Pose | None) -> Pose:
+        """Simulation only: where the plant's tool really is, which the cell's process models (a weld gun, a laser
+        on its seam, a casting's contact) see: the links' own angles, through elastic gears too (the controller's
+        `tcp_pose` is its estimate: the encoders less the twist it commands). Through rigid gears, and on a robot
+        without a simulated plant of ours, it is tcp_pose: the encoders tell the links' angles there to a count."""
+        cell = getattr(getattr(self.layer.backend, "loop", None), "cell", None)
+        if not getattr(cell, "elastic", False):
+            return self.tcp_pose(tool)
+        tcp = self.layer.kin.fk(np.asarray(cell.link_q), _tool_matrix(tool))
+        if self.axes is not None:
+            tcp = self.axes.base(self.axes.values()) @ tcp
+        return Pose.from_matrix(tcp)
+
     def set_plant_payload(self, mass_kg: float) -> None:
         """Simulation only: a part of `mass_kg` in the gripper, felt by the plant (not told to the controller)."""
         loop = getattr(self.layer.backend, "loop", None)
@@ -325,7 +338,7 @@ def _sensor_manager(robot: Any) -> Any:
     from orc_rpl.motion.sensors import SensorManager
 
     def tcp() -> tuple[float, float, float]:
-        pose = robot.tcp_pose(robot.last_tool)
+        pose = robot.plant_tcp_pose(robot.last_tool)
         return (pose.x, pose.y, pose.z)
     return SensorManager(simulated_sensors(robot.io, tcp))
 

@@ -24,6 +24,11 @@ mj_step = mujoco.mj_step  # looked up once: step() runs a thousand times per sim
 BRAKE_SHARE = 1.5
 #: MuJoCo's no-slip iterations while the brakes hold: a braked joint does not creep.
 BRAKE_NOSLIP_ITERATIONS = 20
+#: A pair of bodies that touched (a collision) counts as apart again once it has stayed apart this long (s): an
+#: arm stopped on an obstacle rebounds, and through elastic gears its links swing back onto it once (the IRB
+#: 2400's: apart for 36 ms, touching again 77 ms after the collision), which is the same collision, not a new one
+#: to stop the back-off for. Longer than the slowest period of the elastic IRB 2400's links (0.164 s, j1).
+REBOUND_S = 0.2
 
 
 def site_pose(data: Any, site: int) -> np.ndarray:
@@ -87,6 +92,7 @@ class SimCell:
         self.collision: tuple[str, str] | None = None  #: the two bodies of the first collision not yet cleared
         self._watch_contacts = bool(self.description.contacts)
         self._noted: set[tuple[int, int]] = set()  #: colliding geom pairs already noted, until they come apart
+        self._apart_since: dict[tuple[int, int], float] = {}  #: noted pairs apart now: since when (s)
         self._work_geoms = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, s.name) for s in self.description.solids if s.work}
         self.brakes_engaged = False  #: the joints' holding brakes (set_brakes)
         self._noslip_iterations = int(m.opt.noslip_iterations)
@@ -156,6 +162,7 @@ class SimCell:
         self.io.reset()
         self.collision = None
         self._noted = set()
+        self._apart_since = {}
         self._wall_start_s = time.perf_counter()
 
     def step(self, tau_nm: np.ndarray) -> None:
@@ -177,13 +184,19 @@ class SimCell:
     def _check_contacts(self) -> None:
         """Note the first new contact between two bodies where neither is the robot's work (a collision).
 
-        A pair already noted is not noted again until it has come apart: the robot may back off.
+        A pair already noted is not noted again until it has come apart (for REBOUND_S): the robot may back off.
         """
         contact, work = self._data.contact, self._work_geoms
         touching = {(min(g1, g2), max(g1, g2))
                     for g1, g2, dist in zip(contact.geom1.tolist(), contact.geom2.tolist(), contact.dist.tolist())
                     if dist <= 0.0 and g1 not in work and g2 not in work}
-        self._noted &= touching  # pairs that came apart may collide again
+        now_s, apart = float(self._data.time), self._apart_since
+        for pair in self._noted:
+            if pair in touching:
+                apart.pop(pair, None)
+            elif now_s - apart.setdefault(pair, now_s) >= REBOUND_S - 1e-9:
+                del apart[pair]   # came apart for good: it may collide again
+        self._noted = {pair for pair in self._noted if pair in touching or pair in apart}
         new = touching - self._noted
         if new and self.collision is None:
             pair = min(new)

@@ -188,8 +188,8 @@ class ServoLoop:
         law.friction = servo.friction_in_use()
         cycle = self._state_feedback_cycle
         if self.compiled_law and cycle is not None and not self.on_step and cycle.fits():   # schedule and steps: one kernel
-            cycle.run(q_ref, qd_ref, qdd_ref)
-            return self.state()
+            rows = cycle.run(q_ref, qd_ref, qdd_ref)   # state()'s arrays, made by the kernel: rows of one new array
+            return ServoState(cell.time_s, rows[0], rows[1], rows[2], rows[3])
         law.schedule(cell.q, qd_ref[0])
         for i in range(len(q_ref)):
             q, qd = np.array(cell.q), np.array(cell.qd)   # copies: the cell overwrites its measurements

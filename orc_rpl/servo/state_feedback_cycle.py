@@ -27,6 +27,7 @@ class StateFeedbackCycle:
         self._body: Any = None   #: the model's rows for the compiled RNEA (its own: a new array when the payload changes)
         self._gravity = servo.arm.gravity_m_s2
         self._torque_ff, self._velocity, self._no_friction = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._scratch = np.zeros(kernels.scratch_size(n, len(law.joints)))   #: the kernel's work arrays
         self._tail: Any = None
 
     def fits(self) -> bool:
@@ -40,8 +41,10 @@ class StateFeedbackCycle:
             self._body, self._tail = body, None
         return body is not None
 
-    def run(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> None:
-        """The call's schedule (the law's, `schedule(cell.q, qd_ref[0])`) and steps, the drives as torque motors."""
+    def run(self, q_ref: np.ndarray, qd_ref: np.ndarray, qdd_ref: np.ndarray) -> np.ndarray:
+        """The call's schedule (the law's, `schedule(cell.q, qd_ref[0])`) and steps, the drives as torque motors;
+        returns the state after them as rows (a new array): the links' angles, the measured speeds, the applied
+        torques, the position errors (`ServoLoop.state()`'s q, qd, tau and position_error)."""
         servo, law = self.servo, self.law
         if self._law_of is None or self._law_of[0] is not servo._kp or self._law_of[1] is not servo._velocity_bw:
             self._law_rows()
@@ -60,13 +63,16 @@ class StateFeedbackCycle:
             tail = self._tail = (law._buffer, law.moving, law._flags, law.joints, law._tuning, self._body, self._gravity,
                                  self._law, servo._inertia_every, 1.0 / FRICTION_SMOOTH_RAD_S, servo._kv, servo._ki_dt,
                                  servo.position_error, servo.velocity_error, servo.torque, servo.saturated,
-                                 self._torque_ff, self._velocity, *self.cell.drives.torque_kernel_arrays())
+                                 self._torque_ff, self._velocity, self._scratch,
+                                 *self.cell.drives.torque_kernel_arrays())
+        snapshot = np.empty((4, len(self._velocity)))
         self.cell.drives.run_kernel(self._kernels.state_feedback_cycle, (
             q_ref, qd_ref, qdd_ref, noise, schedule, servo.torque_offset, integral_before, integral, servo._steps,
-            friction is not None, coulomb, viscous), tail)
+            friction is not None, coulomb, viscous, snapshot), tail)
         servo._steps += n_steps
         servo.integral, servo._integral_next = integral, integral_before
         servo.torque_ff, servo.velocity = self._torque_ff, self._velocity
+        return snapshot
 
     def _law_rows(self) -> None:
         """The cascade's constants as the rows the kernel reads."""

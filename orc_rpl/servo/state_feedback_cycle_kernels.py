@@ -18,9 +18,15 @@ import numpy as np
 from orc_rpl.plant.compiled import kernel, mj_step_intrinsic
 from orc_rpl.plant.drive_kernels import measure
 from orc_rpl.servo.rnea_kernel import mass_diagonal as mass_diagonal_at, rnea_row
-from orc_rpl.servo.state_feedback_kernels import compiled_law_views, law_predict, law_references, law_schedule, law_update
+from orc_rpl.servo.state_feedback_kernels import (compiled_law_views, law_predict, law_references, law_update,
+                                                  schedule_on_views)
 
 step = mj_step_intrinsic()
+
+def scratch_size(n: int, m: int) -> int:
+    """Floats in the work array `state_feedback_cycle` takes (`scratch`) for an arm of n joints, m of them slow."""
+    return 23 * n + 2 * m + max(n, 7 * m)
+
 
 #: Rows of the cascade's constants (`StateFeedbackCycle._law`): the kernel reads them by these indices.
 KP, VELOCITY_BW, INTEGRAL_BW_DT, INTEGRAL_MAX, INTEGRAL_MIN, TAU_MAX = range(6)
@@ -31,11 +37,13 @@ LAW_ROWS = 6
 def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarray, qd_ref: np.ndarray,
                          qdd_ref: np.ndarray, noise: np.ndarray, schedule: bool, torque_offset: np.ndarray,
                          integral_before: np.ndarray, integral: np.ndarray, steps: int, friction: bool,
-                         coulomb: np.ndarray, viscous: np.ndarray, law_buffer: np.ndarray, moving: np.ndarray,
+                         coulomb: np.ndarray, viscous: np.ndarray, snapshot: np.ndarray, law_buffer: np.ndarray,
+                         moving: np.ndarray,
                          flags: np.ndarray, joints: np.ndarray, tuning: np.ndarray, body: np.ndarray,
                          gravity: np.ndarray, law: np.ndarray, inertia_every: int, smooth_inv: float, kv: np.ndarray,
                          ki_dt: np.ndarray, position_error: np.ndarray, velocity_error: np.ndarray, torque: np.ndarray,
-                         saturated: np.ndarray, torque_ff: np.ndarray, velocity: np.ndarray, ctrl: np.ndarray,
+                         saturated: np.ndarray, torque_ff: np.ndarray, velocity: np.ndarray, scratch: np.ndarray,
+                         ctrl: np.ndarray,
                          force: np.ndarray, qpos: np.ndarray, qvel: np.ndarray, qpos_address: np.ndarray,
                          qvel_address: np.ndarray, count_per_rad: float, rad_per_count: float, q_meas: np.ndarray,
                          qd_meas: np.ndarray, tau_sq_sum: np.ndarray) -> None:  # pragma: no cover - compiled
@@ -47,19 +55,26 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
     has, then each step's). The servo's signals end as the Python law leaves them: kv and ki_dt (scheduled every
     `inertia_every` steps counted from `steps`), the last step's position and velocity errors, torques,
     saturation flags, the cascade's feed-forward and the speeds it read; `integral` gets the cascade's
-    integral with the slow joints' unknown torque (the filter's) in place of theirs.
+    integral with the slow joints' unknown torque (the filter's) in place of theirs. `snapshot` (4 x n) gets what
+    `ServoLoop.state()` would copy after the call: the links' angles (the encoders' less the twist), the measured
+    speeds, the applied torques and the position errors (one new array instead of four copies and a subtraction).
     """
     n_steps, n = q_ref.shape
     m = joints.shape[0]
+    views = compiled_law_views(law_buffer, n, m)   # once, for the schedule and the steps
     if schedule:
-        law_schedule(body, q_meas, qd_ref[0], joints, law_buffer, moving, flags, tuning)
+        schedule_on_views(body, q_meas, qd_ref[0], joints, views, moving, flags, tuning)
     (twist_rad, rotor_all, stiffness_all, held_link, held_rotor, link_other, _, _, _, law_tau_max, state, link_inertia,
-     k, l, ad, bd, _, _, _, _, _, _, _, _) = compiled_law_views(law_buffer, n, m)
-    q, qd, tau_link, theta_ref, theta_d_ref = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    last, mass = integral_before.copy(), np.empty(n)
-    demand, ff = np.empty(m), np.empty(m)
-    tau = np.empty(n)
-    work, law_work = np.empty((n, 15)), np.empty(max(n, 7 * m))
+     k, l, ad, bd, _, _, _, _, _, _, _, _) = views
+    # the steps' work arrays: slices of `scratch` (scratch_size floats: a dozen small allocations a call saved)
+    q, qd, tau_link, theta_ref, theta_d_ref = (scratch[0:n], scratch[n : 2 * n], scratch[2 * n : 3 * n],
+                                               scratch[3 * n : 4 * n], scratch[4 * n : 5 * n])
+    last, mass, tau = scratch[5 * n : 6 * n], scratch[6 * n : 7 * n], scratch[7 * n : 8 * n]
+    demand, ff = scratch[8 * n : 8 * n + m], scratch[8 * n + m : 8 * n + 2 * m]
+    at = 8 * n + 2 * m
+    work, law_work = scratch[at : at + 15 * n].reshape((n, 15)), scratch[at + 15 * n : at + 15 * n + max(n, 7 * m)]
+    for j in range(n):
+        last[j] = integral_before[j]
     for i in range(n_steps):
         for j in range(n):   # copies: the measurement is overwritten after the step
             q[j], qd[j] = q_meas[j], qd_meas[j]
@@ -113,6 +128,10 @@ def state_feedback_cycle(model_address: int, data_address: int, q_ref: np.ndarra
                     law_work)
     for j in range(n):
         velocity[j] = qd[j]
+        snapshot[0, j] = q_meas[j] - twist_rad[j]
+        snapshot[1, j] = qd_meas[j]
+        snapshot[2, j] = force[j]
+        snapshot[3, j] = position_error[j]
     for c in range(m):   # what the path velocity controller adds to the model's torque: the filter's unknown torque
         w = state[4 * m + c]
         integral[joints[c]] = -((w if moving[c] else held_link[c]) + (held_rotor[c] if moving[c] else w))

@@ -271,9 +271,18 @@ def law_schedule(body: np.ndarray, q: np.ndarray, qd_ref: np.ndarray, joints: np
                  moving: np.ndarray, flags: np.ndarray, tuning: np.ndarray) -> None:  # pragma: no cover - compiled
     """`TwoMassStateFeedback.schedule(q, qd_ref)` of a law whose Riccati equations are solved: the law's arrays in
     `buffer` (servo/state_feedback_layout.py), `moving` and the `flags` in place."""
-    n, m = q.shape[0], joints.shape[0]
+    schedule_on_views(body, q, qd_ref, joints, compiled_law_views(buffer, q.shape[0], joints.shape[0]), moving, flags,
+                      tuning)
+
+
+@inlined_kernel
+def schedule_on_views(body: np.ndarray, q: np.ndarray, qd_ref: np.ndarray, joints: np.ndarray, views: tuple,
+                      moving: np.ndarray, flags: np.ndarray, tuning: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`law_schedule` on the law's arrays as `compiled_law_views` gives them (a motion cycle's kernel makes them once
+    for its schedule and its steps)."""
+    m = joints.shape[0]
     (_, _, _, held_link, held_rotor, _, rotor, stiffness, damping, _, state, link_inertia, k, l, ad, bd, weights,
-     process, measurement, p, s, inertia_now, k_before, l_before) = compiled_law_views(buffer, n, m)
+     process, measurement, p, s, inertia_now, k_before, l_before) = views
     moving_now = np.empty(m, dtype=np.bool_)
     moved, changed = link_inertia_at(body, q, joints, rotor, link_inertia, inertia_now, qd_ref, tuning[MOVING], moving,
                                      moving_now)

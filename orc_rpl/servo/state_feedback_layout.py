@@ -28,17 +28,38 @@ def law_views(buffer: np.ndarray, n: int, m: int) -> tuple[np.ndarray, ...]:
     the LQR's weights (4m x 4m), the filter's process (5m x 5m) and measurement (2m x 2m) noises, the Riccati
     solutions p (4m x 4m) and s (5m x 5m); the schedule's work: the inertia now (m x m), the gains before
     (m x 4m, 5m x 2m)."""
-    at = 0
-    vectors = []
-    for size in (n, n, n, m, m, m, m, m, m, m, 5 * m):
-        vectors.append(buffer[at : at + size])
-        at += size
-    matrices = []
-    for rows, cols in ((m, m), (m, 4 * m), (5 * m, 2 * m), (5 * m, 5 * m), (5 * m, 2 * m), (4 * m, 4 * m),
-                       (5 * m, 5 * m), (2 * m, 2 * m), (4 * m, 4 * m), (5 * m, 5 * m), (m, m), (m, 4 * m),
-                       (5 * m, 2 * m)):
-        matrices.append(buffer[at : at + rows * cols].reshape((rows, cols)))
-        at += rows * cols
-    return (vectors[0], vectors[1], vectors[2], vectors[3], vectors[4], vectors[5], vectors[6], vectors[7], vectors[8],
-            vectors[9], vectors[10], matrices[0], matrices[1], matrices[2], matrices[3], matrices[4], matrices[5],
-            matrices[6], matrices[7], matrices[8], matrices[9], matrices[10], matrices[11], matrices[12])
+    # straight-line slices (compiled, lists of arrays would be built on the heap at every call: a microsecond)
+    mm, m4, m5 = m * m, 4 * m, 5 * m
+    twist_rad, rotor_all, stiffness_all = buffer[0:n], buffer[n : 2 * n], buffer[2 * n : 3 * n]
+    at = 3 * n
+    held_link, held_rotor, link_other = buffer[at : at + m], buffer[at + m : at + 2 * m], buffer[at + 2 * m : at + 3 * m]
+    rotor, stiffness, damping = buffer[at + 3 * m : at + 4 * m], buffer[at + 4 * m : at + 5 * m], buffer[at + 5 * m : at + 6 * m]
+    tau_max, state = buffer[at + 6 * m : at + 7 * m], buffer[at + 7 * m : at + 12 * m]
+    at += 12 * m
+    link_inertia = buffer[at : at + mm].reshape((m, m))
+    at += mm
+    k = buffer[at : at + m * m4].reshape((m, m4))
+    at += m * m4
+    l = buffer[at : at + m5 * 2 * m].reshape((m5, 2 * m))
+    at += m5 * 2 * m
+    ad = buffer[at : at + m5 * m5].reshape((m5, m5))
+    at += m5 * m5
+    bd = buffer[at : at + m5 * 2 * m].reshape((m5, 2 * m))
+    at += m5 * 2 * m
+    weights = buffer[at : at + m4 * m4].reshape((m4, m4))
+    at += m4 * m4
+    process = buffer[at : at + m5 * m5].reshape((m5, m5))
+    at += m5 * m5
+    measurement = buffer[at : at + 4 * mm].reshape((2 * m, 2 * m))
+    at += 4 * mm
+    p = buffer[at : at + m4 * m4].reshape((m4, m4))
+    at += m4 * m4
+    s = buffer[at : at + m5 * m5].reshape((m5, m5))
+    at += m5 * m5
+    inertia_now = buffer[at : at + mm].reshape((m, m))
+    at += mm
+    k_before = buffer[at : at + m * m4].reshape((m, m4))
+    at += m * m4
+    l_before = buffer[at : at + m5 * 2 * m].reshape((m5, 2 * m))
+    return (twist_rad, rotor_all, stiffness_all, held_link, held_rotor, link_other, rotor, stiffness, damping, tau_max,
+            state, link_inertia, k, l, ad, bd, weights, process, measurement, p, s, inertia_now, k_before, l_before)

@@ -298,3 +298,25 @@ def test_a_noisy_laser_still_tracks_within_half_a_millimetre() -> None:
     assert np.sqrt(np.mean(true_error ** 2)) < 0.0005
     (record,) = robot.process_log.seams
     assert record.rms_m > 0.0015 and record.gain < 0.1  # the laser's own error includes its noise
+
+
+@pytest.mark.sim
+def test_the_thesis_seam_is_tracked_to_its_end_on_elastic_gears(capsys: pytest.CaptureFixture[str]) -> None:
+    # the gears' mode lags the links behind a correction by up to a quarter of its period: Tracking's gain, designed
+    # for a loop delay of 3 cycles alone, rang on the elastic gears and lost the seam within its first 10 mm
+    from orc_rpl.cli import main
+
+    code = main(["run", str(PROGRAMS / "online" / "thesis_2_3_seam_tracking.rpl"), "--plant", "elastic-gears"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert "SeamLost" not in err + out
+
+
+@pytest.mark.sim
+def test_recordseam_takes_the_loop_delay_from_the_robot_quarter_an_anti_resonance_more_on_elastic_gears() -> None:
+    from orc_rpl.application.features.arc_welding_behaviour import LOOP_DELAY, loop_delay_cycles
+
+    q = np.array([0.0, 0.5, 0.1, 0.0, 1.0, 0.0])
+    assert loop_delay_cycles(CellRobot.virtual(), q) == LOOP_DELAY
+    assert loop_delay_cycles(RecordingRobot(), q) == LOOP_DELAY
+    assert LOOP_DELAY + 4 <= loop_delay_cycles(CellRobot.virtual(plant="elastic-gears"), q) <= LOOP_DELAY + 10

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import dataclasses
+import json
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -10,12 +12,14 @@ import pytest
 
 from orc_rpl.application.features import deburring_behaviour as db
 from orc_rpl.application.standard_behaviour import runtime_registry
+from orc_rpl.cli import main
 from orc_rpl.executive.cell_robot import CellRobot
 from orc_rpl.executive.executive import Executive
 from orc_rpl.plant.processes.casting import Bulge, CastingEdge
 from orc_rpl.syntax.parser import parse
 from tests.executive.support import execute
 
+ROOT = Path(__file__).resolve().parents[2]
 EDGE = [(0.9, -0.2, 0.6), (0.9, 0.2, 0.6)]
 PROGRAM = """TOOL grinder = POSE(0, 0, 150mm, 0, 0, 0)
 INSTALL grinder AS Grinder WITH SPINDLE = DigOut[5]
@@ -102,3 +106,28 @@ def test_an_edge_the_arm_never_touches_is_a_warning_not_a_silent_finish() -> Non
     executive, _, log = grind([], casting=False)
     assert executive.status == "finished", executive.report()
     assert log.bulges == [] and "the arm felt no contact force along the whole path" in log.warnings[0]
+
+
+@pytest.mark.sim
+def test_grinding_through_the_arm_feels_the_casting_on_elastic_gears(capsys: pytest.CaptureFixture[str],
+                                                                      tmp_path: Path) -> None:
+    # the arm's force estimate takes the motors' acceleration only below the gears' anti-resonance: with the rotors'
+    # own shaking read as contact force, the loop rang and the arm felt nothing along the whole path
+    summary = tmp_path / "summary.json"
+    code = main(["run", str(ROOT / "programs/online/thesis_2_1_grindmove.rpl"), "--plant", "elastic-gears",
+                 "--summary-json", str(summary)])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    result = json.loads(summary.read_text())
+    assert result["status"] == "finished" and result["warnings"] == []
+    assert "bulges caught: 1" in out
+
+
+@pytest.mark.sim
+def test_the_arm_force_estimate_averages_the_acceleration_over_the_gears_anti_resonance_only_on_elastic_gears() -> None:
+    from orc_rpl.application.features.deburring_arm import acceleration_window
+
+    q = np.array([0.0, 0.3, 0.2, 0.0, 1.0, 0.0])
+    assert acceleration_window(CellRobot.virtual(), q) == 1
+    window = acceleration_window(CellRobot.virtual(plant="elastic-gears"), q)
+    assert 20 <= window <= 40  # j2's anti-resonance, about 55 rad/s: 0.11 s of 4 ms cycles

@@ -26,6 +26,16 @@ def _moves(layer: MotionLayer) -> list[tuple[object, Params]]:
     ]
 
 
+def _planned_paths(layer: MotionLayer) -> list[tuple[SplinePath, timing.TimingLimits]]:
+    """The path and limits of each of `_moves`, planned from where the layer is."""
+    out = []
+    for motion, params in _moves(layer):
+        plan = layer.planner.plan(1, motion, params, layer.current_q())
+        assert plan is not None
+        out.append((SplinePath(plan.pieces[0]), plan.limits))
+    return out
+
+
 def _both(path: SplinePath, limits: timing.TimingLimits, sd_start: float, points: int | None):  # type: ignore[no-untyped-def]
     return (timing.toppra_profile(path, limits, sd_start, 0.0, points, lean=False),
             timing.toppra_profile(path, limits, sd_start, 0.0, points, lean=True))
@@ -33,13 +43,10 @@ def _both(path: SplinePath, limits: timing.TimingLimits, sd_start: float, points
 
 def test_the_lean_passes_give_toppras_profiles_bit_for_bit(kinematic: MotionLayer) -> None:
     compared = 0
-    for motion, params in _moves(kinematic):
-        plan = kinematic.planner.plan(1, motion, params, kinematic.current_q())
-        assert plan is not None
-        path = SplinePath(plan.pieces[0])
+    for path, limits in _planned_paths(kinematic):
         for points in (None, 300):
             for sd_start in (0.0, 0.2):
-                reference, lean = _both(path, plan.limits, sd_start, points)
+                reference, lean = _both(path, limits, sd_start, points)
                 assert reference is not None and lean is not None
                 assert np.array_equal(reference[0], lean[0]) and np.array_equal(reference[1], lean[1])
                 compared += 1

@@ -42,9 +42,9 @@ def _recorded_run(kernel: bool, monkeypatch: pytest.MonkeyPatch) -> tuple[np.nda
     if kernel:
         run = loop._state_feedback_cycle.run
 
-        def counted(*args: Any) -> None:
+        def counted(*args: Any) -> np.ndarray:
             in_kernel[0] += 1
-            run(*args)
+            return run(*args)
 
         loop._state_feedback_cycle.run = counted
     else:
@@ -85,3 +85,20 @@ def test_the_compiled_cycle_runs_the_python_loops_steps(monkeypatch: pytest.Monk
     assert np.max(np.abs(compiled_run[:25, gains] - reference[:25, gains])) <= 1e-9 * np.max(np.abs(reference[:25, gains]))
     assert np.max(np.abs(compiled_run[:, gains] - reference[:, gains])) <= 1e-5 * np.max(np.abs(reference[:, gains]))
     assert compiled_run[-1, -2] > 50 and compiled_run[-1, -1] > 50
+
+
+def test_the_state_the_kernel_returns_is_what_the_loop_measures_after_it() -> None:
+    layer = make_virtual_motion_layer("irb2400", backend="servo", plant="realistic", seed=5, elastic=True,
+                                      gear_feedforward=True, state_feedback=True)
+    loop, backend = layer.backend.loop, layer.backend
+    home = np.array(layer.kin.arm.home_q)
+    h = layer.move(JointMotion(tuple(home + np.array([0.5, 0.2, -0.2, 0.3, -0.2, 0.6]))), Params())
+    cycles = 0
+    while not h.done:
+        layer.tick()
+        returned, measured = backend._state, loop.state()
+        assert returned.time_s == measured.time_s
+        for name in ("q", "qd", "tau", "position_error"):
+            assert np.array_equal(getattr(returned, name), getattr(measured, name)), name
+        cycles += 1
+    assert cycles > 100 and loop.state_feedback.scheduled > 0

@@ -17,8 +17,9 @@ The design stages are open and replaceable (plain functions of the recording):
   rounded down to 1 mm/s; slope95 is the 95th percentile of |d offset / d s| of the seam's 10 mm mean line
   (the correction must move the torch sideways at slope * v), raggedness the RMS of the seam about that line.
 * Tracking: the gain g (per 4 ms cycle) minimising the RMS deviation of the corrected TCP from the seam's
-  10 mm mean line, simulated on the recording at that speed with the loop's delay (LOOP_DELAY cycles);
-  a high gain passes the raggedness on to the torch, a low one lags behind the curve.
+  10 mm mean line, simulated on the recording at that speed with the loop's delay (the seam's LoopDelay, which
+  RecordSeam took from the robot: `loop_delay_cycles`); a high gain passes the raggedness on to the torch, a low
+  one lags behind the curve.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.application.features.gears import lowest_anti_resonance_rad_s
 from orc_rpl.application.process_log import SeamRecord, process_log
 from orc_rpl.application.runtime import (
     BehaviourError, InstallContext, MotionCall, MotionRequest, MotionView, run_to_end,
@@ -164,6 +166,7 @@ def record_seam(path: Any, *, robot: Any, tool: Pose, to_world: Callable[[Pose],
     sensor.command("ON")
     run_to_end(robot, MotionRequest(keyword="RecordSeam", kind="joint", target=points[0], tool=tool),
                MOTION_TIMEOUT_S, "RecordSeam")
+    delay_s = loop_delay_cycles(robot, robot.joints()) * robot.dt_s
     along: list[float] = []
     offsets: list[float] = []
     travelled = 0.0
@@ -183,7 +186,20 @@ def record_seam(path: Any, *, robot: Any, tool: Pose, to_world: Callable[[Pose],
         raise BehaviourError("RecordSeam: the laser saw no seam along the path")
     return Record("Seam", (("Position", tuple(Quantity(u, LENGTH) for u in along)),
                            ("Offset", tuple(Quantity(o, LENGTH) for o in offsets)),
-                           ("Raggedness", Quantity(_stats(np.array(along), np.array(offsets))[1], LENGTH))))
+                           ("Raggedness", Quantity(_stats(np.array(along), np.array(offsets))[1], LENGTH)),
+                           ("LoopDelay", Quantity(delay_s, TIME))))
+
+
+def loop_delay_cycles(robot: Any, q: Any) -> int:
+    """The tracking loop's delay on this robot at joint angles q (motion cycles), as Tracking models it: LOOP_DELAY,
+    and through elastic gears a quarter period of their lowest anti-resonance more. A correction reaches the
+    servo as a step of the links' reference; the links follow it through their gears, which at the mode's
+    frequency lag by a quarter period (90 degrees), as many cycles of delay would (a loop designed for
+    LOOP_DELAY alone rang on the IRB 2400's elastic gears and lost the seam within its first 10 mm)."""
+    lowest_rad_s = lowest_anti_resonance_rad_s(robot, q)
+    if lowest_rad_s is None:
+        return LOOP_DELAY
+    return LOOP_DELAY + round(0.5 * math.pi / lowest_rad_s / robot.dt_s)
 
 
 def _xyz(p: Pose) -> tuple[float, float, float]:
@@ -198,6 +214,15 @@ def _seam_arrays(seam: Any) -> tuple[np.ndarray, np.ndarray]:
         raise BehaviourError("expects a seam recorded by RecordSeam") from None
     order = np.argsort(u, kind="stable")
     return u[order], o[order]
+
+
+def _loop_delay(seam: Any, dt_s: float = 0.004) -> int:
+    """The seam's LoopDelay in cycles (LOOP_DELAY for a record without one)."""
+    try:
+        delay = seam.get("LoopDelay")
+    except (AttributeError, KeyError):
+        return LOOP_DELAY
+    return max(1, round((delay.value if type(delay) is Quantity else float(delay)) / dt_s))
 
 
 def _mean_line(u: np.ndarray, o: np.ndarray) -> np.ndarray:
@@ -228,15 +253,17 @@ def optimal_speed(seam: Any) -> Quantity:
     return Quantity(math.floor(v * 1000 + 1e-9) / 1000, VELOCITY)
 
 
-def simulated_rms(u: np.ndarray, o: np.ndarray, speed: float, gain: float, dt_s: float = 0.004) -> float:
-    """RMS deviation from the seam's mean line of a TCP corrected with `gain`, along the recording at `speed`."""
+def simulated_rms(u: np.ndarray, o: np.ndarray, speed: float, gain: float, dt_s: float = 0.004,
+                  delay: int = LOOP_DELAY) -> float:
+    """RMS deviation from the seam's mean line of a TCP corrected with `gain`, along the recording at `speed`, the
+    laser seeing a correction `delay` cycles after it was made."""
     mean = _mean_line(u, o)
     grid = np.arange(u[0], u[-1], speed * dt_s)
     seam, target = np.interp(grid, u, o), np.interp(grid, u, mean)
-    c = np.zeros(len(grid) + LOOP_DELAY)
+    c = np.zeros(len(grid) + delay)
     for k in range(len(grid)):
-        e = seam[k] - c[k]              # the laser sees the TCP where the correction was LOOP_DELAY cycles ago
-        c[k + LOOP_DELAY] = c[k + LOOP_DELAY - 1] + gain * e if k + LOOP_DELAY - 1 >= 0 else 0.0
+        e = seam[k] - c[k]              # the laser sees the TCP where the correction was `delay` cycles ago
+        c[k + delay] = c[k + delay - 1] + gain * e if k + delay - 1 >= 0 else 0.0
     return float(np.sqrt(np.mean((target - c[:len(grid)]) ** 2)))
 
 
@@ -248,7 +275,8 @@ def tracking(seam: Any, speed: Any) -> Any:
     if not v > 0:
         raise BehaviourError("Tracking needs a speed > 0")
     gains = np.geomspace(0.005, 0.5, 25)
-    errors = [simulated_rms(u, o, v, float(g)) for g in gains]
+    delay = _loop_delay(seam)
+    errors = [simulated_rms(u, o, v, float(g), delay=delay) for g in gains]
     best = int(np.argmin(errors))
     g = float(gains[best])
     return Record("Tracking", (("Gain", g), ("TimeConstant", Quantity(0.004 / g, TIME)), ("Speed", Quantity(v, VELOCITY)),

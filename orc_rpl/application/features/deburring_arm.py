@@ -9,6 +9,13 @@ points). So each grinding move is first run in free air, lifted LIFT_M off the e
 against the arc length is the move's signature, and in contact the force is the estimate minus the signature
 at the same arc length, averaged over AVERAGE_CYCLES cycles (the torque noise).
 
+The model's torque needs the links' acceleration; the controller measures the motors'. Through rigid gears the two
+are the same. Through elastic gears they are the same only below the gears' anti-resonance: above it a rotor,
+held stiffly by its servo, shakes against its gear while its link hardly follows, and the model's inertia times
+the rotor's acceleration reads as a contact force of hundreds of newtons (on the IRB 2400's elastic gears the
+loop rang with it and never felt the casting). So the acceleration is the motors' averaged over one period of the
+gears' lowest anti-resonance at the links' inertia (`acceleration_window`): a window of one cycle on rigid gears.
+
 The force loop moves the arm's path along -n (into the part) by an offset u, set at the motion rate as a path
 correction (TRACKMOVE's way):
 
@@ -29,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from orc_rpl.application.features.gears import lowest_anti_resonance_rad_s
 from orc_rpl.application.runtime import BehaviourError, MotionRequest, MotionView
 from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S  # the sharp Coulomb term of the friction estimate
 from orc_rpl.robot.friction import friction_torque_nm
@@ -72,6 +80,7 @@ class ArmForce:
                                      "(install a Grinder WITH FORCE_IN = AnalogIn[n] WITH STROKE = AnalogOut[n])")
         self.robot, self.tool, self.normal = robot, tool, normal
         self._angles: deque[tuple[float, np.ndarray]] = deque(maxlen=3)
+        self._accelerations: deque[np.ndarray] | None = None  #: made at the first reading (its pose's window)
         self.sticking = False  #: a joint carrying the normal force sticks (set by update)
 
     def _friction_nm(self, speed: np.ndarray) -> np.ndarray:
@@ -95,6 +104,10 @@ class ArmForce:
             (t0, q0), (t1, q1), (t2, q2) = self._angles
             if t2 > t1 > t0:
                 qdd = ((q2 - q1) / (t2 - t1) - (q1 - q0) / (t1 - t0)) / (0.5 * (t2 - t0))
+        if self._accelerations is None:
+            self._accelerations = deque(maxlen=acceleration_window(robot, q))
+        self._accelerations.append(qdd)
+        qdd = np.mean(self._accelerations, axis=0)
         needed = np.array(robot.inverse_dynamics(tuple(q), tuple(speed), tuple(qdd), 0.0)) + self._friction_nm(speed)
         external = needed - np.array(robot.torques())  # what the contact takes off the motors: J^T f
         jacobian_t = robot.jacobian_linear(self.tool).T
@@ -102,6 +115,12 @@ class ArmForce:
         self.sticking = bool(np.any((lever >= LEVER_SHARE * lever.max()) & (np.abs(speed) < STICK_RAD_S)))
         force = np.linalg.lstsq(jacobian_t, external, rcond=None)[0]
         return float(np.dot(force, self.normal))
+
+
+def acceleration_window(robot: Any, q: np.ndarray) -> int:
+    """Motion cycles in one period of the gears' lowest anti-resonance at pose q; 1 on rigid gears."""
+    lowest_rad_s = lowest_anti_resonance_rad_s(robot, q)
+    return 1 if lowest_rad_s is None else max(1, round(2.0 * math.pi / lowest_rad_s / robot.dt_s))
 
 
 class Signature:
