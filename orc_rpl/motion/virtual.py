@@ -13,6 +13,7 @@ from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.layer import MotionLayer
 from orc_rpl.motion.planner import Planner
 from orc_rpl.motion.gear_friction import GearFriction
+from orc_rpl.motion.gear_steps import GearSteps
 from orc_rpl.motion.thermal import WindingTemperature
 from orc_rpl.motion.timing import preload as preload_planning
 from orc_rpl.robot.plants import SIMULATED_PLANTS, check_elastic_gears
@@ -251,6 +252,7 @@ def make_virtual_motion_layer(
     if elastic and servo_arm:
         raise UsageError(f"robot {robot!r} runs on bus servos: its plant has no elastic gears")
     smoothing: tuple[float, ...] = ()   #: elastic gears: the windows trajectories are averaged over
+    gear_steps: GearSteps | None = None   #: elastic gears under state feedback: the windows scaled to each trajectory
     if servo_arm:
         # an arm on bus servos: its position loops are the servos' own; goals are streamed to them
         from orc_rpl.motion.servo_arm import ServoArmBackend
@@ -294,6 +296,8 @@ def make_virtual_motion_layer(
                 loop.set_gear_observer(observer)
                 twist.excess_of = lambda: observer.excess_nm
             smoothing = smoothing_windows_s(arm, rotor, k_gear)
+            if state_feedback:   # which damps the modes: as much of them as a trajectory's steps twist the gears
+                gear_steps = GearSteps(tuple(rotor), tuple(1.0 / np.asarray(k_gear, dtype=float)))
             if state_feedback:   # the two-mass joints' state feedback instead of the cascade and its twist
                 from orc_rpl.servo.state_feedback import TwoMassStateFeedback
 
@@ -308,6 +312,7 @@ def make_virtual_motion_layer(
         raise UsageError(f"backend must be 'servo' or 'kinematic', not {backend!r}")
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
     layer.smoothing_s = smoothing  # elastic gears: no torque steps into them (trajectories averaged over their periods)
+    layer.planner.gear_steps = gear_steps
     # the next move is planned on a worker thread, over an arm model of its own (made when first needed)
     layer.ahead = PlanAhead(lambda: _ahead_planner(layer, robot), paced=realtime)
     if backend == "servo" and plant == "realistic" and not servo_arm:
@@ -339,6 +344,7 @@ def _ahead_planner(layer: MotionLayer, robot: str) -> Planner:
 
     planner = Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub)
     planner.smoothing_s = layer.smoothing_s
+    planner.gear_steps = layer.planner.gear_steps
     return planner
 
 
