@@ -29,8 +29,8 @@ or hunting at rest after moves that are not averaged (two short moves; zone blen
 links_swing_after_fine_moves_mrad after moves that are (two FINE moves from rest), the largest swing of j1..j3 (the
 links' own angles on elastic gears) from where they settle, from 0.1 s after the end. --smoothing-share SHARE: with
 --elastic, moves from rest averaged over this share of the anti-resonance periods (two_mass.smoothing_windows_s)
-instead of whole periods; --fixed-windows: with --state-feedback, every move from rest averaged over the whole
-windows, not over the share its steps' twist of the gears calls for (motion/gear_steps.py): the averaging before. A warm plant (warm_up) is a robot known to have run a while: the
+instead of whole periods; --scaled-averaging: with --state-feedback, every move from rest averaged over the share
+of the whole windows its steps' twist of the gears calls for (motion/gear_steps.py, opt-in). A warm plant (warm_up) is a robot known to have run a while: the
 controller's gearbox estimate is told so too (GearFriction.warm_up).
 """
 
@@ -50,7 +50,7 @@ FEATURES = ("twist", "smoothing", "gain", "friction", "integral")
 OBSERVER = [False]   #: the gears' torque observer for the twist's extra torque (--observer)
 STATE_FEEDBACK = [False]   #: the two-mass joints' state feedback instead of the cascade (--state-feedback)
 SMOOTHING_SHARE: list[float | None] = [None]   #: the averaging windows' share of the periods (--smoothing-share)
-FIXED_WINDOWS = [False]   #: moves from rest averaged over the whole windows, not scaled to their steps (--fixed-windows)
+SCALED_AVERAGING = [False]   #: moves from rest averaged over the share of the windows their steps call for (--scaled-averaging)
 LOAD_AT_REST = [False]   #: the carried load hung on before the reset, the drives holding it first (--load-at-rest)
 REST_S = 1.0   #: --load-at-rest: how long the drives hold the arm under its load before the first move (s)
 
@@ -81,7 +81,7 @@ def _layer(robot: str, seed: int) -> MotionLayer:
         two_mass.TWIST_POSITION_OVER_VELOCITY = two_mass.POSITION_OVER_VELOCITY
     layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0],
                                       gear_feedforward=ELASTIC[0], gear_observer=OBSERVER[0],
-                                      state_feedback=STATE_FEEDBACK[0])
+                                      state_feedback=STATE_FEEDBACK[0], scaled_averaging=SCALED_AVERAGING[0])
     if "twist" in WITHOUT:
         layer.backend.loop.set_gear_twist(None)
         layer.backend.reset(np.array(layer.reference_q()))  # the rotors at the links' angles again
@@ -89,8 +89,6 @@ def _layer(robot: str, seed: int) -> MotionLayer:
         cell = layer.backend.loop.cell
         layer.smoothing_s = two_mass.smoothing_windows_s(layer.kin.arm, cell.motor_inertia_kg_m2,
                                                          cell.plant.gear_stiffness_nm_rad, share=SMOOTHING_SHARE[0])
-    if FIXED_WINDOWS[0]:
-        layer.planner.gear_steps = None
     if "smoothing" in WITHOUT:
         layer.smoothing_s = ()
     if "friction" in WITHOUT and layer.gear_friction is not None:
@@ -267,9 +265,9 @@ def main() -> None:
     ap.add_argument("--smoothing-share", type=float, default=None, metavar="SHARE",
                     help="with --elastic: average moves from rest over this share of the anti-resonance periods "
                          "(1: whole periods)")
-    ap.add_argument("--fixed-windows", action="store_true",
-                    help="with --state-feedback: every move from rest averaged over the whole windows (not scaled to "
-                         "its steps' twist of the gears)")
+    ap.add_argument("--scaled-averaging", action="store_true",
+                    help="with --state-feedback: every move from rest averaged over the share of the whole windows its "
+                         "steps' twist of the gears calls for")
     ap.add_argument("--inertia-tolerance", type=float, default=None, metavar="SHARE",
                     help="with --state-feedback: the state feedback's INERTIA_TOLERANCE for this run (default 0.02)")
     ap.add_argument("--gains-settled", type=float, default=None, metavar="SHARE",
@@ -292,9 +290,9 @@ def main() -> None:
     if args.state_feedback and not args.elastic:
         ap.error("--state-feedback is for elastic gears (--elastic)")
     STATE_FEEDBACK[0] = args.state_feedback
-    if args.fixed_windows and not args.state_feedback:
-        ap.error("--fixed-windows is for the state feedback (--state-feedback)")
-    FIXED_WINDOWS[0] = args.fixed_windows
+    if args.scaled_averaging and not args.state_feedback:
+        ap.error("--scaled-averaging is for the state feedback (--state-feedback)")
+    SCALED_AVERAGING[0] = args.scaled_averaging
     LOAD_AT_REST[0] = args.load_at_rest
     WITHOUT.update(args.without)
     with_pvc = run_moves(args.robot, args.seed, True, True, CARRIED_KG)

@@ -20,9 +20,9 @@ median run of each), servo_plant_ms_per_sim_s_elastic_state_feedback the rest (t
 against, and the two parts of its wall time), for profiling that variant. --only optimality: the optimality figures
 alone. On a robot with elastic gears (IRB 2400) the optimality figures are printed for them too, under their state
 feedback (`--plant elastic-gears`), warm, the payload declared right, suffixed _elastic_state_feedback (the LMOVE
-deviation at the links' own angles), with the layer's averaging of moves from rest (scaled to each move's steps'
-twist of the gears) and, as baselines in the same run, suffixed _whole_periods, every move over whole anti-resonance
-periods (the averaging before) and, suffixed _no_averaging, without averaging (what the averaging costs in time).
+deviation at the links' own angles), with the layer's averaging of moves from rest (over the whole anti-resonance
+periods) and, in the same run, suffixed _scaled_to_gear_steps, each move over as much of them as its steps twist the
+gears (the opt-in scaled_averaging) and, suffixed _no_averaging, without averaging (what the averaging costs in time).
 """
 
 from __future__ import annotations
@@ -92,19 +92,20 @@ def program_step(layer: MotionLayer, i: int) -> None:
             layer.wait(h)
 
 
-def warm_realistic(robot: str, plant: str = "realistic", smoothing_s: tuple[float, ...] | None = None) -> MotionLayer:
+def warm_realistic(robot: str, plant: str = "realistic", averaging: str = "default") -> MotionLayer:
     """The realistic plant after a warm-up (friction about its warm value), no payload (none declared).
 
     `plant` "elastic-gears": with the elastic gears under their state feedback, the controller's gearbox estimate
-    told of the warm-up too; `smoothing_s`: the windows every move from rest is averaged over, whole (None: the
-    layer's averaging, scaled to each move's steps' twist of the gears).
+    told of the warm-up too; `averaging` of the moves from rest there: "default" (the layer's: over the whole
+    anti-resonance periods), "scaled" (over as much of them as each move's steps twist the gears:
+    `scaled_averaging`) or "none".
     """
-    layer = make_virtual_motion_layer(robot, backend="servo", plant=plant)
+    layer = make_virtual_motion_layer(robot, backend="servo", plant=plant, scaled_averaging=averaging == "scaled")
     layer.backend.loop.cell.warm_up()
     if layer.gear_friction is not None and plant == "elastic-gears":
         layer.gear_friction.warm_up(layer.backend.loop.cell.gear_rise_k[0])
-    if smoothing_s is not None:
-        layer.smoothing_s, layer.planner.gear_steps = smoothing_s, None
+    if averaging == "none":
+        layer.smoothing_s = ()
     return layer
 
 
@@ -199,9 +200,9 @@ def naive_quintic_time(layer: MotionLayer, q0: np.ndarray, q1: np.ndarray) -> fl
 
 
 def bench_optimality(robot: str, plant: str = "realistic",
-                     smoothing_s: tuple[float, ...] | None = None) -> tuple[float, float, float, float, float]:
+                     averaging: str = "default") -> tuple[float, float, float, float, float]:
     """Worst and mean executed/TOPP-RA-bound ratio; our time over the naive quintic: all joint moves, short, long."""
-    layer = warm_realistic(robot, plant, smoothing_s)
+    layer = warm_realistic(robot, plant, averaging)
     ratios: list[float] = []
     ours: dict[str, list[float]] = {"short": [], "long": []}
     naive: dict[str, list[float]] = {"short": [], "long": []}
@@ -227,10 +228,10 @@ def bench_optimality(robot: str, plant: str = "realistic",
             sum(ours["short"]) / sum(naive["short"]), sum(ours["long"]) / sum(naive["long"]))
 
 
-def bench_lmove_deviation(robot: str, plant: str = "realistic", smoothing_s: tuple[float, ...] | None = None) -> float:
+def bench_lmove_deviation(robot: str, plant: str = "realistic", averaging: str = "default") -> float:
     """Largest distance (mm) of the measured TCP from the programmed line, every servo step, LMOVEs at full speed
     (on elastic gears the TCP of the links' own angles: where the tool really is)."""
-    layer = warm_realistic(robot, plant, smoothing_s)
+    layer = warm_realistic(robot, plant, averaging)
     loop = layer.backend.loop
     joints = (lambda: loop.cell.link_q) if plant == "elastic-gears" else (lambda: loop.cell.q)
     worst = 0.0
@@ -331,28 +332,18 @@ def print_optimality(robot: str) -> None:
 
 def print_elastic_optimality(robot: str) -> None:
     """Time optimality, gain over naive and LMOVE deviation (at the links) on the elastic gears under their state
-    feedback: with the layer's averaging of moves from rest (over as much of the anti-resonance periods as each move's
-    steps' twist of the gears calls for) and, as baselines in the same run, with every move averaged over the whole
-    periods (`_whole_periods`, the averaging before) and without averaging (`_no_averaging`)."""
-    from orc_rpl.servo.two_mass import anti_resonance_periods_s
-
-    probe = warm_realistic(robot, "elastic-gears")
-    cell = probe.backend.loop.cell
-    variants: dict[str, tuple[float, ...] | None] = {"": None,
-                "_whole_periods": anti_resonance_periods_s(probe.kin.arm, cell.motor_inertia_kg_m2,
-                                                           cell.plant.gear_stiffness_nm_rad),
-                "_no_averaging": ()}
-    for suffix, windows in variants.items():
-        worst, mean, naive, _, _ = bench_optimality(robot, "elastic-gears", windows)
-        dev = bench_lmove_deviation(robot, "elastic-gears", windows)
-        shown = probe.smoothing_s if windows is None else windows
+    feedback: with the layer's averaging of moves from rest (over the whole anti-resonance periods) and, in the same
+    run, with each move averaged over as much of them as its steps twist the gears (`_scaled_to_gear_steps`, the
+    opt-in `scaled_averaging`) and without averaging (`_no_averaging`)."""
+    for suffix, averaging in {"": "default", "_scaled_to_gear_steps": "scaled", "_no_averaging": "none"}.items():
+        worst, mean, naive, _, _ = bench_optimality(robot, "elastic-gears", averaging)
+        dev = bench_lmove_deviation(robot, "elastic-gears", averaging)
+        shown = warm_realistic(robot, "elastic-gears", averaging).smoothing_s
         print(f"elastic_smoothing_windows_s{suffix}={' '.join(f'{w:.3f}' for w in shown) or 'none'}")
-        print(f"elastic_smoothing_scaled_to_gear_steps{suffix}={windows is None}")
         print(f"time_optimality_mean_elastic_state_feedback{suffix}={mean:.4f}")
         print(f"time_optimality_ratio_elastic_state_feedback{suffix}={worst:.4f}")
         print(f"vs_naive_ratio_elastic_state_feedback{suffix}={naive:.3f}")
         print(f"lmove_path_deviation_mm_elastic_state_feedback{suffix}={dev:.3f}")
-
 
 if __name__ == "__main__":
     main()

@@ -206,6 +206,7 @@ def make_virtual_motion_layer(
     gear_feedforward: bool = False,
     gear_observer: bool = False,
     state_feedback: bool = False,
+    scaled_averaging: bool = False,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
@@ -227,7 +228,10 @@ def make_virtual_motion_layer(
     gear-torque observer (servo/gear_observer.py) instead of the servo's averaged integral;
     `state_feedback` (opt-in on top, instead of the observer) controls the slow joints by state feedback
     designed for the two-mass joints (servo/state_feedback.py: an LQR on the rotors' and the links' states,
-    a Kalman filter every 1 ms step, the unknown torques its integral action), the wrist by the cascade.
+    a Kalman filter every 1 ms step, the unknown torques its integral action), the wrist by the cascade;
+    `scaled_averaging` (opt-in under the state feedback) averages each move from rest over only as much of the
+    periods as its steps twist the gears (motion/gear_steps.py): nearer time-optimal, but measured worse for
+    the coordinated seam on a turning positioner, identification and CALIBRATE (docs/motion.md).
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
@@ -238,6 +242,8 @@ def make_virtual_motion_layer(
         raise UsageError(f"elastic gears are part of the realistic plant, not of the {plant} one")
     if gear_feedforward and not elastic:
         raise UsageError("gear_feedforward is for elastic gears (elastic=True)")
+    if scaled_averaging and not state_feedback:
+        raise UsageError("scaled_averaging is for the elastic gears' state feedback (state_feedback=True)")
     if state_feedback and not gear_feedforward:
         raise UsageError("state_feedback is a part of the gears' feed-forward (gear_feedforward=True)")
     if gear_observer and not gear_feedforward:
@@ -296,7 +302,7 @@ def make_virtual_motion_layer(
                 loop.set_gear_observer(observer)
                 twist.excess_of = lambda: observer.excess_nm
             smoothing = smoothing_windows_s(arm, rotor, k_gear)
-            if state_feedback:   # which damps the modes: as much of them as a trajectory's steps twist the gears
+            if scaled_averaging:   # the state feedback damps the modes: as much of them as a move's steps twist the gears
                 gear_steps = GearSteps(tuple(rotor), tuple(1.0 / np.asarray(k_gear, dtype=float)))
             if state_feedback:   # the two-mass joints' state feedback instead of the cascade and its twist
                 from orc_rpl.servo.state_feedback import TwoMassStateFeedback

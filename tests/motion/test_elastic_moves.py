@@ -23,7 +23,7 @@ def _elastic(averaged: bool) -> MotionLayer:
 @pytest.mark.parametrize("averaged", [True, False], ids=["averaged", "not averaged"])
 def test_the_links_arrive_from_a_fast_move_without_ringing(averaged: bool) -> None:
     """The links' largest distance from the target once the reference has arrived (j1..j3): measured 0.23 mrad
-    with the layer's averaging (scaled to the move's steps), 0.83 mrad (j1 overshooting) without it."""
+    with the averaging scaled to the move's steps, 0.83 mrad (j1 overshooting) without it."""
     layer = _elastic(averaged)
     cell, target = layer.backend.loop.cell, np.radians(TARGET_DEG)
     layer.move(JointMotion(tuple(target)), Params())

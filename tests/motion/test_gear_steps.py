@@ -1,4 +1,4 @@
-"""Elastic gears under state feedback: a move from rest is averaged over as much of the windows as it twists the gears."""
+"""Elastic gears under state feedback: whole windows for every move from rest, or (scaled_averaging) as much as it twists the gears."""
 
 from __future__ import annotations
 
@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from orc_rpl.motion import JointMotion, MotionLayer, Params, make_virtual_motion_layer
+from orc_rpl.errors import UsageError
 from orc_rpl.motion.gear_steps import GearSteps
 
 
@@ -31,7 +32,7 @@ def _extra_s(layer: MotionLayer, motion: JointMotion, params: Params) -> float:
 
 @pytest.fixture(scope="module")
 def elastic() -> MotionLayer:
-    return make_virtual_motion_layer("irb2400", plant="elastic-gears")
+    return make_virtual_motion_layer("irb2400", plant="elastic-gears", scaled_averaging=True)
 
 
 def test_a_heavy_fast_move_gets_the_whole_windows_a_gentle_one_a_share(elastic: MotionLayer) -> None:
@@ -43,10 +44,12 @@ def test_a_heavy_fast_move_gets_the_whole_windows_a_gentle_one_a_share(elastic: 
     assert 0.04 <= gentle < fast < whole
 
 
-def test_without_gear_steps_every_move_from_rest_gets_the_whole_windows(elastic: MotionLayer) -> None:
-    steps, elastic.planner.gear_steps = elastic.planner.gear_steps, None
-    try:
-        extra = _extra_s(elastic, JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7)), Params(accel_fraction=0.25))
-    finally:
-        elastic.planner.gear_steps = steps
-    assert extra == pytest.approx(sum(elastic.smoothing_s), abs=0.005)
+def test_by_default_every_move_from_rest_gets_the_whole_windows() -> None:
+    layer = make_virtual_motion_layer("irb2400", plant="elastic-gears")
+    extra = _extra_s(layer, JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7)), Params(accel_fraction=0.25))
+    assert extra == pytest.approx(sum(layer.smoothing_s), abs=0.005)
+
+
+def test_scaled_averaging_is_for_the_state_feedback() -> None:
+    with pytest.raises(UsageError, match="scaled_averaging is for the elastic gears' state feedback"):
+        make_virtual_motion_layer("irb2400", elastic=True, gear_feedforward=True, scaled_averaging=True)
