@@ -25,8 +25,12 @@ make_virtual_motion_layer(..., state_feedback=True)). --load-at-rest: the carrie
 from the reset (the gears wound under it) and the drives hold the arm REST_S before the first move, as
 after a brake release (the default hangs it on at time 0, as the first move starts; the load-at-rest run
 is measured from its first move, the hold not counted). links_swing_after_{short,zone,stop}_moves_mrad: ringing
-or hunting at rest after moves that are not averaged (two short moves; zone blends; a stop from full speed), the
-largest swing of j1..j3 (the links' own angles on elastic gears) from where they settle, from 0.1 s after the end. A warm plant (warm_up) is a robot known to have run a while: the
+or hunting at rest after moves that are not averaged (two short moves; zone blends; a stop from full speed), and
+links_swing_after_fine_moves_mrad after moves that are (two FINE moves from rest), the largest swing of j1..j3 (the
+links' own angles on elastic gears) from where they settle, from 0.1 s after the end. --smoothing-share SHARE: with
+--elastic, moves from rest averaged over this share of the anti-resonance periods (two_mass.smoothing_windows_s)
+instead of whole periods; --scaled-averaging: with --state-feedback, every move from rest averaged over the share
+of the whole windows its steps' twist of the gears calls for (motion/gear_steps.py, opt-in). A warm plant (warm_up) is a robot known to have run a while: the
 controller's gearbox estimate is told so too (GearFriction.warm_up).
 """
 
@@ -45,6 +49,8 @@ WITHOUT: set[str] = set()   #: elastic gears' features switched off (--without)
 FEATURES = ("twist", "smoothing", "gain", "friction", "integral")
 OBSERVER = [False]   #: the gears' torque observer for the twist's extra torque (--observer)
 STATE_FEEDBACK = [False]   #: the two-mass joints' state feedback instead of the cascade (--state-feedback)
+SMOOTHING_SHARE: list[float | None] = [None]   #: the averaging windows' share of the periods (--smoothing-share)
+SCALED_AVERAGING = [False]   #: moves from rest averaged over the share of the windows their steps call for (--scaled-averaging)
 LOAD_AT_REST = [False]   #: the carried load hung on before the reset, the drives holding it first (--load-at-rest)
 REST_S = 1.0   #: --load-at-rest: how long the drives hold the arm under its load before the first move (s)
 
@@ -75,10 +81,14 @@ def _layer(robot: str, seed: int) -> MotionLayer:
         two_mass.TWIST_POSITION_OVER_VELOCITY = two_mass.POSITION_OVER_VELOCITY
     layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic", seed=seed, elastic=ELASTIC[0],
                                       gear_feedforward=ELASTIC[0], gear_observer=OBSERVER[0],
-                                      state_feedback=STATE_FEEDBACK[0])
+                                      state_feedback=STATE_FEEDBACK[0], scaled_averaging=SCALED_AVERAGING[0])
     if "twist" in WITHOUT:
         layer.backend.loop.set_gear_twist(None)
         layer.backend.reset(np.array(layer.reference_q()))  # the rotors at the links' angles again
+    if SMOOTHING_SHARE[0] is not None and layer.smoothing_s:
+        cell = layer.backend.loop.cell
+        layer.smoothing_s = two_mass.smoothing_windows_s(layer.kin.arm, cell.motor_inertia_kg_m2,
+                                                         cell.plant.gear_stiffness_nm_rad, share=SMOOTHING_SHARE[0])
     if "smoothing" in WITHOUT:
         layer.smoothing_s = ()
     if "friction" in WITHOUT and layer.gear_friction is not None:
@@ -176,7 +186,8 @@ def nominal_equals_actual(robot: str, seed: int) -> bool:
     return same
 
 
-#: Moves that are not averaged (docs/robots.md, "Elastic gears"): short moves, zone blends, a stop from full speed.
+#: Moves that are not averaged (docs/robots.md, "Elastic gears"): short moves, zone blends, a stop from full speed;
+#: and moves that are: FINE moves from rest (to the zone moves' targets).
 SHORT_MOVES_RAD = ((0.01, -0.005, 0.008, 0.0, 0.0, 0.0), (-0.003, 0.004, -0.002, 0.01, 0.0, 0.0))
 ZONE_TARGETS_DEG = ((40, -20, -30, 0, 30, 0), (-40, 20, -10, 30, 0, 0))
 STOP_TARGET_DEG, STOP_AFTER_CYCLES = (120, 40, -30, 0, 30, 0), 200
@@ -185,7 +196,7 @@ SWING_FROM_S, SWING_CYCLES = 0.1, 250   #: the links' swing is measured from thi
 
 def swing_after(robot: str, seed: int, case: str) -> float:
     """The largest swing (mrad) of j1..j3's links from where they settle, from SWING_FROM_S after the moves of `case`
-    ("short", "zone", "stop") end: ringing or hunting at rest. Cold plant, the load undeclared as in run_moves."""
+    ("short", "zone", "stop", "fine") end: ringing or hunting at rest. Cold plant, the load undeclared as in run_moves."""
     layer = _layer(robot, seed)
     loop, cell = layer.backend.loop, layer.backend.loop.cell
     loop.set_payload(CARRIED_KG, known=False)
@@ -196,6 +207,8 @@ def swing_after(robot: str, seed: int, case: str) -> float:
         handles = [layer.move(JointMotion(tuple(np.radians(t))), Params(load_kg=DECLARED_KG, zone_m=0.1))
                    for t in ZONE_TARGETS_DEG]
         handles.append(layer.move(JointMotion(tuple(home)), params))
+    elif case == "fine":
+        handles = [layer.move(JointMotion(tuple(np.radians(t))), params) for t in ZONE_TARGETS_DEG]
     else:
         handles = [layer.move(JointMotion(tuple(np.radians(STOP_TARGET_DEG))), params)]
         for _ in range(STOP_AFTER_CYCLES):
@@ -249,6 +262,12 @@ def main() -> None:
                     help="the carried load on the plant from the reset, the drives holding it REST_S before the moves")
     ap.add_argument("--without", action="append", default=[], choices=FEATURES,
                     help="with --elastic: switch off one of the elastic gears' features (repeatable)")
+    ap.add_argument("--smoothing-share", type=float, default=None, metavar="SHARE",
+                    help="with --elastic: average moves from rest over this share of the anti-resonance periods "
+                         "(1: whole periods)")
+    ap.add_argument("--scaled-averaging", action="store_true",
+                    help="with --state-feedback: every move from rest averaged over the share of the whole windows its "
+                         "steps' twist of the gears calls for")
     ap.add_argument("--inertia-tolerance", type=float, default=None, metavar="SHARE",
                     help="with --state-feedback: the state feedback's INERTIA_TOLERANCE for this run (default 0.02)")
     ap.add_argument("--gains-settled", type=float, default=None, metavar="SHARE",
@@ -262,18 +281,24 @@ def main() -> None:
     if args.gains_settled is not None:
         state_feedback.GAINS_SETTLED = args.gains_settled
     ELASTIC[0] = args.elastic
+    if args.smoothing_share is not None and not args.elastic:
+        ap.error("--smoothing-share is for elastic gears (--elastic)")
+    SMOOTHING_SHARE[0] = args.smoothing_share
     if args.observer and not args.elastic:
         ap.error("--observer is for elastic gears (--elastic)")
     OBSERVER[0] = args.observer
     if args.state_feedback and not args.elastic:
         ap.error("--state-feedback is for elastic gears (--elastic)")
     STATE_FEEDBACK[0] = args.state_feedback
+    if args.scaled_averaging and not args.state_feedback:
+        ap.error("--scaled-averaging is for the state feedback (--state-feedback)")
+    SCALED_AVERAGING[0] = args.scaled_averaging
     LOAD_AT_REST[0] = args.load_at_rest
     WITHOUT.update(args.without)
     with_pvc = run_moves(args.robot, args.seed, True, True, CARRIED_KG)
     without = run_moves(args.robot, args.seed, False, True, CARRIED_KG)
     same = nominal_equals_actual(args.robot, args.seed)
-    swings = {case: swing_after(args.robot, args.seed, case) for case in ("short", "zone", "stop")}
+    swings = {case: swing_after(args.robot, args.seed, case) for case in ("short", "zone", "stop", "fine")}
     thermal_pct, plant_rise, estimated_rise = thermal_estimate(args.robot, args.seed)
     model_only_pct, _, model_only_rise = thermal_estimate(args.robot, args.seed, corrected=False)
     print(f"robot={args.robot}")
@@ -284,6 +309,7 @@ def main() -> None:
         print(f"state_feedback={args.state_feedback}")
         layer = _layer(args.robot, args.seed)
         print(f"smoothing_windows_s={' '.join(f'{v:.3f}' for v in layer.smoothing_s) or 'none'}")
+        print(f"smoothing_scaled_to_gear_steps={layer.planner.gear_steps is not None}")
         law = layer.backend.loop.state_feedback
         if law is not None:
             print(f"state_feedback_joints={' '.join(str(j + 1) for j in law.joints)}")

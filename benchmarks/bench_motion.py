@@ -17,7 +17,12 @@ tested against (the law's own kernels on). motion_layer_ms_per_sim_s (and _elast
 the wall time per simulated second spent above the servo (the motion layer's cycle, recording and planning; the
 median run of each), servo_plant_ms_per_sim_s_elastic_state_feedback the rest (the servo, the plant and mj_step).
 --only elastic_state_feedback: the state feedback's five runs alone (its ratio, the raw mj_step it is measured
-against, and the two parts of its wall time), for profiling that variant.
+against, and the two parts of its wall time), for profiling that variant. --only optimality: the optimality figures
+alone. On a robot with elastic gears (IRB 2400) the optimality figures are printed for them too, under their state
+feedback (`--plant elastic-gears`), warm, the payload declared right, suffixed _elastic_state_feedback (the LMOVE
+deviation at the links' own angles), with the layer's averaging of moves from rest (over the whole anti-resonance
+periods) and, in the same run, suffixed _scaled_to_gear_steps, each move over as much of them as its steps twist the
+gears (the opt-in scaled_averaging) and, suffixed _no_averaging, without averaging (what the averaging costs in time).
 """
 
 from __future__ import annotations
@@ -33,6 +38,7 @@ from orc_rpl.motion.planner import TORQUE_SHARE
 from orc_rpl.motion.timing import toppra_profile
 from orc_rpl.motion.trajectory import SplinePath, segment_times
 from orc_rpl.plant.compiled import AVAILABLE, use_kernels
+from orc_rpl.robot.plants import has_elastic_gears
 from orc_rpl.world.pose import Pose
 
 FINE_GRID_POINTS = 2000  #: grid of the reference TOPP-RA solution (the planner uses 40..200)
@@ -86,10 +92,20 @@ def program_step(layer: MotionLayer, i: int) -> None:
             layer.wait(h)
 
 
-def warm_realistic(robot: str) -> MotionLayer:
-    """The realistic plant after a warm-up (friction about its warm value), no payload (none declared)."""
-    layer = make_virtual_motion_layer(robot, backend="servo", plant="realistic")
+def warm_realistic(robot: str, plant: str = "realistic", averaging: str = "default") -> MotionLayer:
+    """The realistic plant after a warm-up (friction about its warm value), no payload (none declared).
+
+    `plant` "elastic-gears": with the elastic gears under their state feedback, the controller's gearbox estimate
+    told of the warm-up too; `averaging` of the moves from rest there: "default" (the layer's: over the whole
+    anti-resonance periods), "scaled" (over as much of them as each move's steps twist the gears:
+    `scaled_averaging`) or "none".
+    """
+    layer = make_virtual_motion_layer(robot, backend="servo", plant=plant, scaled_averaging=averaging == "scaled")
     layer.backend.loop.cell.warm_up()
+    if layer.gear_friction is not None and plant == "elastic-gears":
+        layer.gear_friction.warm_up(layer.backend.loop.cell.gear_rise_k[0])
+    if averaging == "none":
+        layer.smoothing_s = ()
     return layer
 
 
@@ -183,9 +199,10 @@ def naive_quintic_time(layer: MotionLayer, q0: np.ndarray, q1: np.ndarray) -> fl
     return hi
 
 
-def bench_optimality(robot: str) -> tuple[float, float, float, float, float]:
+def bench_optimality(robot: str, plant: str = "realistic",
+                     averaging: str = "default") -> tuple[float, float, float, float, float]:
     """Worst and mean executed/TOPP-RA-bound ratio; our time over the naive quintic: all joint moves, short, long."""
-    layer = warm_realistic(robot)
+    layer = warm_realistic(robot, plant, averaging)
     ratios: list[float] = []
     ours: dict[str, list[float]] = {"short": [], "long": []}
     naive: dict[str, list[float]] = {"short": [], "long": []}
@@ -211,10 +228,12 @@ def bench_optimality(robot: str) -> tuple[float, float, float, float, float]:
             sum(ours["short"]) / sum(naive["short"]), sum(ours["long"]) / sum(naive["long"]))
 
 
-def bench_lmove_deviation(robot: str) -> float:
-    """Largest distance (mm) of the measured TCP from the programmed line, every servo step, LMOVEs at full speed."""
-    layer = warm_realistic(robot)
+def bench_lmove_deviation(robot: str, plant: str = "realistic", averaging: str = "default") -> float:
+    """Largest distance (mm) of the measured TCP from the programmed line, every servo step, LMOVEs at full speed
+    (on elastic gears the TCP of the links' own angles: where the tool really is)."""
+    layer = warm_realistic(robot, plant, averaging)
     loop = layer.backend.loop
+    joints = (lambda: loop.cell.link_q) if plant == "elastic-gears" else (lambda: loop.cell.q)
     worst = 0.0
     line: list[np.ndarray] = []
 
@@ -223,7 +242,7 @@ def bench_lmove_deviation(robot: str) -> float:
         if not line:
             return
         a, b = line
-        p = layer.kin.fk(loop.cell.q)[:3, 3]
+        p = layer.kin.fk(joints())[:3, 3]
         u = np.clip((p - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
         worst = max(worst, float(np.linalg.norm(p - (a + u * (b - a)))))
 
@@ -241,10 +260,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--robot", default="irb2400")
     ap.add_argument("--seconds", type=float, default=60.0)
-    ap.add_argument("--only", choices=["elastic_state_feedback"], default=None,
-                    help="run only this variant's speed runs (median of five)")
+    ap.add_argument("--only", choices=["elastic_state_feedback", "optimality"], default=None,
+                    help="run only this variant's speed runs (median of five), or only the optimality figures")
     args = ap.parse_args()
     elastic = {"elastic": True, "gear_feedforward": True}
+    if args.only == "optimality":
+        print(f"robot={args.robot}")
+        print_optimality(args.robot)
+        return
     if args.only == "elastic_state_feedback":
         sf_runs = sorted((bench_speed(args.robot, args.seconds / 5, **elastic, state_feedback=True) for _ in range(5)),
                          key=lambda r: r[2])
@@ -290,7 +313,37 @@ def main() -> None:
     print(f"time_optimality_ratio={worst:.4f}")
     print(f"vs_naive_ratio={naive:.3f}")
     print(f"lmove_path_deviation_mm={dev:.3f}")
+    if has_elastic_gears(args.robot):
+        print_elastic_optimality(args.robot)
 
+
+def print_optimality(robot: str) -> None:
+    """The optimality figures alone: the rigid gears' and, for a robot that has them, the elastic gears'."""
+    worst, mean, naive, naive_short, naive_long = bench_optimality(robot)
+    print(f"time_optimality_mean={mean:.4f}")
+    print(f"vs_naive_ratio_short_moves={naive_short:.3f}")
+    print(f"vs_naive_ratio_long_moves={naive_long:.3f}")
+    print(f"time_optimality_ratio={worst:.4f}")
+    print(f"vs_naive_ratio={naive:.3f}")
+    print(f"lmove_path_deviation_mm={bench_lmove_deviation(robot):.3f}")
+    if has_elastic_gears(robot):
+        print_elastic_optimality(robot)
+
+
+def print_elastic_optimality(robot: str) -> None:
+    """Time optimality, gain over naive and LMOVE deviation (at the links) on the elastic gears under their state
+    feedback: with the layer's averaging of moves from rest (over the whole anti-resonance periods) and, in the same
+    run, with each move averaged over as much of them as its steps twist the gears (`_scaled_to_gear_steps`, the
+    opt-in `scaled_averaging`) and without averaging (`_no_averaging`)."""
+    for suffix, averaging in {"": "default", "_scaled_to_gear_steps": "scaled", "_no_averaging": "none"}.items():
+        worst, mean, naive, _, _ = bench_optimality(robot, "elastic-gears", averaging)
+        dev = bench_lmove_deviation(robot, "elastic-gears", averaging)
+        shown = warm_realistic(robot, "elastic-gears", averaging).smoothing_s
+        print(f"elastic_smoothing_windows_s{suffix}={' '.join(f'{w:.3f}' for w in shown) or 'none'}")
+        print(f"time_optimality_mean_elastic_state_feedback{suffix}={mean:.4f}")
+        print(f"time_optimality_ratio_elastic_state_feedback{suffix}={worst:.4f}")
+        print(f"vs_naive_ratio_elastic_state_feedback{suffix}={naive:.3f}")
+        print(f"lmove_path_deviation_mm_elastic_state_feedback{suffix}={dev:.3f}")
 
 if __name__ == "__main__":
     main()

@@ -35,11 +35,17 @@
   `fast_session_priority` says whether the raise was permitted here, and `fast_slowdown_pct_same_priority` compares
   against the run without a view at the raised priority too), the scene with viser's default environment map
   (`_with_environment_map`), the view's process in the run's session instead of a session of its own
-  (`_view_in_run_session`, `_view_without_browser_in_run_session`), everything as it was before those four changes
+  (`_view_in_run_session`, `_view_without_browser_in_run_session`), the view's process waiting on the run's socket
+  between its draws, so that each message of the run (a planned path) woke it (`_view_woken_by_run`,
+  `_view_without_browser_woken_by_run`), everything as it was before those four changes
   (`_before`: also the plan made on the worker thread in `--fast`, against the run without a view as it was), and the
   paced motion cycle at normal priority (`_normal_priority`, `_normal_priority_without_view`) or at real-time priority
   with the threads it waits on through the interpreter lock left at normal priority (`_helpers_normal`), as before
   those changes.
+* Playwright's driver (the node process through which this script drives the browsers, busy relaying the page's
+  events while the view sends) runs in a session of its own, as the browser does: a user's browser has no such
+  driver, and in this script's session it would share the run's session and its raised priority as an equal
+  (`playwright_driver_own_session`; `--driver-in-run-session` for the way it was).
 
 The paced runs are repeated `--runs` times and their medians printed. Run it alone:
 `python benchmarks/bench_view.py [--runs 3] [--repeats 5]` (needs chromium and the [view] extra; about ten minutes;
@@ -180,7 +186,7 @@ def browser_cpu_s(root: int) -> dict[str, float]:
 def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False, environment_map: bool = False,
             slice_s: float | None = scheduling.PACED_SLICE_S, realtime: bool = True,
             helpers: bool = True, before_run: Any = None, rate_hz: float = RATE_HZ, session: bool | str = True,
-            plan_ahead_worker: bool = False, own_session: bool = True,
+            plan_ahead_worker: bool = False, own_session: bool = True, woken_by_run: bool = False,
             after_run: Any = None) -> dict[str, Any]:
     """Run the program once with `view` "process" (the product: the server in its own process, fed through shared
     memory), "sender" (the server in its own process, each update sent by the run's sending thread, as before),
@@ -189,7 +195,8 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     `realtime`: a paced run's motion cycle at real-time priority, as `orc run` asks for it (False: normal priority);
     `helpers`: the threads the cycle waits on through the interpreter lock follow its priority (False: they stay at
     normal priority, as before); `own_session`: the view's process in a session of its own, as `orc run` starts it
-    (False: in the run's session, as before)."""
+    (False: in the run's session, as before); `woken_by_run`: the view's process waits on the run's socket between its
+    draws, as before (each message of the run wakes it)."""
     scheduling.PACED_SLICE_S = slice_s
     source, program = load_program(path)
     robot = CellRobot.virtual(realtime=paced)
@@ -202,7 +209,7 @@ def one_run(path: Path, page: Any, paced: bool, view: str, shadows: bool = False
     view_pid = None
     if view != "none":
         if view in ("process", "sender"):
-            server = ViewProcess("127.0.0.1", 0, shadows, environment_map, own_session)
+            server = ViewProcess("127.0.0.1", 0, shadows, environment_map, own_session, woken_by_run)
             scene, url, view_pid = server.scene, server.url, server.pid
         else:
             server = open_server(port=0)
@@ -305,6 +312,8 @@ FAST: dict[str, tuple[str | None, str, dict[str, Any]]] = {
     "_normal_session": ("small", "process", {"session": False}),
     "_view_in_run_session": ("small", "process", {"own_session": False}),
     "_view_without_browser_in_run_session": (None, "process", {"own_session": False}),
+    "_view_woken_by_run": ("small", "process", {"woken_by_run": True}),
+    "_view_without_browser_woken_by_run": (None, "process", {"woken_by_run": True}),
     "_without_view_session_priority": (None, "none", {"session": "always"}),
     "_before": ("small", "process", {"session": False, "environment_map": True, "plan_ahead_worker": True,
                                      "own_session": False}),
@@ -397,6 +406,38 @@ def idle_group(pids: set[int], idle: bool) -> bool:
     return True
 
 
+def _driver_in_own_session() -> None:
+    """Start Playwright's driver (node, which starts the browsers) in a session of its own, like a browser a user
+    starts: Linux shares the cores between sessions first, and in this script's session the driver would share the
+    run's session, raised above the browser's, as an equal (see SessionPriority)."""
+    import asyncio
+    import types
+
+    from playwright._impl import transport
+
+    start = asyncio.create_subprocess_exec
+
+    async def own_session(*args: Any, **kwargs: Any) -> Any:
+        return await start(*args, **kwargs, start_new_session=True)
+
+    # only the transport's own name for asyncio sees the change; its subprocess is the driver and nothing else
+    shim = types.ModuleType("asyncio")
+    shim.__dict__.update(vars(asyncio), create_subprocess_exec=own_session)
+    transport.asyncio = shim  # type: ignore[attr-defined]
+
+
+def driver_processes() -> set[int]:
+    """The pids of Playwright's drivers below this process (`run-driver`)."""
+    found = set()
+    for entry in os.listdir("/proc"):
+        try:
+            if entry.isdigit() and b"run-driver" in Path(f"/proc/{entry}/cmdline").read_bytes():
+                found.add(int(entry))
+        except OSError:
+            continue
+    return found
+
+
 def _size(text: str) -> tuple[int, int]:
     width, _, height = text.partition("x")
     return int(width), int(height)
@@ -415,6 +456,8 @@ def main() -> None:
     parser.add_argument("--browser-nice", type=int, default=0,
                         help="run the browser at this nice value (a user's browser on the controller's own machine "
                              "started with `nice -n 10`); 0: as a browser normally runs")
+    parser.add_argument("--driver-in-run-session", action="store_true",
+                        help="leave Playwright's driver in this script's session, the run's (as before)")
     quick = parser.add_mutually_exclusive_group()
     quick.add_argument("--fast-only", metavar="SUFFIXES",
                         help="a quick look: no paced runs, and of the fast variants only these (comma-separated "
@@ -438,6 +481,9 @@ def main() -> None:
         paced_variants, fast_variants = {suffix: PACED[suffix] for suffix in PACED if suffix in chosen}, {}
     load_before = os.getloadavg()[0]
     from playwright.sync_api import sync_playwright
+
+    if not args.driver_in_run_session:
+        _driver_in_own_session()
 
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
         paced, fast = _program(Path(folder), args.paced_rounds), _program(Path(folder), args.fast_rounds)
@@ -486,6 +532,7 @@ def main() -> None:
             for suffix, (page, view, options) in fast_variants.items():
                 fast_runs[suffix].append(run(fast, page, False, view, options))
         own_session = all(os.getsid(pid) != os.getsid(0) for pid in drawing)
+        driver_own_session = all(os.getsid(pid) != os.getsid(0) for pid in driver_processes())
         benchmark.close()
         plain.close()
     with contextlib.suppress(OSError):  # empty now that the browser is closed
@@ -497,6 +544,7 @@ def main() -> None:
     print(f"large_page={'x'.join(map(str, args.large_page))}")
     print(f"sched_autogroup={int(autogrouped())}")
     print(f"browser_own_session={int(own_session)}")
+    print(f"playwright_driver_own_session={int(driver_own_session)}")
     print(f"gpu_idle_group_placed={int(bool(idle_groups) and all(idle_groups))}")
     with scheduling.SessionPriority() as session:  # what a `--view --fast` run gets (1: its session's nice lowered)
         print(f"fast_session_priority={int(session.refused is None and autogrouped())}")

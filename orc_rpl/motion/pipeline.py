@@ -206,7 +206,8 @@ class MotionPipeline:
         d1 = path(0.0, 1)
         sd0 = max(0.0, float(self._qd_ref @ d1) / max(float(d1 @ d1), 1e-12))
         try:
-            new, _ = parameterize(path, limits, self.dt_s, self.sub, sd0, 0.0, smoothing_s=self.planner.smoothing_s)
+            new, _ = parameterize(path, limits, self.dt_s, self.sub, sd0, 0.0, smoothing_s=self.planner.smoothing_s,
+                                  gear_steps=self.planner.gear_steps)
         except PlanningError:
             return False
         nxt.pieces_left.pop(0)

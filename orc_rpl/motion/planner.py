@@ -13,6 +13,7 @@ from orc_rpl.errors import PlanningError, UsageError
 from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.paths import DensePath, cartesian_path, function_path, joint_segments
 from orc_rpl.motion.blending import blend
+from orc_rpl.motion.gear_steps import GearSteps
 from orc_rpl.motion.short_move import DEFAULT_JERK_PER_S, ShortLimits, constant_dynamics_accel
 from orc_rpl.motion.specs import CartesianMotion, FunctionMotion, JointMotion, Known, Motion, Params
 from orc_rpl.motion.timing import TimingLimits, parameterize
@@ -61,6 +62,9 @@ class Planner:
         self.friction_reserve_nm: np.ndarray | float = 0.0
         #: windows (s) over which a path trajectory from rest has its time scaling averaged (elastic gears), () none
         self.smoothing_s: tuple[float, ...] = ()
+        #: elastic gears under state feedback: a trajectory from rest averaged over as much of those windows as its
+        #: steps' twist of the gears calls for; None: over the whole windows
+        self.gear_steps: GearSteps | None = None
 
     # -- limits -----------------------------------------------------------------
 
@@ -206,7 +210,7 @@ class Planner:
         """Time a dense path (time-optimal, or the fallback profile if toppra fails); from rest, averaged over
         `smoothing_s` (elastic gears: the averaging is part of the planning, on the plan-ahead worker too)."""
         traj, _ = parameterize(SplinePath(dense), limits, self.dt_s, self.sub, sd_start, 0.0, min_duration_s,
-                               smoothing_s=self.smoothing_s)
+                               smoothing_s=self.smoothing_s, gear_steps=self.gear_steps)
         return traj
 
     # -- computation = save / done ---------------------------------------------------

@@ -55,6 +55,8 @@ def simulate(layer: MotionLayer, moves: Sequence[Motion | tuple[Motion, Params]]
     start = layer._tail_q() if q_start is None else np.asarray(q_start, dtype=float)
     # a scratch layer of the caller's own class (not an import of layer.py, which imports this file)
     scratch = type(layer)(layer.kin, KinematicBackend(start, layer.backend.servo_period_s), layer.dt_s)
+    scratch.smoothing_s = layer.smoothing_s   # moves from rest averaged as the layer's are (elastic gears): as long
+    scratch.planner.gear_steps = layer.planner.gear_steps
     handles: list[MoveHandle] = []
     for item in moves:
         motion, params = item if isinstance(item, tuple) else (item, DEFAULT_PARAMS)

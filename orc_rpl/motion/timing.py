@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.errors import PlanningError
+from orc_rpl.motion.gear_steps import GearSteps
 from orc_rpl.motion.toppra_passes import lean_toppra
 from orc_rpl.motion.trajectory import SplinePath, Trajectory, sample, segment_times
 
@@ -250,9 +251,11 @@ def parameterize(
     min_duration_s: float | None = None,
     points: int | None = None,
     smoothing_s: tuple[float, ...] = (),
+    gear_steps: GearSteps | None = None,
 ) -> tuple[Trajectory, bool]:
     """The trajectory along `path` at the motion-cycle period, and whether toppra (not the fallback) timed it;
-    `smoothing_s`: a trajectory from rest has its time scaling averaged over these windows (trajectory.smoothed)."""
+    `smoothing_s`: a trajectory from rest has its time scaling averaged over these windows (trajectory.smoothed),
+    with `gear_steps` over as much of them as its steps' twist of the elastic gears calls for (motion/gear_steps.py)."""
     prof = toppra_profile(path, limits, sd_start, sd_end, points)
     optimal = prof is not None
     if prof is None:
@@ -266,4 +269,8 @@ def parameterize(
         total = float(np.sum(segment_times(grid, sd)))
         if total < min_duration_s:
             sd = sd * (total / min_duration_s)  # uniform time scaling keeps every limit (the torque box is convex)
-    return sample(path, grid, sd, dt_s, sub, smoothing_s), optimal
+    averaged_over_s = None
+    if smoothing_s and gear_steps is not None and sd_start == 0.0 and limits.inverse_dynamics is not None:
+        averaged_over_s = gear_steps.windows(smoothing_s,
+                                             gear_steps.largest_twist_rad(path, grid, sd, limits.inverse_dynamics))
+    return sample(path, grid, sd, dt_s, sub, smoothing_s, averaged_over_s), optimal

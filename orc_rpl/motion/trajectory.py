@@ -121,7 +121,7 @@ class Trajectory:
     exact_duration_s: float   #: the profile's duration before rounding up to whole cycles
     blendable: bool = True    #: a zone motion may replan from inside it
     kind: str = "path"        #: "path" (timed along path), "short" (ruckig), "timed" (function of t), "brake"
-    smoothing_s: tuple[float, ...] = ()   #: the windows its time scaling was averaged over (`smoothed`), () none
+    smoothing_s: tuple[float, ...] = ()   #: the layer's windows its time scaling was averaged for (`smoothed`), () none
 
     @property
     def cycles(self) -> int:
@@ -163,9 +163,11 @@ def segment_times(x_grid: np.ndarray, sd_grid: np.ndarray) -> np.ndarray:
 
 
 def sample(path: SplinePath, x_grid: np.ndarray, sd_grid: np.ndarray, dt_s: float, sub: int,
-           smoothing_s: tuple[float, ...] = ()) -> Trajectory:
+           smoothing_s: tuple[float, ...] = (), averaged_over_s: tuple[float, ...] | None = None) -> Trajectory:
     """Sample a piecewise constant-acceleration profile (x_grid, sd_grid) at every servo step; with `smoothing_s`
-    and a profile from rest, the `smoothed` trajectory (the path evaluated once, for the averaged time scaling)."""
+    and a profile from rest, the `smoothed` trajectory (the path evaluated once, for the averaged time scaling),
+    averaged over `averaged_over_s` when given (shorter windows for this trajectory: motion/gear_steps.py), the
+    trajectory's `smoothing_s` being the layer's windows it was averaged for."""
     seg_t = segment_times(x_grid, sd_grid)
     t_grid = np.concatenate([[0.0], np.cumsum(seg_t)])
     total = float(t_grid[-1])
@@ -180,7 +182,8 @@ def sample(path: SplinePath, x_grid: np.ndarray, sd_grid: np.ndarray, dt_s: floa
     ended = t >= total
     x[ended], sd[ended] = x_grid[-1], sd_grid[-1]
     if smoothing_s and sd[0] == 0.0:
-        return _averaged(path, x, sd, dt_s, sub, smoothing_s, True, "path")
+        return _averaged(path, x, sd, dt_s, sub, smoothing_s if averaged_over_s is None else averaged_over_s, True,
+                         "path", smoothing_s)
     if sd_grid[-1] == 0.0:
         sdd[ended] = 0.0
     return _evaluated(path, x, sd, sdd, dt_s, sub, total, True, "path", ())
@@ -199,10 +202,12 @@ def smoothed(traj: Trajectory, windows_s: tuple[float, ...]) -> Trajectory:
 
 
 def _averaged(path: SplinePath, x: np.ndarray, sd: np.ndarray, dt_s: float, sub: int, windows_s: tuple[float, ...],
-              blendable: bool, kind: str) -> Trajectory:
-    """`smoothed`'s work on the servo-step samples of x(t) and its speed."""
+              blendable: bool, kind: str, averaged_for_s: tuple[float, ...] | None = None) -> Trajectory:
+    """`smoothed`'s work on the servo-step samples of x(t) and its speed; `averaged_for_s`: the windows the trajectory
+    records (the layer's, when these are shorter ones for this trajectory), None: these."""
     h = dt_s / sub
     sdd = np.append(np.diff(sd) / h, 0.0)
+    x_end = x[-1]
     for window_s in windows_s:
         n = max(1, int(round(window_s / h)))
         box = np.full(n, 1.0 / n)
@@ -210,12 +215,17 @@ def _averaged(path: SplinePath, x: np.ndarray, sd: np.ndarray, dt_s: float, sub:
         x = np.convolve(np.concatenate([np.full(pad, x[0]), x, np.full(pad, x[-1])]), box, "valid")
         sd = np.convolve(np.concatenate([np.zeros(pad), sd, np.zeros(pad)]), box, "valid")
         sdd = np.convolve(np.concatenate([np.zeros(pad), sdd, np.zeros(pad)]), box, "valid")
+    # the averages of the end's samples are the end up to rounding: the path ends where it ends (s = 1 exactly,
+    # as the moves that read it expect), never past it
+    np.minimum(x, x_end, out=x)
+    x[-1] = x_end
     rows = len(x)
     cycles = max(1, math.ceil((rows - 1) / sub))
     extra = cycles * sub + 1 - rows
     x = np.concatenate([x, np.full(extra, x[-1])])
     sd, sdd = np.concatenate([sd, np.zeros(extra)]), np.concatenate([sdd, np.zeros(extra)])
-    return _evaluated(path, x, sd, sdd, dt_s, sub, (rows - 1) * h, blendable, kind, tuple(windows_s))
+    return _evaluated(path, x, sd, sdd, dt_s, sub, (rows - 1) * h, blendable, kind,
+                      tuple(windows_s if averaged_for_s is None else averaged_for_s))
 
 
 def _evaluated(path: SplinePath, x: np.ndarray, sd: np.ndarray, sdd: np.ndarray, dt_s: float, sub: int, duration_s: float,

@@ -13,6 +13,7 @@ from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.layer import MotionLayer
 from orc_rpl.motion.planner import Planner
 from orc_rpl.motion.gear_friction import GearFriction
+from orc_rpl.motion.gear_steps import GearSteps
 from orc_rpl.motion.thermal import WindingTemperature
 from orc_rpl.motion.timing import preload as preload_planning
 from orc_rpl.robot.plants import SIMULATED_PLANTS, check_elastic_gears
@@ -205,6 +206,7 @@ def make_virtual_motion_layer(
     gear_feedforward: bool = False,
     gear_observer: bool = False,
     state_feedback: bool = False,
+    scaled_averaging: bool = False,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
@@ -226,7 +228,10 @@ def make_virtual_motion_layer(
     gear-torque observer (servo/gear_observer.py) instead of the servo's averaged integral;
     `state_feedback` (opt-in on top, instead of the observer) controls the slow joints by state feedback
     designed for the two-mass joints (servo/state_feedback.py: an LQR on the rotors' and the links' states,
-    a Kalman filter every 1 ms step, the unknown torques its integral action), the wrist by the cascade.
+    a Kalman filter every 1 ms step, the unknown torques its integral action), the wrist by the cascade;
+    `scaled_averaging` (opt-in under the state feedback) averages each move from rest over only as much of the
+    periods as its steps twist the gears (motion/gear_steps.py): nearer time-optimal, but measured worse for
+    the coordinated seam on a turning positioner, identification and CALIBRATE (docs/motion.md).
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
@@ -237,6 +242,8 @@ def make_virtual_motion_layer(
         raise UsageError(f"elastic gears are part of the realistic plant, not of the {plant} one")
     if gear_feedforward and not elastic:
         raise UsageError("gear_feedforward is for elastic gears (elastic=True)")
+    if scaled_averaging and not state_feedback:
+        raise UsageError("scaled_averaging is for the elastic gears' state feedback (state_feedback=True)")
     if state_feedback and not gear_feedforward:
         raise UsageError("state_feedback is a part of the gears' feed-forward (gear_feedforward=True)")
     if gear_observer and not gear_feedforward:
@@ -251,6 +258,7 @@ def make_virtual_motion_layer(
     if elastic and servo_arm:
         raise UsageError(f"robot {robot!r} runs on bus servos: its plant has no elastic gears")
     smoothing: tuple[float, ...] = ()   #: elastic gears: the windows trajectories are averaged over
+    gear_steps: GearSteps | None = None   #: elastic gears under state feedback: the windows scaled to each trajectory
     if servo_arm:
         # an arm on bus servos: its position loops are the servos' own; goals are streamed to them
         from orc_rpl.motion.servo_arm import ServoArmBackend
@@ -294,6 +302,8 @@ def make_virtual_motion_layer(
                 loop.set_gear_observer(observer)
                 twist.excess_of = lambda: observer.excess_nm
             smoothing = smoothing_windows_s(arm, rotor, k_gear)
+            if scaled_averaging:   # the state feedback damps the modes: as much of them as a move's steps twist the gears
+                gear_steps = GearSteps(tuple(rotor), tuple(1.0 / np.asarray(k_gear, dtype=float)))
             if state_feedback:   # the two-mass joints' state feedback instead of the cascade and its twist
                 from orc_rpl.servo.state_feedback import TwoMassStateFeedback
 
@@ -308,6 +318,7 @@ def make_virtual_motion_layer(
         raise UsageError(f"backend must be 'servo' or 'kinematic', not {backend!r}")
     layer = MotionLayer(kin, be, motion_period_s, realtime=realtime, logger=logger)
     layer.smoothing_s = smoothing  # elastic gears: no torque steps into them (trajectories averaged over their periods)
+    layer.planner.gear_steps = gear_steps
     # the next move is planned on a worker thread, over an arm model of its own (made when first needed)
     layer.ahead = PlanAhead(lambda: _ahead_planner(layer, robot), paced=realtime)
     if backend == "servo" and plant == "realistic" and not servo_arm:
@@ -339,6 +350,7 @@ def _ahead_planner(layer: MotionLayer, robot: str) -> Planner:
 
     planner = Planner(Kinematics(load_robot(robot), solve_ik), layer.dt_s, layer.sub)
     planner.smoothing_s = layer.smoothing_s
+    planner.gear_steps = layer.planner.gear_steps
     return planner
 
 

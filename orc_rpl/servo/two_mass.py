@@ -148,11 +148,19 @@ class GearTwist:
         self.twist_rad = tau_nm * self.compliance_rad_nm   # at rest the link torque is the model's, all of it
 
 
-def smoothing_windows_s(arm: ArmModel, motor_inertia_kg_m2: Any, gear_stiffness_nm_rad: Any,
-                        count: int = SMOOTHING_WINDOWS) -> tuple[float, ...]:
-    """The periods (s) of the `count` lowest anti-resonances (at the links' largest inertia), longest first:
-    averaging a trajectory's time scaling over each in turn (motion/trajectory.py `smoothed`) does not
-    excite those modes and keeps the torques free of steps."""
+def anti_resonance_periods_s(arm: ArmModel, motor_inertia_kg_m2: Any, gear_stiffness_nm_rad: Any,
+                             count: int = SMOOTHING_WINDOWS) -> tuple[float, ...]:
+    """The periods (s) of the `count` lowest anti-resonances (at the links' largest inertia), longest first."""
     link = link_inertia_max(arm, motor_inertia_kg_m2)
     anti_resonance = np.sort(np.sqrt(np.asarray(gear_stiffness_nm_rad, dtype=float) / link))
     return tuple(float(2.0 * np.pi / w) for w in anti_resonance[:count])
+
+
+def smoothing_windows_s(arm: ArmModel, motor_inertia_kg_m2: Any, gear_stiffness_nm_rad: Any,
+                        share: float = 1.0) -> tuple[float, ...]:
+    """The windows (s) a trajectory's time scaling is averaged over, each in turn (motion/trajectory.py `smoothed`),
+    longest first: the lowest anti-resonance periods (an average over a mode's period does not excite it, and keeps
+    the torques free of steps), or `share` of them (benchmarks: bench_arm_control --smoothing-share). Under the
+    state feedback a trajectory is averaged over as much of them as its steps' twist of the gears calls for
+    (motion/gear_steps.py)."""
+    return tuple(share * period for period in anti_resonance_periods_s(arm, motor_inertia_kg_m2, gear_stiffness_nm_rad))

@@ -125,10 +125,11 @@ class ViewProcess:
     """
 
     def __init__(self, host: str, port: int, shadows: bool = False, environment_map: bool = False,
-                 own_session: bool = True) -> None:
+                 own_session: bool = True, woken_by_run: bool = False) -> None:
         ours, theirs = socket.socketpair()
         self._notice, notice_w = os.pipe()      # a byte arrives when a browser opens the page
-        light = ("shadows" if shadows else "flat") + (",environment" if environment_map else "")
+        options = ("shadows" if shadows else "flat") + (",environment" if environment_map else "") \
+            + (",woken" if woken_by_run else "")
         # A session of its own (`own_session`): Linux shares the cores between sessions first (autogroup), and within
         # the run's session the view's process, woken 40 times a second, took the motion thread's core as an equal
         # whenever the other core was busy (a browser drawing, other programs): a `--view --fast` run waited for it
@@ -136,7 +137,7 @@ class ViewProcess:
         # a browser would, and nothing of a run's raised priority (motion/scheduling.SessionPriority). Ctrl-C at the
         # terminal then reaches the run alone, which closes the view as before; so does the end of the run's socket.
         self._process = subprocess.Popen(
-            [sys.executable, "-m", "orc_rpl.view.remote", str(theirs.fileno()), str(notice_w), host, str(port), light],
+            [sys.executable, "-m", "orc_rpl.view.remote", str(theirs.fileno()), str(notice_w), host, str(port), options],
             pass_fds=(theirs.fileno(), notice_w), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
             start_new_session=own_session)
         self.pid = self._process.pid
@@ -178,9 +179,10 @@ class ViewProcess:
         os.close(self._notice)
 
 
-def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool, environment_map: bool = False) -> None:
-    """The view's process: open the server, then apply the run's messages until told to close."""
-    from orc_rpl.view.drawing import StreamDrawer
+def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool, environment_map: bool = False,
+           woken_by_run: bool = False) -> None:
+    """The view's process: open the server, then apply the run's messages until told to close (`woken_by_run`: while
+    it draws a stream, it waits on the run's socket between draws, as it did before; bench_view's baseline)."""
     from orc_rpl.view.scene import CellScene
     from orc_rpl.view.server import close_server, open_server, url_of
 
@@ -192,49 +194,69 @@ def _serve(connection: Any, notice: int, host: str, port: int, shadows: bool, en
     server.on_client_connect(lambda client: os.write(notice, b"c"))
     scene = CellScene(server, shadows, environment_map)
     connection.send(("ready", url_of(server)))
-    drawer: StreamDrawer | None = None
+    drawer: Any = None   #: the stream's StreamDrawer while a run streams
     next_s = time.monotonic()
     try:
         while True:
-            timeout = None if drawer is None else max(0.0, next_s - time.monotonic())
-            try:
-                ready = connection.poll(timeout)
-                name, args = connection.recv() if ready else ("", ())
-            except EOFError:  # the run's process is gone
-                break
-            if name == "close":
-                break
-            try:
-                if name == "stream_open":
-                    drawer = StreamDrawer(scene, *args)
-                elif name == "stream_close" and drawer is not None:
-                    drawer.poll()
-                    drawer.close()
-                    drawer = None
-                elif name in STREAM_COMMANDS and drawer is not None:
-                    getattr(drawer, f"set_{name.removeprefix('stream_')}")(*args)
-                elif name in ("snapshot", "sync"):
-                    if drawer is not None:
-                        drawer.poll()
-                    connection.send(picture_of(scene) if name == "snapshot" else drawer.updates if drawer else 0)
-                elif name:
-                    getattr(scene, name)(*args)
-                if drawer is not None and time.monotonic() >= next_s:
-                    next_s = max(next_s + drawer.period_s, time.monotonic())
-                    drawer.poll()
-            except Exception as error:  # the view stops (the run's next message finds the socket closed); the run goes on
-                sys.stderr.write(f"orc: the 3D view stopped: {error}\n")
-                break
+            if drawer is None:
+                connection.poll(None)  # nothing to draw: wait for the run's next message
+            elif woken_by_run:
+                connection.poll(max(0.0, next_s - time.monotonic()))
+            else:
+                # While it draws a stream, this process sleeps to its next draw and then reads what the run sent
+                # meanwhile: it never waits on the run's socket. A write into a socket whose reader waits wakes the
+                # reader as a synchronous wake-up, which Linux serves on the writer's core: each planned path of a
+                # `--view --fast` run put this process on the run's own core, where the run waited for it
+                # (bench_view: `fast_motion_thread_waited_for_cpu_s` against `_view_woken_by_run`).
+                time.sleep(max(0.0, next_s - time.monotonic()))
+            while connection.poll(0):
+                try:
+                    name, args = connection.recv()
+                except EOFError:  # the run's process is gone
+                    return
+                if name == "close":
+                    return
+                drawer = _apply(connection, scene, drawer, name, args)
+            if drawer is not None and time.monotonic() >= next_s:
+                next_s = max(next_s + drawer.period_s, time.monotonic())
+                drawer.poll()
+    except Exception as error:  # the view stops (the run's next message finds the socket closed); the run goes on
+        sys.stderr.write(f"orc: the 3D view stopped: {error}\n")
     finally:
         if drawer is not None:
             drawer.close()
         close_server(server)
 
 
+def _apply(connection: Any, scene: Any, drawer: Any, name: str, args: tuple[Any, ...]) -> Any:
+    """One message of the run: a call on the scene, on the stream's drawer, or a question answered; the drawer after
+    it (None once the stream is closed)."""
+    from orc_rpl.view.drawing import StreamDrawer
+
+    if name == "stream_open":
+        return StreamDrawer(scene, *args)
+    if name == "stream_close":
+        if drawer is not None:
+            drawer.poll()
+            drawer.close()
+        return None
+    if name in STREAM_COMMANDS:
+        if drawer is not None:
+            getattr(drawer, f"set_{name.removeprefix('stream_')}")(*args)
+    elif name in ("snapshot", "sync"):
+        if drawer is not None:
+            drawer.poll()
+        connection.send(picture_of(scene) if name == "snapshot" else drawer.updates if drawer else 0)
+    else:
+        getattr(scene, name)(*args)
+    return drawer
+
+
 if __name__ == "__main__":
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C at the terminal is for the run, which closes the view
     from orc_rpl.view.remote import _serve as serve  # this module's own copy: what it pickles, the run can load
 
-    fd, notice_fd, host_arg, port_arg, light = sys.argv[1:6]
-    lights = light.split(",")
-    serve(Connection(int(fd)), int(notice_fd), host_arg, int(port_arg), "shadows" in lights, "environment" in lights)
+    fd, notice_fd, host_arg, port_arg, option_list = sys.argv[1:6]
+    options = option_list.split(",")
+    serve(Connection(int(fd)), int(notice_fd), host_arg, int(port_arg), "shadows" in options, "environment" in options,
+          "woken" in options)

@@ -18,7 +18,7 @@ POSITION_AXES_M = 0.06
 OBJECT_AXES_M = 0.1
 #: The TCP trace is drawn in chunks of this many points: only the newest chunk is sent again as it grows.
 TRACE_CHUNK = 200
-#: Planned paths kept on screen (the oldest are removed first).
+#: Planned paths kept on screen (the oldest one's node shows the next).
 PATHS_KEPT = 40
 #: What is selected (a position picked at the pendant, the motion at the program pointer) is drawn this much larger.
 HIGHLIGHT_SCALE = 2.5
@@ -59,6 +59,7 @@ class CellScene:
         self.objects: dict[str, Any] = {}         #: world object name -> its frame node
         self.positions: dict[str, Any] = {}       #: position name -> its small frame
         self.paths: dict[int, Any] = {}           #: move id -> the planned path's line segments
+        self._path_nodes = 0                      #: line-segment nodes made for paths (at most PATHS_KEPT)
         self.trace_m: list[np.ndarray] = []       #: TCP trace points so far, world, m
         self._trace_nodes: list[Any] = []
         self.welds: dict[int, Any] = {}           #: weld number -> its spot
@@ -195,10 +196,21 @@ class CellScene:
         if len(points) < 2:
             return
         segments = np.stack([points[:-1], points[1:]], axis=1)
-        self.paths[move_id] = self.scene.add_line_segments(f"/paths/{move_id}", segments, PATH_RGB, thickness=3.0,
-                                                           thickness_units="screen")
-        while len(self.paths) > PATHS_KEPT:
-            self.paths.pop(next(iter(self.paths))).remove()
+        # Every path in colours per vertex, as the trace: the page draws both with one shader program (one fewer to
+        # compile when the first path arrives). The oldest path's node shows the new path once PATHS_KEPT are on
+        # screen: updating a node costs this process and the page less than making one and removing another.
+        colours = _per_vertex(PATH_RGB, segments.shape)
+        node = self.paths.pop(move_id, None)  # a move drawn again: its node shows the new plan
+        if node is None and len(self.paths) >= PATHS_KEPT:
+            node = self.paths.pop(next(iter(self.paths)))
+        if node is None:
+            node = self.scene.add_line_segments(f"/paths/{self._path_nodes}", segments, colours, thickness=3.0,
+                                                thickness_units="screen")
+            self._path_nodes += 1
+        else:
+            with self.server.atomic():
+                node.points, node.colors, node.thickness = segments, colours, 3.0
+        self.paths[move_id] = node
 
     def extend_trace(self, points_m: list[np.ndarray]) -> None:
         """Add TCP positions to the trace; only its newest chunk is sent again."""
@@ -227,7 +239,7 @@ class CellScene:
             if len(chunk) >= 2:
                 segments = np.stack([chunk[:-1], chunk[1:]], axis=1)
                 if colours is None:
-                    segment_colours = np.broadcast_to(np.array(rgb, dtype=np.uint8), segments.shape).copy()
+                    segment_colours = _per_vertex(rgb, segments.shape)
                 else:  # a segment takes the colours of its two ends
                     ends = np.asarray(colours[first: first + TRACE_CHUNK + 1], dtype=np.uint8)
                     segment_colours = np.stack([ends[:-1], ends[1:]], axis=1)
@@ -257,8 +269,7 @@ class CellScene:
         for key, node in self.paths.items():
             chosen = key == move_id
             node.thickness = 6.0 if chosen else 3.0
-            node.colors = np.broadcast_to(np.array(HIGHLIGHT_RGB if chosen else PATH_RGB, dtype=np.uint8),
-                                          node.points.shape).copy()
+            node.colors = _per_vertex(HIGHLIGHT_RGB if chosen else PATH_RGB, node.points.shape)
 
     # -- words and the camera -------------------------------------------------------------
 
@@ -279,6 +290,11 @@ class CellScene:
         self.server.initial_camera.look_at = framing.lookat_m
         self.server.initial_camera.position = framing.camera_position_m()
         self.server.initial_camera.up = (0.0, 0.0, 1.0)
+
+
+def _per_vertex(rgb: tuple[int, int, int], shape: tuple[int, ...]) -> np.ndarray:
+    """One colour for every vertex of line segments of this shape (n, 2, 3)."""
+    return np.broadcast_to(np.array(rgb, dtype=np.uint8), shape).copy()
 
 
 def _colour(colour: str | tuple[float, ...] | None) -> tuple[int, int, int]:

@@ -11,8 +11,8 @@ from orc_rpl.plant.realistic import RealisticCell
 from orc_rpl.robot import load_robot
 from orc_rpl.robot.plants import plant_spec
 from orc_rpl.servo.control import ServoGains
-from orc_rpl.servo.two_mass import (POSITION_OVER_VELOCITY, GearTwist, link_inertia_max, smoothing_windows_s,
-                                     two_mass_gains)
+from orc_rpl.servo.two_mass import (POSITION_OVER_VELOCITY, GearTwist, anti_resonance_periods_s,
+                                    link_inertia_max, smoothing_windows_s, two_mass_gains)
 
 
 def test_bandwidths_sit_at_the_anti_resonance_where_it_is_below_the_default() -> None:
@@ -110,6 +110,8 @@ def test_smoothing_windows_are_the_periods_of_the_lowest_anti_resonances() -> No
     rotor = RealisticCell("irb2400", elastic=True).motor_inertia_kg_m2
     anti = np.sort(np.sqrt(np.array(spec.gear_stiffness_nm_rad) / link_inertia_max(arm, rotor)))
     assert np.allclose(smoothing_windows_s(arm, rotor, spec.gear_stiffness_nm_rad), 2.0 * np.pi / anti[:2])
+    assert np.allclose(anti_resonance_periods_s(arm, rotor, spec.gear_stiffness_nm_rad), 2.0 * np.pi / anti[:2])
+    assert np.allclose(smoothing_windows_s(arm, rotor, spec.gear_stiffness_nm_rad, 0.5), np.pi / anti[:2])
 
 
 def test_the_python_law_leads_the_rotors_as_the_drives_do() -> None:

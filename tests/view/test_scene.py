@@ -71,6 +71,31 @@ def test_highlight_enlarges_one_position_and_colours_one_planned_path() -> None:
         close_server(server)
 
 
+def test_the_newest_planned_paths_stay_on_screen_the_oldest_node_showing_the_next() -> None:
+    from orc_rpl.view.scene import HIGHLIGHT_RGB, PATH_RGB, PATHS_KEPT, CellScene
+
+    server = open_server(port=0)
+    try:
+        scene = CellScene(server)
+        for move_id in range(1, PATHS_KEPT + 1):
+            scene.add_path(move_id, np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.01 * move_id]]))
+        first_nodes = {id(node) for node in scene.paths.values()}
+        scene.highlight(move_id=1)
+        longer = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.1, 0.2, 0.0]])
+        scene.add_path(PATHS_KEPT + 1, longer)
+        assert sorted(scene.paths) == list(range(2, PATHS_KEPT + 2)), "the oldest path is gone, the newest shown"
+        assert {id(node) for node in scene.paths.values()} == first_nodes, "no node made: the oldest one's reused"
+        newest = scene.paths[PATHS_KEPT + 1]
+        np.testing.assert_allclose(newest.points, np.stack([longer[:-1], longer[1:]], axis=1), atol=1e-6)
+        assert (newest.colors == PATH_RGB).all() and newest.thickness == 3.0, "not highlighted as its node was"
+        assert not any((node.colors == HIGHLIGHT_RGB).all() for node in scene.paths.values())
+        scene.add_path(5, longer[::-1])  # a move planned anew is drawn in its own node again
+        assert len(scene.paths) == PATHS_KEPT and list(scene.paths)[-1] == 5
+        np.testing.assert_allclose(scene.paths[5].points[0, 0], longer[-1], atol=1e-6)
+    finally:
+        close_server(server)
+
+
 @pytest.mark.sim
 @pytest.mark.parametrize("program", sorted([*(ROOT / "programs").glob("*/*.rpl"), *(ROOT / "programs").glob("*/*.orl")]),
                          ids=lambda p: p.name)

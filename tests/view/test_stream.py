@@ -118,7 +118,24 @@ def _carries_the_cell(args: tuple[Any, ...]) -> bool:
 
 
 @pytest.mark.sim
-def test_the_views_process_draws_the_runs_latest_pose_from_the_stream(tmp_path: Path) -> None:
+def _threads_started_here(monkeypatch: pytest.MonkeyPatch) -> list[threading.Thread]:
+    """The threads this test's own thread starts from now on (a thread another test left behind, e.g. a Dask
+    cluster's still shutting down, may start threads of its own meanwhile: those are not the view's)."""
+    started: list[threading.Thread] = []
+    start = threading.Thread.start
+    here = threading.current_thread()
+
+    def recorded(thread: threading.Thread) -> None:
+        if threading.current_thread() is here:
+            started.append(thread)
+        start(thread)
+
+    monkeypatch.setattr(threading.Thread, "start", recorded)
+    return started
+
+
+def test_the_views_process_draws_the_runs_latest_pose_from_the_stream(tmp_path: Path,
+                                                                       monkeypatch: pytest.MonkeyPatch) -> None:
     path = tmp_path / "two.rpl"
     path.write_text(PROGRAM, encoding="utf-8")
     source, program = load_program(path)
@@ -126,14 +143,13 @@ def test_the_views_process_draws_the_runs_latest_pose_from_the_stream(tmp_path: 
     executive = Executive(program, robot, runtime_registry(), path=str(path), source=source, output=lambda line: None)
     server = ViewProcess("127.0.0.1", 0)
     try:
-        threads = set(threading.enumerate())
+        started = _threads_started_here(monkeypatch)
         scene = Counted(server.scene)
         view = StreamedView(scene, executive, robot)
         view.attach(program)
         assert sum(_carries_the_cell(args) for _, args in scene.sent) == 1, "the cell is sent once"
         assert view.monitor(robot) is robot, "the executive drives the robot itself, no wrapper"
-        # compared by identity, not by count: another test's thread ending meanwhile must not hide a new one or fail
-        assert set(threading.enumerate()) <= threads, "the view starts no thread in the run's process"
+        assert not started, "the view starts no thread in the run's process"
         assert executive.run() == "finished"
         view.finish()
         shown = server.scene.snapshot()

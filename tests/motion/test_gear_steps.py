@@ -1,0 +1,55 @@
+"""Elastic gears under state feedback: whole windows for every move from rest, or (scaled_averaging) as much as it twists the gears."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from orc_rpl.motion import JointMotion, MotionLayer, Params, make_virtual_motion_layer
+from orc_rpl.errors import UsageError
+from orc_rpl.motion.gear_steps import GearSteps
+
+
+def test_the_windows_are_the_share_of_the_full_step_never_shorter_than_the_least() -> None:
+    steps = GearSteps((1.0,), (1e-5,), full_step_rad=4e-3, least_s=0.02)
+    assert steps.windows((0.16, 0.12), 8e-3) == (0.16, 0.12)
+    assert steps.windows((0.16, 0.12), 2e-3) == pytest.approx((0.08, 0.06))
+    assert steps.windows((0.16, 0.12), 1e-4) == (0.02, 0.02)
+
+
+def _extra_s(layer: MotionLayer, motion: JointMotion, params: Params) -> float:
+    """How much longer the move from rest lasts for its averaging (over its unaveraged duration)."""
+    planner = layer.planner
+    plan = planner.plan(1, motion, params, np.array(layer.reference_q()))
+    assert plan is not None
+    averaged = planner.time(plan.pieces[0], plan.limits).exact_duration_s
+    windows, planner.smoothing_s = planner.smoothing_s, ()
+    try:
+        return averaged - planner.time(plan.pieces[0], plan.limits).exact_duration_s
+    finally:
+        planner.smoothing_s = windows
+
+
+@pytest.fixture(scope="module")
+def elastic() -> MotionLayer:
+    return make_virtual_motion_layer("irb2400", plant="elastic-gears", scaled_averaging=True)
+
+
+def test_a_heavy_fast_move_gets_the_whole_windows_a_gentle_one_a_share(elastic: MotionLayer) -> None:
+    whole = sum(elastic.smoothing_s)
+    heavy = _extra_s(elastic, JointMotion(tuple(np.radians((150, 70, -20, 0, -60, 90)))), Params(load_kg=10.0))
+    fast = _extra_s(elastic, JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7)), Params())
+    gentle = _extra_s(elastic, JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7)), Params(accel_fraction=0.25))
+    assert heavy == pytest.approx(whole, abs=0.005)   # bench_arm_control's second move: 4.5 mrad of twist
+    assert 0.04 <= gentle < fast < whole
+
+
+def test_by_default_every_move_from_rest_gets_the_whole_windows() -> None:
+    layer = make_virtual_motion_layer("irb2400", plant="elastic-gears")
+    extra = _extra_s(layer, JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7)), Params(accel_fraction=0.25))
+    assert extra == pytest.approx(sum(layer.smoothing_s), abs=0.005)
+
+
+def test_scaled_averaging_is_for_the_state_feedback() -> None:
+    with pytest.raises(UsageError, match="scaled_averaging is for the elastic gears' state feedback"):
+        make_virtual_motion_layer("irb2400", elastic=True, gear_feedforward=True, scaled_averaging=True)
