@@ -6,7 +6,7 @@ Run: python benchmarks/bench_applications.py [--trials 1000] [--seed 1]
 Identification. The motion toward the via point is simulated on the MuJoCo cell for every combination of part
 mass (0, 0.3, 0.9, 2 kg: the demo's kinds), speed (the joints' limits, 0.5 m/s, 0.3 m/s) and via point (the
 demo's TopPos, 300, 150 and 100 mm above the pick), recording q, q-dot and the motor torques over 0.2 s as
-IDENTMOVE does. On the realistic plant (friction, noise, elasticity, the unknown dress pack, a cold start) each
+IDENTMOVE does (on elastic gears as long as IDENTMOVE records there, with its windows: identify_window). On the realistic plant (friction, noise, elasticity, the unknown dress pack, a cold start) each
 via point and speed is one robot: a tare lift with nothing held, then the four masses one after the other, each
 estimated with the tare; on the ideal plant each recording is a fresh robot, without a tare. Each trial takes
 one recording at random and perturbs its torques with seeded draws inside the documented envelope: per joint a
@@ -59,6 +59,7 @@ from typing import Any
 import numpy as np
 
 from orc_rpl.application.features import payload_estimation
+from orc_rpl.application.features.materials_handling_behaviour import LEAD_S, identify_window
 from orc_rpl.application.features.payload_estimation import confidence, estimate
 from orc_rpl.application.runtime import MotionRequest, Sample, run_to_end
 from orc_rpl.executive.cell_robot import CellRobot
@@ -74,7 +75,6 @@ TOOL = Pose(0.0, 0.0, 0.18)
 PICK = Pose(0.8, -0.3, 0.45, 0.0, math.pi, 0.0)
 VIAS = (Pose(0.9, 0.0, 0.9, 0.0, math.pi, 0.0), Pose(0.8, -0.3, 0.75, 0.0, math.pi, 0.0),
         Pose(0.8, -0.3, 0.6, 0.0, math.pi, 0.0), Pose(0.8, -0.3, 0.55, 0.0, math.pi, 0.0))
-RECORD_S, LEAD_S = 0.2, 0.1
 ENVELOPE_NM = 0.3                    #: model error and friction changes per joint (N m; N m s/rad for viscous)
 NOISE_NM = 0.2                       #: torque noise per sample (N m)
 
@@ -92,7 +92,7 @@ def cell_plant(plant: str) -> str:
 
 
 def recordings(plant: str) -> list[tuple[float, list[Sample], CellRobot, list[Sample] | None, Any]]:
-    """One recording of IDENTMOVE's first 0.2 s per mass, speed and via point on the MuJoCo cell. On the ideal
+    """One recording of IDENTMOVE's first 0.2 s (elastic gears: identify_window) per mass, speed and via point on the MuJoCo cell. On the ideal
     plant each on a fresh robot, without a tare. On the realistic plant one robot per via point and speed, as
     a program runs it: a tare lift with nothing held, then the four masses one after the other (about 2 s
     apart: the cold arm's friction falls in between), each with the tare and the controller's estimate of
@@ -116,19 +116,29 @@ def recordings(plant: str) -> list[tuple[float, list[Sample], CellRobot, list[Sa
     return out
 
 
-def _lift(robot: CellRobot, via: Pose, speed: float | None, mass: float) -> list[Sample]:
-    """From the pick toward `via` holding `mass`: IDENTMOVE's recording; the robot then goes back to the pick."""
+class Lift(list):  # type: ignore[type-arg]
+    """IDENTMOVE's recording of one lift (Samples) and the window its estimate takes (identify_window)."""
+
+    window: int = payload_estimation.WINDOW
+
+
+def _lift(robot: CellRobot, via: Pose, speed: float | None, mass: float) -> Lift:
+    """From the pick toward `via` holding `mass`: IDENTMOVE's recording (as long as IDENTMOVE records on this
+    robot: longer on elastic gears, `identify_window`); the robot then goes back to the pick."""
     run_to_end(robot, MotionRequest("MOVE", "joint", PICK, tool=TOOL), 30.0, "to the pick")
+    record_s, window = identify_window(robot, robot.joints())
     robot.set_plant_payload(mass)
     for _ in range(25):
         robot.tick()
     half = 0.5 * math.dist((PICK.x, PICK.y, PICK.z), (via.x, via.y, via.z))
     ticket = robot.submit(MotionRequest("IDENTMOVE", "joint", via, tool=TOOL, speed_m_s=speed,
-                                        zone_m=min(0.1, half), record_s=RECORD_S, time_s=RECORD_S + LEAD_S))
+                                        zone_m=min(0.1, half), record_s=record_s, time_s=record_s + LEAD_S))
     while not ticket.done:
         robot.tick()
     robot.set_plant_payload(0.0)
-    return list(ticket.recording)
+    lift = Lift(ticket.recording)
+    lift.window = window
+    return lift
 
 
 def tare_drift(warm: bool) -> dict[str, float]:
@@ -147,8 +157,8 @@ def tare_drift(warm: bool) -> dict[str, float]:
         samples = _lift(robot, VIAS[0], None, mass)
         ages.append(samples[0].time_s - tare_s)
         change = change_since(tare_state, robot.friction_state())
-        errors[""].append(estimate(samples, robot.inverse_dynamics, tare, change).mass_kg - mass)
-        errors["_untracked"].append(estimate(samples, robot.inverse_dynamics, tare).mass_kg - mass)
+        errors[""].append(estimate(samples, robot.inverse_dynamics, tare, change, samples.window).mass_kg - mass)
+        errors["_untracked"].append(estimate(samples, robot.inverse_dynamics, tare, window=samples.window).mass_kg - mass)
     label = "warm" if warm else "cold"
     out = {}
     for variant, found in errors.items():
@@ -218,8 +228,9 @@ def identification(trials: int, seed: int, plant: str) -> dict[str, float]:
             noisy = perturbed(samples, rng, scale)
             noisy_tare = None if tare is None else perturbed(tare, rng, 0.0)
             for variant, friction in (("", change), ("_untracked", None), ("_plain", None)):
-                with plain_windows(variant == "_plain"):
-                    found = estimate(noisy, robot.inverse_dynamics, noisy_tare, friction)
+                with plain_windows(variant == "_plain"):  # (the release before's estimator: WINDOW samples a window)
+                    window = payload_estimation.WINDOW if variant == "_plain" else samples.window
+                    found = estimate(noisy, robot.inverse_dynamics, noisy_tare, friction, window)
                 answer, _, trusted = confidence(kind, found.mass_kg, found.sigma_kg)
                 if not variant:
                     worst_sigma = max(worst_sigma, found.sigma_kg)
@@ -235,7 +246,8 @@ def identification(trials: int, seed: int, plant: str) -> dict[str, float]:
         figures[f"{label}_baseline_correct_pct"] = round(100.0 * baseline_correct / trials, 2)
         figures[f"{label}_max_sigma_kg"] = round(worst_sigma, 3)
     if plant == "realistic":  # what the model's own errors read as without a tare: an empty gripper's estimate
-        empty = [estimate(samples, robot.inverse_dynamics).mass_kg for mass, samples, robot, *_ in base if mass == 0.0]
+        empty = [estimate(samples, robot.inverse_dynamics, window=samples.window).mass_kg
+                 for mass, samples, robot, *_ in base if mass == 0.0]
         figures["ident_untared_empty_min_kg"] = round(min(empty), 2)
         figures["ident_untared_empty_max_kg"] = round(max(empty), 2)
         figures.update(tare_drift(warm=False))

@@ -204,6 +204,11 @@ class CellRobot:
         """d(TCP position)/dq (3 x n, world) at the measured joint angles."""
         return np.asarray(self.layer.kin.arm.jacobian(self.layer.current_q(), _tool_matrix(tool)))[:3]
 
+    def start_averaging_s(self) -> float:
+        """How long the motion layer averages a move's start from rest over the gears' periods (s; 0: not averaged,
+        rigid gears): a move from rest reaches its accelerations that much later (docs/robots.md, elastic gears)."""
+        return float(sum(getattr(self.layer, "smoothing_s", ()) or ()))
+
     def servo_gains(self) -> Any:
         """The joint servo's default gains (`ServoGains`: per-joint caps and the elastic gears they were placed
         for), or None on a robot without a servo of ours (kinematic, bus servos)."""

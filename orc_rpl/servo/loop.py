@@ -308,7 +308,11 @@ class ServoLoop:
         """A task-specific tuning from the next step on (a motion WITH TUNING); None: the default gains again."""
         if self.drives is not None:
             self.drives.release()  # the tuning's bumpless switch works on the servo's integral
-        self.servo.set_tuning(tuning, self.cell.q)
+        law, q, zero = self.state_feedback, np.array(self.cell.q), np.zeros(self._n)
+        weight = None if law is None else np.array(self.servo.inverse_dynamics(q, zero, zero))
+        self.servo.set_tuning(tuning, q)
+        if law is not None:  # the state feedback's integral action is its filter's unknown torques: bumpless there
+            law.model_changed(np.array(self.servo.inverse_dynamics(q, zero, zero)) - weight)
 
     def attach_logger(self, logger: Logger, every_steps: int = 1, tool: Any = None) -> None:
         """Record q, qd, tau, position_error, tau_ff and the TCP position ("tcp", m) every so many servo steps."""

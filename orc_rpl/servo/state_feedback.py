@@ -348,6 +348,16 @@ class TwoMassStateFeedback:
         """The slow joints' torque the model lacks, as the filter estimates it (N m, added to the model's)."""
         return -(self.link_w_nm + self.rotor_w_nm)
 
+    def model_changed(self, torque_nm: np.ndarray) -> None:
+        """The model's link torque changed by torque_nm (every joint's; a tuning's load at the measured pose): what
+        the unknown link torques held of it is now the model's. The link side takes it (the followed w where a joint
+        moves, the held one at rest), so the twist and the torque do not jump and the filter does not learn twice a
+        weight the model now has (a CALIBRATE tuning's identified load: ServoLoop.set_tuning)."""
+        change = np.asarray(torque_nm, dtype=float)[self.joints]
+        w = self.state[4 * self.m :]
+        w[self.moving] += change[self.moving]
+        self.held_link_nm[~self.moving] += change[~self.moving]
+
     def switch(self, moving: np.ndarray) -> bool:
         """Joints whose reference starts or stops moving: w changes sides, the other side's held (a start takes
         REST_TORQUE_TO_LINK of the rest's w to the link). True on a change (the model changes: `schedule` again)."""

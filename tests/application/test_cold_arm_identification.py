@@ -78,8 +78,11 @@ def test_without_the_warm_up_estimate_the_fall_of_friction_reads_as_kilograms() 
 
 
 @pytest.mark.sim
-def test_the_demo_tells_every_part_on_the_cold_realistic_arm() -> None:
-    robot = CellRobot.virtual(plant="realistic")
+@pytest.mark.parametrize("plant", ["realistic", "elastic-gears"])
+def test_the_demo_tells_every_part_on_the_cold_realistic_arm(plant: str) -> None:
+    # elastic gears average a move's start over their periods (0.295 s on the IRB 2400): IDENTMOVE records that much
+    # longer, in windows of one period of their lowest anti-resonance (before, part 1 was "uncertain: rejected")
+    robot = CellRobot.virtual(plant=plant)
     source = DEMO.read_text(encoding="utf-8")
     prints: list[str] = []
     executive = Executive(parse(source, "demo.rpl"), robot, path="demo.rpl", source=source, output=prints.append)
@@ -92,3 +95,4 @@ def test_the_demo_tells_every_part_on_the_cold_realistic_arm() -> None:
     for record, mass in zip(records[1:], (0.3, 2.0, 0.9)):
         assert abs(record.payload_kg - mass) < 3 * record.sigma_kg and record.confidence > 0.99
     assert np.all(np.array(robot.friction_state().coulomb_nm) > 0.0)
+

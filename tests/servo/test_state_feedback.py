@@ -10,6 +10,7 @@ from orc_rpl.motion import JointMotion, MoveStatus, Params, make_virtual_motion_
 from orc_rpl.plant.realistic import RealisticCell
 from orc_rpl.robot import load_robot
 from orc_rpl.robot.plants import plant_spec
+from orc_rpl.servo.control import ServoTuning
 from orc_rpl.servo.state_feedback import TwoMassStateFeedback
 
 PERIOD_S = 0.001
@@ -142,3 +143,33 @@ def test_the_gains_are_kept_until_the_inertia_moves_and_made_again_when_it_has()
     assert law.scheduled == scheduled + 1
     want = law.arm.mass_matrix(reach, *[law.arm.payload[0], law.arm.payload[1:]])[:3, :3] - np.diag(law.rotor)
     np.testing.assert_allclose(law.link_inertia, want, rtol=1e-12, atol=1e-12)
+
+
+def _after_a_tuning_with_the_load(load_kg: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """At rest holding 12 kg the model does not know, the filter having learnt its weight: a tuning that puts
+    load_kg into the model (as CALIBRATE's identified load does). The unknown torque before and right after the
+    switch (j1..j3, N m) and the links' largest move (rad) over the 0.3 s after it."""
+    layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_feedforward=True,
+                                      state_feedback=True)
+    loop, cell = layer.backend.loop, layer.backend.loop.cell
+    loop.set_payload(12.0, known=False)
+    for _ in range(150):   # 0.6 s at rest: the weight learnt
+        layer.tick()
+    law, n = loop.state_feedback, 6
+    before, links = law.unknown_torque_nm.copy(), cell.link_q.copy()
+    loop.set_tuning(ServoTuning((40.0,) * n, (160.0,) * n, (15.0,) * n, (0.0,) * n, (0.0,) * n, (0.0,) * n,
+                                load_kg=load_kg))
+    after = law.unknown_torque_nm.copy()
+    moved = 0.0
+    for _ in range(75):
+        layer.tick()
+        moved = max(moved, float(np.abs(cell.link_q - links)[:3].max()))
+    return before, after, moved
+
+
+def test_a_tuning_that_adds_a_load_to_the_model_takes_it_from_the_unknown_torque_without_a_jolt() -> None:
+    before, after, moved = _after_a_tuning_with_the_load(12.0)
+    _, _, still = _after_a_tuning_with_the_load(0.0)
+    # the model now has the weight the filter had learnt: the unknown torque gives it up (j2 and j3 carry it)
+    assert np.all(np.abs(after[1:]) < 0.5 * np.abs(before[1:]))
+    assert moved < still + 5e-6, f"the links moved {moved:.2e} rad after the switch (without the load {still:.2e})"

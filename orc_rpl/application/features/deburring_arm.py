@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.application.features.gears import lowest_anti_resonance_rad_s
+from orc_rpl.application.features.gears import gear_period_cycles as acceleration_window
 from orc_rpl.application.runtime import BehaviourError, MotionRequest, MotionView
 from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S  # the sharp Coulomb term of the friction estimate
 from orc_rpl.robot.friction import friction_torque_nm
@@ -115,12 +115,6 @@ class ArmForce:
         self.sticking = bool(np.any((lever >= LEVER_SHARE * lever.max()) & (np.abs(speed) < STICK_RAD_S)))
         force = np.linalg.lstsq(jacobian_t, external, rcond=None)[0]
         return float(np.dot(force, self.normal))
-
-
-def acceleration_window(robot: Any, q: np.ndarray) -> int:
-    """Motion cycles in one period of the gears' lowest anti-resonance at pose q; 1 on rigid gears."""
-    lowest_rad_s = lowest_anti_resonance_rad_s(robot, q)
-    return 1 if lowest_rad_s is None else max(1, round(2.0 * math.pi / lowest_rad_s / robot.dt_s))
 
 
 class Signature:

@@ -1,7 +1,8 @@
-"""What the applications need to know of a robot's elastic gears: their lowest anti-resonance at a pose."""
+"""What the applications need to know of a robot's elastic gears: their lowest anti-resonance at a pose, its period."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -22,3 +23,16 @@ def lowest_anti_resonance_rad_s(robot: Any, q: Any) -> float | None:
     inertia = np.array([robot.inverse_dynamics(tuple(q), zero, tuple(unit), 0.0)[i] - weight[i]
                         for i, unit in enumerate(np.eye(len(q)))])
     return float(np.min(np.sqrt(stiffness / np.maximum(inertia - rotor, 1e-9))))
+
+
+def gear_period_cycles(robot: Any, q: Any) -> int:
+    """Motion cycles in one period of the gears' lowest anti-resonance at pose q; 1 on rigid gears."""
+    lowest_rad_s = lowest_anti_resonance_rad_s(robot, q)
+    return 1 if lowest_rad_s is None else max(1, round(2.0 * math.pi / lowest_rad_s / robot.dt_s))
+
+
+def start_averaging_s(robot: Any) -> float:
+    """How long the robot's motion layer averages the start of a move from rest over its gears' periods (s; 0 on
+    rigid gears, or a robot that does not say): a move reaches its accelerations that much later."""
+    own = getattr(robot, "start_averaging_s", None)
+    return float(own()) if own is not None else 0.0

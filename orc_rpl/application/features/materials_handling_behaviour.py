@@ -3,7 +3,8 @@
     IDENTMOVE gripper TO DropPositions[Id] VIA TopPos WITH Id = IDENT(proc, parts)
 
 The motion toward the via point starts at once with an action that records torques, q and q-dot for the
-first 0.2 s; it takes at least RECORD_S + LEAD_S, so a near via point slows the approach just enough for the
+first 0.2 s (on elastic gears 0.2 s plus the time the move's start is averaged over: `identify_window`); it
+takes at least the recording plus LEAD_S, so a near via point slows the approach just enough for the
 identification to end before it (and the blend radius is at most half the way to it). From that recording
 the payload is estimated with the robot model (`payload_estimation`: windows without acceleration switches,
 friction and offsets per joint, a standard deviation); the user's FUNC `proc` gets the recording
@@ -32,7 +33,8 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from orc_rpl.application.features.payload_estimation import SIGMAS, PayloadEstimate, confidence, estimate
+from orc_rpl.application.features.gears import gear_period_cycles, start_averaging_s
+from orc_rpl.application.features.payload_estimation import SIGMAS, WINDOW, PayloadEstimate, confidence, estimate
 from orc_rpl.application.process_log import IdentRecord, process_log
 from orc_rpl.application.runtime import BehaviourError, FunctionParam, MotionCall, Sample, attached
 from orc_rpl.application.standard_behaviour import standard_motion
@@ -77,6 +79,15 @@ def ident(proc: Any, parts: Any) -> Identification:
     return Identification(proc, parts)
 
 
+def identify_window(robot: Any, q: Any) -> tuple[float, int]:
+    """(how long IDENTMOVE records, s; samples per window of the estimate) for a lift from joint angles q: RECORD_S
+    and payload_estimation.WINDOW on rigid gears. On elastic gears the motion layer averages a move's start from
+    rest over the gears' periods (start_averaging_s, 0.295 s on the IRB 2400), so the recording is that much
+    longer (in the first 0.2 s the arm reached 0.36 rad/s where rigid gears reach 1.2), and a window is one period
+    of the gears' lowest anti-resonance at q, over which their swing averages out (28 cycles at the pick)."""
+    return RECORD_S + start_averaging_s(robot), max(WINDOW, gear_period_cycles(robot, q))
+
+
 def estimate_payload(samples: list[Sample], inverse_dynamics: Any) -> float:
     """The payload (kg, at least 0) from recorded torques (payload_estimation.estimate)."""
     return max(0.0, estimate(samples, inverse_dynamics).mass_kg)
@@ -114,12 +125,13 @@ def identmove(call: MotionCall) -> Iterator[Any]:
     here, via = robot.tcp_pose(call.tool), call.via[0]
     if type(via) is Pose:  # blending must not begin before the final motion is known
         zone = min(zone, 0.5 * math.dist((here.x, here.y, here.z), (via.x, via.y, via.z)))
-    to_via = dataclasses.replace(to_via, keyword=call.keyword, zone_m=zone, until=None, record_s=RECORD_S,
-                                 time_s=max(to_via.time_s or 0.0, RECORD_S + LEAD_S))
+    record_s, window = identify_window(robot, robot.joints())
+    to_via = dataclasses.replace(to_via, keyword=call.keyword, zone_m=zone, until=None, record_s=record_s,
+                                 time_s=max(to_via.time_s or 0.0, record_s + LEAD_S))
     ticket = yield to_via
     # the first sample is one cycle into the motion, the last RECORD_S into it
     while not ticket.done and (not ticket.recording
-                               or robot.time_s() < ticket.recording[0].time_s + RECORD_S - robot.dt_s - 1e-9):
+                               or robot.time_s() < ticket.recording[0].time_s + record_s - robot.dt_s - 1e-9):
         yield None
     if ticket.outcome == "fault":
         raise ticket.error if ticket.error is not None else BehaviourError("the motion toward the via point failed")
@@ -134,7 +146,7 @@ def identmove(call: MotionCall) -> Iterator[Any]:
     else:
         tare, then = next(((r, f) for k, r, f in reversed(tares) if _same_path(k, path)), (None, None))
         change = None if then is None or friction is None else change_since(then, friction)
-        found = estimate(ticket.recording, robot.inverse_dynamics, tare, change)
+        found = estimate(ticket.recording, robot.inverse_dynamics, tare, change, window)
     payload_kg = max(0.0, found.mass_kg)
     record = process_log(robot)
     record.signals["payload_kg"] = payload_kg

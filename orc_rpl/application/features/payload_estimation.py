@@ -65,7 +65,7 @@ class PayloadEstimate:
 
 
 def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[float]],
-             tare: Sequence[Any] | None = None, friction_change: Any = None) -> PayloadEstimate:
+             tare: Sequence[Any] | None = None, friction_change: Any = None, window: int = WINDOW) -> PayloadEstimate:
     """The payload from samples (time_s, q, qd, torque) and the controller's model `inverse_dynamics(q, qd, qdd, kg)`.
 
     With `tare` (the same lift recorded holding nothing), window k of the tare is taken off window k of the
@@ -74,12 +74,13 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
 
     `friction_change` (with a tare: the controller's estimate of how the joint friction changed since the tare,
     motion.gear_friction.FrictionChange): its torque, Coulomb dc tanh(qd / SIGN_SMOOTH_RAD_S) + viscous dv qd,
-    is taken off too, and its uncertainty widens the offset's and the viscous friction's priors."""
+    is taken off too, and its uncertainty widens the offset's and the viscous friction's priors. `window`: samples
+    averaged into one window (WINDOW; on elastic gears a period of their lowest anti-resonance: `identify_window`)."""
     if tare is None:
-        rows = _windows(samples)
+        rows = _windows(samples, window_size=window)
         reference = None
     else:
-        both = [(a, b) for a, b in zip(_windows(samples, keep=True), _windows(tare, keep=True))
+        both = [(a, b) for a, b in zip(_windows(samples, True, window), _windows(tare, True, window))
                 if a is not None and b is not None]
         rows, reference = [a for a, _ in both], [b for _, b in both]
     if not rows:
@@ -122,7 +123,7 @@ def estimate(samples: Sequence[Any], inverse_dynamics: Callable[..., Sequence[fl
     return PayloadEstimate(float(theta[0]), float(math.sqrt(max(covariance[0, 0], 0.0))), k)
 
 
-def _windows(samples: Sequence[Any], keep: bool = False) -> list[Any]:
+def _windows(samples: Sequence[Any], keep: bool = False, window_size: int = WINDOW) -> list[Any]:
     """(q, qd, qdd, mean torque) per clean window: q at its middle, qd its mean, qdd the velocity change across it
     over its length, against the torque between the samples (the mean of each cycle's two ends: the motor
     torque is sampled at the cycle's boundaries, the velocity changes in between). A window in which the
@@ -131,8 +132,8 @@ def _windows(samples: Sequence[Any], keep: bool = False) -> list[Any]:
     measured motion do not average alike (with `keep`, it is None in its place, so two recordings' windows stay
     paired by index). A joint whose measured speed is noisy (SPEED_NOISE_RAD_S) takes qdd from its angles."""
     spans = []
-    for start in range(0, len(samples) - WINDOW, WINDOW):
-        window = samples[start: start + WINDOW + 1]
+    for start in range(0, len(samples) - window_size, window_size):
+        window = samples[start: start + window_size + 1]
         t = np.array([s.time_s for s in window])
         if np.any(np.diff(t) <= 0):
             spans.append((window, t, None, None))
@@ -163,7 +164,7 @@ def _windows(samples: Sequence[Any], keep: bool = False) -> list[Any]:
         qdd = tuple(qdd_array.tolist())
         torques = np.array([s.torque for s in window], dtype=float)
         torque = (torques[1:] + torques[:-1]).mean(axis=0) / 2  # the trapezoid: the torque between the samples
-        out.append((tuple(window[WINDOW // 2].q), tuple(qd.mean(axis=0).tolist()), qdd, torque))
+        out.append((tuple(window[window_size // 2].q), tuple(qd.mean(axis=0).tolist()), qdd, torque))
     return out
 
 
