@@ -125,9 +125,9 @@ def test_grinding_through_the_arm_feels_the_casting_on_elastic_gears(capsys: pyt
 
 @pytest.mark.sim
 def test_the_arm_force_estimate_averages_the_acceleration_over_the_gears_anti_resonance_only_on_elastic_gears() -> None:
-    from orc_rpl.application.features.deburring_arm import acceleration_window
+    from orc_rpl.application.features.gears import gear_period_cycles
 
     q = np.array([0.0, 0.3, 0.2, 0.0, 1.0, 0.0])
-    assert acceleration_window(CellRobot.virtual(), q) == 1
-    window = acceleration_window(CellRobot.virtual(plant="elastic-gears"), q)
+    assert gear_period_cycles(CellRobot.virtual(), q) == 1
+    window = gear_period_cycles(CellRobot.virtual(plant="elastic-gears"), q)
     assert 20 <= window <= 40  # j2's anti-resonance, about 55 rad/s: 0.11 s of 4 ms cycles

@@ -14,7 +14,7 @@ are the same. Through elastic gears they are the same only below the gears' anti
 held stiffly by its servo, shakes against its gear while its link hardly follows, and the model's inertia times
 the rotor's acceleration reads as a contact force of hundreds of newtons (on the IRB 2400's elastic gears the
 loop rang with it and never felt the casting). So the acceleration is the motors' averaged over one period of the
-gears' lowest anti-resonance at the links' inertia (`acceleration_window`): a window of one cycle on rigid gears.
+gears' lowest anti-resonance at the links' inertia (`features/gears.py` `gear_period_cycles`): a window of one cycle on rigid gears.
 
 The force loop moves the arm's path along -n (into the part) by an offset u, set at the motion rate as a path
 correction (TRACKMOVE's way):
@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.application.features.gears import gear_period_cycles as acceleration_window
+from orc_rpl.application.features.gears import gear_period_cycles
 from orc_rpl.application.runtime import BehaviourError, MotionRequest, MotionView
 from orc_rpl.motion.gear_friction import SIGN_SMOOTH_RAD_S  # the sharp Coulomb term of the friction estimate
 from orc_rpl.robot.friction import friction_torque_nm
@@ -105,7 +105,7 @@ class ArmForce:
             if t2 > t1 > t0:
                 qdd = ((q2 - q1) / (t2 - t1) - (q1 - q0) / (t1 - t0)) / (0.5 * (t2 - t0))
         if self._accelerations is None:
-            self._accelerations = deque(maxlen=acceleration_window(robot, q))
+            self._accelerations = deque(maxlen=gear_period_cycles(robot, q))
         self._accelerations.append(qdd)
         qdd = np.mean(self._accelerations, axis=0)
         needed = np.array(robot.inverse_dynamics(tuple(q), tuple(speed), tuple(qdd), 0.0)) + self._friction_nm(speed)
