@@ -108,14 +108,22 @@ class CellAxes:
         start_q = layer.planned_end_q()
         axes_end = self.planned()
         duration_s, motion = 0.0, None
+        previous: tuple[float, float] | None = None   #: the last guess and how far its prediction was from it
         for _ in range(BELT_ITERATIONS):
             ahead = {**now, **{name: now.get(name, 0.0) + axis.speed_si * duration_s for name, axis in self._conveyors.items()}}
             goal = Pose.from_matrix(frame_of(ahead).matrix() @ local.matrix(), "world")
             motion = CartesianMotion(self.in_base(goal, axes_end), kind=request.kind, tool=tool)
-            predicted = layer.simulate([(motion, params)], start_q).move_times_s[0]
-            if abs(predicted - duration_s) * max(abs(a.speed_si) for a in self._conveyors.values()) < BELT_TOLERANCE_M:
+            miss_s = layer.simulate([(motion, params)], start_q).move_times_s[0] - duration_s
+            if abs(miss_s) * max(abs(a.speed_si) for a in self._conveyors.values()) < BELT_TOLERANCE_M:
                 break
-            duration_s = predicted
+            # the predicted duration itself first, then the secant on the miss: taking the prediction as the next
+            # guess alone oscillates where the duration changes nearly as fast as the target is carried away
+            # (moves from rest averaged over elastic gears' periods: 0.472, 0.34, 0.384, 0.364 s, 2 mm off)
+            step_s = miss_s
+            if previous is not None and miss_s != previous[1]:
+                step_s = -miss_s * (duration_s - previous[0]) / (miss_s - previous[1])
+            previous = (duration_s, miss_s)
+            duration_s = max(0.0, duration_s + step_s)
         if self.external is not None:
             return self.external.request(layer, motion, params, {}, actions)
         return layer.move(motion, params, actions)
