@@ -146,8 +146,7 @@ class SenderView(LiveView):
 
     def finish(self) -> None:
         """Show the last state of the run, whatever the rate, and wait until it is sent; stop listening."""
-        if self.on_tick in self._listening:
-            self._listening.remove(self.on_tick)
+        self._listening.discard(self.on_tick)
         self._trace_new.append(self._tcp_m())
         self.update()
         self.sender.close()
