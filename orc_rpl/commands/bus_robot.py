@@ -43,6 +43,8 @@ def check_options(args: argparse.Namespace) -> None:
 
     if getattr(args, "plant", None) is not None:
         raise UsageError("--plant: a real arm (--port) is its own plant; --plant chooses the simulated one")
+    if getattr(args, "seed", None) is not None:
+        raise UsageError("--seed: a real arm (--port) has no simulated noise to seed; --seed seeds the simulated plant's")
     check_bus_robot(args.robot, "--robot (with --port)")
     if not os.path.exists(args.port):
         raise UsageError(f"--port: no such device {args.port!r} (is the arm plugged in? is the emulator running?)")

@@ -115,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from orc_rpl.commands.run import simulated_plant, world_cell
+    from orc_rpl.commands.run import simulated_plant, simulated_seed, world_cell
     from orc_rpl.executive.cell_robot import CellRobot
     from orc_rpl.executive.sim_io import load_script
     from orc_rpl.motion.sensors import SensorManager
@@ -130,7 +130,7 @@ def _run(args: argparse.Namespace) -> int:
         world_file = args.world if args.world is not None and Path(args.world).is_file() else None
         cell, cell_world = world_cell(world_file, args.robot)
         name = cell.robot if cell is not None else args.robot
-        cell_robot = CellRobot.virtual(name, backend=args.backend, plant=simulated_plant(args, name), seed=args.seed, cell=cell)
+        cell_robot = CellRobot.virtual(name, backend=args.backend, plant=simulated_plant(args, name), seed=simulated_seed(args), cell=cell)
         if cell_world is not None:
             cell_robot.attach_world(cell_world)  # its tracks and positioners: jogged, taught, moved with the arm
         robot = PendantRobot(cell_robot)

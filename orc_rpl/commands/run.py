@@ -247,7 +247,7 @@ def _run(args: argparse.Namespace, source: str, program: Any, registry: Any, ove
     else:
         name = cell.robot if cell is not None else args.robot
         robot = CellRobot.virtual(robot=name, realtime=paced, record=record, plant=simulated_plant(args, name),
-                                  seed=args.seed, cell=cell)
+                                  seed=simulated_seed(args), cell=cell)
         robot.sensors.allow_devices = args.allow_devices  # a simulated run touches no device unless asked
         if cell_world is not None:
             robot.attach_world(cell_world)  # its tracks and positioners move with the arm
@@ -406,10 +406,18 @@ def add_cell_options(parser: argparse.ArgumentParser) -> None:
                              "feedback (IRB 2400; slower, and some applications not yet tuned for them: "
                              "docs/robots.md, 'Which plant'); ideal: the controller's own model, exactly "
                              "(simulation only: not with --port)")
-    parser.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the plant's noise (default 0)")
+    # No default here, so that a real arm (--port) can refuse a seed it would not use; a simulated cell reads
+    # it through simulated_seed.
+    parser.add_argument("--seed", metavar="N", type=int, default=None,
+                        help="seed of the plant's noise (default 0; simulation only: not with --port)")
     parser.add_argument("--sim", metavar="FILE.sim.yaml",
                         help="the simulated equipment (IO events, weld guns, parts, castings, seam) instead of the "
                              "program's own <name>.sim.yaml: a variation of the cell (simulation only)")
+
+
+def simulated_seed(args: argparse.Namespace) -> int:
+    """The seed of the simulated plant's noise: --seed, else 0."""
+    return 0 if args.seed is None else args.seed
 
 
 def equipment_script(args: argparse.Namespace, program: str | None, world_dir: str | None) -> Path | None:

@@ -83,6 +83,16 @@ def test_an_arm_that_is_not_there_is_refused_before_anything_moves(tmp_path: Pat
     assert code == 2 and "--calibration needs --port" in err
 
 
+@pytest.mark.parametrize("option, value, says", [
+    ("--plant", "ideal", "--plant: a real arm (--port) is its own plant"),
+    ("--seed", "3", "--seed: a real arm (--port) has no simulated noise to seed"),
+])
+def test_what_only_a_simulated_cell_has_is_refused_on_a_real_arm(tmp_path: Path, option: str, value: str,
+                                                                  says: str) -> None:
+    code, _, err, _ = orc_run(tmp_path, MOVES + "MOVE jaws TO a\n", "--port", str(tmp_path / "ttyUSB0"), option, value)
+    assert code == 2 and says in err
+
+
 def test_the_desk_arm_demo_runs_unchanged_on_the_simulated_cell_and_on_the_emulated_bus(tmp_path: Path) -> None:
     text = (Path(__file__).parents[2] / "programs" / "online" / "demo_desk_arm.rpl").read_text(encoding="utf-8")
     code, simulated, err, sim = orc_run(tmp_path, text)
