@@ -31,7 +31,9 @@ defines it, measured on the TCP every motion cycle) minus REACTION, the largest;
 reduction of the thesis weld with Tracking's gain against TRACKMOVE's standard gain); and CALIBRATE's settling
 (12 kg the program did not declare, a 50 mm approach at 1.5 m/s) with the default gains, the fixed 1.5x boost
 alone and the identified tuning: calibrate_vs_boost_settle_pct is what the identification adds to the boost; each
-part of the identified tuning switched off in turn (calibrate_identified_without_*); on the realistic plant with
+part of the identified tuning switched off in turn (calibrate_identified_without_*), and the boost with the identified
+friction part only (calibrate_boost_with_identified_friction_*: what the rest of the identification adds to that);
+`--only calibrate` prints these alone; on the realistic plant with
 its elastic gears (calibrate_*) and with rigid gears (calibrate_rigid_*). `--plant elastic-gears` runs the realistic
 part on the elastic gears under their feed-forward and the state feedback (`orc run --plant elastic-gears`; the
 calibrate_* then with that servo, calibrate_rigid_* as before) and leaves the ideal plant out.
@@ -605,7 +607,8 @@ def _grinding_run(plant: str, program: Path, source: str, casting_on: bool,
 #: The variants of the tuning comparison: the default gains, the fixed boost alone, the identified tuning, and the
 #: identified tuning with one part switched off (assembly_behaviour.PARTS), to credit each part its effect.
 TUNING_VARIANTS = ("default", "boost", "identified", "identified_without_load", "identified_without_friction",
-                   "identified_without_placement", "identified_without_inertia", "identified_without_feedforward")
+                   "identified_without_placement", "identified_without_inertia", "identified_without_feedforward",
+                   "boost_with_identified_friction")
 
 
 def settle_ms(variant: str, plant: str, elastic: bool = False) -> float:
@@ -648,6 +651,11 @@ def settle_ms(variant: str, plant: str, elastic: bool = False) -> float:
                              "boost only")
     elif variant == "identified":
         tuning = executive.machine.globals["BoltTuning"]
+    elif variant == "boost_with_identified_friction":   # the simplest alternative to the identification's other parts
+        found = executive.machine.globals["BoltTuning"]
+        tuning = ServoTuning(tuple(kp * BOOST), tuple(bw * BOOST), (gains.integral_bw_rad_s,) * n, zero, zero, zero,
+                             "boost with the identified friction", friction_factor=found.friction_factor,
+                             friction_smooth_rad_s=found.friction_smooth_rad_s)
     elif variant.startswith("identified_without_"):
         recorded, args, kwargs = recordings[-1]
         tuning = identify_once(recorded, *args, **kwargs, leave_out=frozenset({variant.split("_without_")[1]}))
@@ -688,14 +696,18 @@ def main() -> None:
     parser.add_argument("--plant", choices=("realistic", "elastic-gears"), default="realistic",
                         help="the plant of the figures without a prefix (default: realistic, as orc run makes it; "
                              "elastic-gears: the realistic plant with elastic gears, without the ideal_ figures)")
+    parser.add_argument("--only", choices=("calibrate",),
+                        help="calibrate: only CALIBRATE's tuning comparison (tuning(), a minute or two)")
     args = parser.parse_args()
     ELASTIC_GEARS[0] = args.plant == "elastic-gears"
     print(f"plant={args.plant}", flush=True)
     # the ideal plant's figures do not depend on --plant: printed with the default only
     for plant, prefix in (("realistic", ""),) + ((("ideal", "ideal_"),) if not ELASTIC_GEARS[0] else ()):
-        figures = {**identification(args.trials, args.seed, plant), **processes(plant), **servo_force_estimate(plant),
-                   **servo_baseline(plant), **arm_grinding(plant),
-                   **tuning(plant)}
+        if args.only == "calibrate":
+            figures = tuning(plant)
+        else:
+            figures = {**identification(args.trials, args.seed, plant), **processes(plant),
+                       **servo_force_estimate(plant), **servo_baseline(plant), **arm_grinding(plant), **tuning(plant)}
         for key, value in figures.items():
             print(f"{prefix}{key}={value}", flush=True)
 

@@ -84,6 +84,10 @@ class ServoTuning:
     #: feed-forward: the model's nominal joint friction (Coulomb and viscous) times these, per joint, while the
     #: tuning holds (a cold gearbox's friction, as identified); () keeps the nominal friction
     friction_factor: tuple[float, ...] = ()
+    #: the speed (rad/s) over which the Coulomb feed-forward's sign is smoothed on the joints under the state
+    #: feedback for elastic gears while the tuning holds (as identified: how sharply the friction turns with the
+    #: speed); 0 keeps FRICTION_SMOOTH_RAD_S
+    friction_smooth_rad_s: float = 0.0
 
     def __post_init__(self) -> None:
         n = len(self.position_gain_1_s)
@@ -96,6 +100,9 @@ class ServoTuning:
                 raise UsageError(f"tuning {name} must be >= 0, got {getattr(self, name)!r}")
         if not (np.isfinite(self.load_kg) and self.load_kg >= 0.0):
             raise UsageError(f"tuning load_kg must be a finite mass >= 0, got {self.load_kg!r}")
+        if not (np.isfinite(self.friction_smooth_rad_s) and self.friction_smooth_rad_s >= 0.0):
+            raise UsageError(f"tuning friction_smooth_rad_s must be a finite speed >= 0, "
+                             f"got {self.friction_smooth_rad_s!r}")
         factor = np.array(self.friction_factor, dtype=float)
         if factor.shape not in ((0,), (n,)) or not np.all(np.isfinite(factor)) or np.any(factor < 0):
             raise UsageError(f"tuning friction_factor must be {n} finite numbers >= 0 or none, got {self.friction_factor!r}")

@@ -313,6 +313,7 @@ class ServoLoop:
         self.servo.set_tuning(tuning, q)
         if law is not None:  # the state feedback's integral action is its filter's unknown torques: bumpless there
             law.model_changed(np.array(self.servo.inverse_dynamics(q, zero, zero)) - weight)
+            law.set_friction_smooth(None if tuning is None else tuning.friction_smooth_rad_s)
 
     def attach_logger(self, logger: Logger, every_steps: int = 1, tool: Any = None) -> None:
         """Record q, qd, tau, position_error, tau_ff and the TCP position ("tcp", m) every so many servo steps."""

@@ -197,6 +197,9 @@ class TwoMassStateFeedback:
         #: link's unknown torque, the rotor's held), False at rest (w the rotor's, the link's held)
         self.moving = np.zeros(m, dtype=bool)
         self._no_friction = np.zeros(n)
+        #: the speed over which the Coulomb feed-forward's and the filter's friction sign is smoothed (a tuning's:
+        #: `set_friction_smooth`)
+        self.friction_smooth_rad_s = FRICTION_SMOOTH_RAD_S
         self._no_speeds = np.zeros(n)
         # the schedule's constants as the module has them when the law is made (the compiled schedule's `_tuning` too)
         self._iterations, self._moving_rad_s, self._rest_to_link = RICCATI_ITERATIONS, MOVING_RAD_S, REST_TORQUE_TO_LINK
@@ -213,7 +216,7 @@ class TwoMassStateFeedback:
                           kernels.GAINS_SETTLED, kernels.MOVING, kernels.REST_TO_LINK, kernels.ITERATIONS]] = (
                 self.bandwidth_rad_s, MOTOR_WEIGHT, ROTOR_NOISE_NM, LINK_NOISE_NM, DISTURBANCE_WALK_NM, REST_WALK_NM,
                 ANGLE_NOISE_RAD, SPEED_NOISE_RAD_S, self.period_s, EXPM_TERMS, FRICTION_POSITION_GAIN_1_S,
-                FRICTION_SMOOTH_RAD_S, self._inertia_tolerance, self._gains_settled, self._moving_rad_s,
+                self.friction_smooth_rad_s, self._inertia_tolerance, self._gains_settled, self._moving_rad_s,
                 self._rest_to_link, self._iterations)
 
     @property
@@ -358,6 +361,16 @@ class TwoMassStateFeedback:
         w[self.moving] += change[self.moving]
         self.held_link_nm[~self.moving] += change[~self.moving]
 
+    def set_friction_smooth(self, speed_rad_s: float | None) -> None:
+        """Smooth the rotors' Coulomb friction sign over speed_rad_s (a tuning's identified sharpness; None or 0:
+        FRICTION_SMOOTH_RAD_S again), in the feed-forward and in the filter's prediction. The servo's smoothing is
+        broader than the gears' friction turns: over the slow end of a move its Coulomb term faded while the
+        rotors' friction held, the filter learnt the difference and pushed the rotors past their target with it
+        once they stuck (docs/assembly.md)."""
+        self.friction_smooth_rad_s = float(speed_rad_s) if speed_rad_s else FRICTION_SMOOTH_RAD_S
+        if self._kernels is not None:
+            self._tuning[self._kernels.FRICTION_SMOOTH] = self.friction_smooth_rad_s
+
     def switch(self, moving: np.ndarray) -> bool:
         """Joints whose reference starts or stops moving: w changes sides, the other side's held (a start takes
         REST_TORQUE_TO_LINK of the rest's w to the link). True on a change (the model changes: `schedule` again)."""
@@ -414,7 +427,7 @@ class TwoMassStateFeedback:
         if self.friction is not None:
             rotor, rotor_d = theta_ref[sel], theta_d_ref[sel]
             demand_speed = rotor_d + FRICTION_POSITION_GAIN_1_S * (rotor - theta[sel])
-            ff = ff + self.friction[0][sel] * np.tanh(demand_speed / FRICTION_SMOOTH_RAD_S) + self.friction[1][sel] * rotor_d
+            ff = ff + self.friction[0][sel] * np.tanh(demand_speed / self.friction_smooth_rad_s) + self.friction[1][sel] * rotor_d
         return ff - self.k @ (x[: 4 * m] - reference), ff
 
     def applied(self, tau_nm: np.ndarray, theta_d: np.ndarray) -> None:
@@ -429,7 +442,7 @@ class TwoMassStateFeedback:
         sel = self.joints
         u = tau_nm[sel] + np.where(self.moving, self.held_rotor_nm, 0.0)   # the held rotor torque: an input while moving
         if self.friction is not None:
-            u = u - friction_torque_nm(self.friction[0][sel], self.friction[1][sel], theta_d[sel], FRICTION_SMOOTH_RAD_S)
+            u = u - friction_torque_nm(self.friction[0][sel], self.friction[1][sel], theta_d[sel], self.friction_smooth_rad_s)
         self.state[:] = self.ad @ self.state + self.bd @ np.concatenate([u, self._link_other])
 
     def _friction_rows(self) -> tuple[np.ndarray, np.ndarray]:

@@ -173,3 +173,32 @@ def test_a_tuning_that_adds_a_load_to_the_model_takes_it_from_the_unknown_torque
     # the model now has the weight the filter had learnt: the unknown torque gives it up (j2 and j3 carry it)
     assert np.all(np.abs(after[1:]) < 0.5 * np.abs(before[1:]))
     assert moved < still + 5e-6, f"the links moved {moved:.2e} rad after the switch (without the load {still:.2e})"
+
+
+def test_a_tuning_hands_its_friction_sharpness_to_the_state_feedback_for_its_motion_only() -> None:
+    """The Coulomb feed-forward's and the filter's friction sign are smoothed over the tuning's identified speed
+    while it holds, over the servo's own again after it (and with a tuning that identified none)."""
+    from orc_rpl.servo.control import FRICTION_SMOOTH_RAD_S
+
+    layer = make_virtual_motion_layer("irb2400", plant="realistic", elastic=True, gear_feedforward=True,
+                                      state_feedback=True)
+    loop, n = layer.backend.loop, 6
+    law = loop.state_feedback
+    kernels = law._kernels
+
+    def smoothing() -> float:
+        if kernels is not None:   # the compiled law reads its copy
+            assert law._tuning[kernels.FRICTION_SMOOTH] == law.friction_smooth_rad_s
+        return law.friction_smooth_rad_s
+
+    tuning = ServoTuning((40.0,) * n, (160.0,) * n, (15.0,) * n, (0.0,) * n, (0.0,) * n, (0.0,) * n,
+                         friction_smooth_rad_s=0.025)
+    loop.set_tuning(tuning)
+    assert smoothing() == 0.025
+    loop.set_tuning(None)
+    assert smoothing() == FRICTION_SMOOTH_RAD_S
+    loop.set_tuning(ServoTuning((40.0,) * n, (160.0,) * n, (15.0,) * n, (0.0,) * n, (0.0,) * n, (0.0,) * n))
+    assert smoothing() == FRICTION_SMOOTH_RAD_S
+    with pytest.raises(UsageError, match="friction_smooth_rad_s"):
+        ServoTuning((40.0,) * n, (160.0,) * n, (15.0,) * n, (0.0,) * n, (0.0,) * n, (0.0,) * n,
+                    friction_smooth_rad_s=-0.01)

@@ -8,6 +8,7 @@
             (inertia, friction, weight the model lacks);
         load: the constant torques c as one mass at the flange, fed forward through the model at every pose;
         friction: fc over the servo's nominal Coulomb friction, a factor on the nominal friction it feeds forward;
+            on elastic gears also how sharply it turns with the speed (the smoothing of tanh that fits best);
         gains: BOOST times the robot's own, the velocity loop scaled by the identified inertia; a joint with an
         elastic gear whose anti-resonance (at the identified inertia) the boost would cross keeps its own;
         feed-forward corrections dJ, b, c for what the load and the friction do not explain.
@@ -100,6 +101,12 @@ FRICTION_FACTOR_RANGE = (0.5, 3.0)
 #: times the cold-start friction the servo already fed forward; rigid gears' 0.2 rad/s read 2.15 to 2.56 times the
 #: nominal against the plant's 2.2).
 MIN_FRICTION_SPEED_RAD_S = 2.0 * FRICTION_SMOOTH_RAD_S
+#: How sharply the friction turns with the speed: the Coulomb term's smoothing speeds (rad/s) the fit tries, the
+#: servo's own first; a joint's is the one that leaves the least residual. Identified on the joints that turned
+#: faster than MIN_SHARPNESS_SPEED_RAD_S (rms), the tuning takes their median; the state feedback for elastic gears
+#: smooths its Coulomb feed-forward over it while the tuning holds (ServoTuning.friction_smooth_rad_s).
+FRICTION_SMOOTH_CANDIDATES_RAD_S = (FRICTION_SMOOTH_RAD_S, 0.04, 0.03, 0.025, 0.02, 0.015, 0.01)
+MIN_SHARPNESS_SPEED_RAD_S = 0.02
 
 
 def identify(recordings: list[list[Sample]], model: Callable[..., Any], q0: tuple[float, ...], load_kg: float,
@@ -125,6 +132,10 @@ def identify(recordings: list[list[Sample]], model: Callable[..., Any], q0: tupl
     d_inertia, d_viscous, d_offset, coulomb = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
     excited = np.sqrt(np.mean(qdd ** 2, axis=0)) >= MIN_EXCITATION_RAD_S2
     with_coulomb = friction is not None and "friction" not in leave_out
+    speed_rms = np.sqrt(np.mean(qd ** 2, axis=0))
+    # only elastic gears' state feedback reads it (on rigid gears the tuning is as before)
+    sharp = [_sharpness(qdd[:, j], qd[:, j], residual[:, j]) for j in range(n) if with_coulomb
+             and gains.gear_stiffness_nm_rad and excited[j] and speed_rms[j] >= MIN_SHARPNESS_SPEED_RAD_S]
     for j in range(n):
         if excited[j]:
             columns = [qdd[:, j], qd[:, j], np.ones(len(q))]
@@ -140,7 +151,7 @@ def identify(recordings: list[list[Sample]], model: Callable[..., Any], q0: tupl
         # the friction of the joints the path moved, over the nominal; the others take their median (the gearboxes
         # of a robot started cold warm up together)
         nominal_c = np.asarray(friction[0], dtype=float)  # type: ignore[index]
-        fast = np.sqrt(np.mean(qd ** 2, axis=0)) >= MIN_FRICTION_SPEED_RAD_S
+        fast = speed_rms >= MIN_FRICTION_SPEED_RAD_S
         measured = excited & fast & (nominal_c > 0)
         factor[measured] = coulomb[measured] / nominal_c[measured]
         f_low, f_high = FRICTION_FACTOR_RANGE
@@ -196,7 +207,16 @@ def identify(recordings: list[list[Sample]], model: Callable[..., Any], q0: tupl
     if not np.all(trusted | ~excited):
         notes.append("inertia not trusted on joint " + ", ".join(str(j + 1) for j in np.nonzero(excited & ~trusted)[0]))
     return _tuning(gains, kp, bw, ratio, d_inertia, d_viscous, d_offset, extra_kg, "; ".join(notes),
-                   tuple(factor.tolist()) if with_coulomb else ())
+                   tuple(factor.tolist()) if with_coulomb else (), float(np.median(sharp)) if sharp else 0.0)
+
+
+def _sharpness(qdd: np.ndarray, qd: np.ndarray, residual: np.ndarray) -> float:
+    """The Coulomb term's smoothing speed (of FRICTION_SMOOTH_CANDIDATES_RAD_S) that fits one joint's residual best."""
+    def misfit(smooth_rad_s: float) -> float:
+        columns = np.column_stack([qdd, qd, np.ones(len(qd)), np.tanh(qd / smooth_rad_s)])
+        fit, *_ = np.linalg.lstsq(columns, residual, rcond=None)
+        return float(np.sum((columns @ fit - residual) ** 2))
+    return min(FRICTION_SMOOTH_CANDIDATES_RAD_S, key=misfit)
 
 
 def _inertia(model: Callable[..., Any], q0: tuple[float, ...], load_kg: float) -> np.ndarray:
@@ -210,13 +230,16 @@ def _inertia(model: Callable[..., Any], q0: tuple[float, ...], load_kg: float) -
 
 def _tuning(gains: ServoGains, kp: np.ndarray, bw: np.ndarray, ratio: np.ndarray, d_inertia: np.ndarray,
             d_viscous: np.ndarray, d_offset: np.ndarray, load_kg: float, note: str,
-            friction_factor: tuple[float, ...] = ()) -> ServoTuning:
+            friction_factor: tuple[float, ...] = (), friction_smooth_rad_s: float = 0.0) -> ServoTuning:
     ibw = np.full(len(ratio), gains.integral_bw_rad_s)
     friction = f", friction = {_numbers(np.array(friction_factor), 2)} x nominal" if friction_factor else ""
+    if friction_smooth_rad_s:
+        friction += f" turning within {friction_smooth_rad_s:g} rad/s"
     label = (f"tuning(bandwidth = {_numbers(bw, 0)} rad/s, inertia = {_numbers(ratio, 3)} x model, "
              f"load = {load_kg:.1f} kg{friction}, offset = {_numbers(d_offset, 1)} N m" + (f", {note}" if note else "") + ")")
     return ServoTuning(tuple(kp.tolist()), tuple((bw * ratio).tolist()), tuple(ibw.tolist()), tuple(d_inertia.tolist()),
-                       tuple(d_viscous.tolist()), tuple(d_offset.tolist()), label, float(load_kg), friction_factor)
+                       tuple(d_viscous.tolist()), tuple(d_offset.tolist()), label, float(load_kg), friction_factor,
+                       friction_smooth_rad_s)
 
 
 def _numbers(values: np.ndarray, digits: int) -> str:
