@@ -1,6 +1,6 @@
 """External axes benchmark: coordinated motion on the turning positioner, measured in the simulated cell.
 
-Run: python benchmarks/bench_external_axes.py [--plant realistic|elastic-gears|ideal] [--seed 1]
+Run: python benchmarks/bench_external_axes.py [--plant realistic|elastic-gears|ideal] [--seed 1] [--scaled-averaging]
 
 The cell is worlds/positioner_cell.yaml: the robot on its track, the plate on the positioner's turn table.
 The torch moves along the plate's seam (200 mm) while the table turns a quarter and the track carries the
@@ -10,7 +10,9 @@ bodies), and its distance from the programmed straight seam is taken: `coordinat
 target at most 0.5). Baseline in the same run, the same motion with the axes' drives given their reference
 alone, without the lead that makes up for their time lag (what a stage that did not know its lag would do):
 `no_lead_tcp_dev_mm`. Also printed: the motion's duration against the shortest the turn's speed and
-acceleration limits allow (`duration_over_turn_limit`), and the axes' final errors.
+acceleration limits allow (`duration_over_turn_limit`), and the axes' final errors. --scaled-averaging: on
+elastic gears, each move from rest averaged over only as much of the gears' periods as its steps twist them
+(make_virtual_motion_layer(..., scaled_averaging=True), opt-in; docs/motion.md, "Averaging on elastic gears").
 """
 
 from __future__ import annotations
@@ -35,10 +37,11 @@ CELL = Path(__file__).resolve().parents[1] / "worlds" / "positioner_cell.yaml"
 TARGETS = {"turn": math.pi / 2, "track": 0.2}
 
 
-def run(plant: str, seed: int, lead: bool) -> dict[str, float]:
+def run(plant: str, seed: int, lead: bool, scaled_averaging: bool = False) -> dict[str, float]:
     """One coordinated seam: the largest TCP deviation from the seam relative to the plate, and what it took."""
     world = load_world(CELL)
-    layer = make_virtual_motion_layer(cell=cell_from_world(world), plant=plant, seed=seed)
+    layer = make_virtual_motion_layer(cell=cell_from_world(world), plant=plant, seed=seed,
+                                      scaled_averaging=scaled_averaging)
     layer.external = external_axes_of(world)
     backend = layer.backend
     if not lead:
@@ -71,11 +74,15 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--plant", default="realistic", choices=SIMULATED_PLANTS)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--scaled-averaging", action="store_true", help="elastic gears: the opt-in scaled averaging")
     args = parser.parse_args()
-    with_lead = run(args.plant, args.seed, lead=True)
-    without = run(args.plant, args.seed, lead=False)
+    if args.scaled_averaging and args.plant != "elastic-gears":
+        parser.error("--scaled-averaging is for --plant elastic-gears")
+    with_lead = run(args.plant, args.seed, lead=True, scaled_averaging=args.scaled_averaging)
+    without = run(args.plant, args.seed, lead=False, scaled_averaging=args.scaled_averaging)
     limit_s = shortest_time_s(TARGETS["turn"], external_axes_of(load_world(CELL)).limits["turn"])
     print(f"plant={args.plant}")
+    print(f"scaled_averaging={args.scaled_averaging}")
     print(f"coordinated_tcp_dev_mm={with_lead['dev_mm']:.3f}")
     print(f"no_lead_tcp_dev_mm={without['dev_mm']:.3f}")
     print(f"duration_s={with_lead['duration_s']:.3f}")

@@ -13,6 +13,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
+from scipy.interpolate import CubicSpline
 from scipy.spatial.transform import Rotation, Slerp
 
 from orc_rpl.arm.external import AxisLimits, ExternalAxisStage
@@ -21,8 +22,6 @@ from orc_rpl.motion.specs import FunctionMotion, Motion, MoveStatus, Params
 from orc_rpl.world.pose import Pose
 from orc_rpl.world.world import World
 
-#: Step of the path parameter for the axes' derivatives by it (the path parameter runs over about a radian).
-DX = 1e-4
 #: Margin on an axis' shortest time (speed and acceleration limits) when it sets a move's least duration.
 TIME_MARGIN = 1.15
 
@@ -92,24 +91,30 @@ class ExternalAxes:
         return [ExternalAxisStage(name, self._profile(traj, name), self.limits[name]) for name in self.limits]
 
     def _profile(self, traj: Any, name: str) -> Any:
-        moves = self.moves
+        """The axis' value along the path parameter x and its derivatives by x: a cubic spline through its values at
+        the path's knots, interpolated as the arm's joint path is (SplinePath), so that between the knots the axis and
+        the arm stay on one path and e'' is the spline's, continuous (a difference quotient of the values, linear in s
+        between the knots, was a spike wherever its stencil held a knot: a stage's range of s'' far off for a cycle,
+        and the arm's references with it)."""
+        knots = np.asarray(traj.path.x_knots, dtype=float)
+        x_first, x_last = float(knots[0]), float(knots[-1])
+        made: list[CubicSpline] = []
 
-        def value(x: float) -> float:
-            owners, ss = traj.path.owner_and_s(np.array([x]))
-            start_end = moves.get(int(owners[0]))
-            if start_end is None:
-                return self.planned[name]
-            start, end = start_end
-            return start[name] + (end[name] - start[name]) * float(ss[0])
+        def spline() -> CubicSpline:
+            # made at the first call, from the moves as they are then (a move's axis targets are known by then; the
+            # others' value is the axes' planned one, as the request has it once the move is made)
+            if not made:
+                owners, ss = traj.path.owner_and_s(knots)
+                values = np.empty(len(knots))
+                for i, (owner, s) in enumerate(zip(owners.tolist(), ss.tolist())):
+                    start_end = self.moves.get(int(owner))
+                    values[i] = self.planned[name] if start_end is None else (
+                        start_end[0][name] + (start_end[1][name] - start_end[0][name]) * s)
+                made.append(CubicSpline(knots, values, bc_type="not-a-knot" if len(knots) > 2 else ((2, 0.0), (2, 0.0))))
+            return made[0]
 
         def profile(x: float, order: int) -> float:
-            if order == 0:
-                return value(x)
-            lo, hi = max(x - DX, float(traj.x_f[0])), min(x + DX, float(traj.x_f[-1]))
-            if order == 1:
-                return (value(hi) - value(lo)) / (hi - lo)
-            mid = 0.5 * (lo + hi)
-            return (value(hi) - 2.0 * value(mid) + value(lo)) / (0.25 * (hi - lo) ** 2)
+            return float(spline()(min(max(x, x_first), x_last), order))
 
         return profile
 
