@@ -1,7 +1,7 @@
 """Application benchmark: part identification (IDENTMOVE) over seeded trials, and the process figures of the demos,
 on the realistic plant and then on the ideal one (its keys prefixed `ideal_`).
 
-Run: python benchmarks/bench_applications.py [--trials 1000] [--seed 1]
+Run: python benchmarks/bench_applications.py [--trials 1000] [--seed 1] [--plant elastic-gears] [--only seam]
 
 Identification. The motion toward the via point is simulated on the MuJoCo cell for every combination of part
 mass (0, 0.3, 0.9, 2 kg: the demo's kinds), speed (the joints' limits, 0.5 m/s, 0.3 m/s) and via point (the
@@ -362,9 +362,17 @@ def processes(plant: str) -> dict[str, float]:
     figures["spot_good_welds"] = sum(w["good"] for w in welds)
     figures["spot_max_speed_at_close_mm_s"] = round(1000 * max((w["speed_m_s"] for w in welds), default=math.nan), 2)
     figures["spot_max_offset_at_close_mm"] = round(1000 * max((w["offset_m"] for w in welds), default=math.nan), 3)
+    return {**figures, **seam_figures(plant)}
+
+
+def seam_figures(plant: str) -> dict[str, float]:
+    """The thesis weld (thesis_2_3_seam_tracking.rpl) with Tracking's gain and with TRACKMOVE's standard gain
+    (`--only seam` prints these alone)."""
+    figures: dict[str, float] = {}
     seams = demo_process(plant, "programs/online/thesis_2_3_seam_tracking.rpl").get("seams", [])
     figures["seam_rms_mm"] = round(1000 * max((s["rms_m"] for s in seams), default=math.nan), 3)
     figures["seam_max_mm"] = round(1000 * max((s["max_m"] for s in seams), default=math.nan), 3)
+    figures["seam_gain"] = round(max((s["gain"] for s in seams), default=math.nan), 3)
     # the same weld without Tracking's gain (TRACKMOVE's standard low gain)
     untuned = demo_process(plant, "programs/online/thesis_2_3_seam_tracking.rpl",
                            ("  WITH TRACKING = OptTrack\n", "")).get("seams", [])
@@ -696,8 +704,9 @@ def main() -> None:
     parser.add_argument("--plant", choices=("realistic", "elastic-gears"), default="realistic",
                         help="the plant of the figures without a prefix (default: realistic, as orc run makes it; "
                              "elastic-gears: the realistic plant with elastic gears, without the ideal_ figures)")
-    parser.add_argument("--only", choices=("calibrate",),
-                        help="calibrate: only CALIBRATE's tuning comparison (tuning(), a minute or two)")
+    parser.add_argument("--only", choices=("calibrate", "seam"), default=None,
+                        help="only these figures, for working on one of them (calibrate: CALIBRATE's tuning "
+                             "comparison, tuning(), a minute or two; seam: the thesis weld, seam_*)")
     args = parser.parse_args()
     ELASTIC_GEARS[0] = args.plant == "elastic-gears"
     print(f"plant={args.plant}", flush=True)
@@ -705,6 +714,8 @@ def main() -> None:
     for plant, prefix in (("realistic", ""),) + ((("ideal", "ideal_"),) if not ELASTIC_GEARS[0] else ()):
         if args.only == "calibrate":
             figures = tuning(plant)
+        elif args.only == "seam":
+            figures = seam_figures(plant)
         else:
             figures = {**identification(args.trials, args.seed, plant), **processes(plant),
                        **servo_force_estimate(plant), **servo_baseline(plant), **arm_grinding(plant), **tuning(plant)}

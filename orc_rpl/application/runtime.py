@@ -57,6 +57,9 @@ class MotionRequest:
     #: path correction (TRACKMOVE), called every motion cycle: the TCP offset (world, m) from the planned path
     #: to apply from the next cycle on, or None to stop the motion on its path (the sensor lost the seam)
     correction: Callable[[MotionView], tuple[float, float, float] | None] | None = None
+    #: the correction reaches the servo as a smooth trajectory where the motion layer smooths (elastic gears), not
+    #: as a step each cycle (TRACKMOVE, whose Tracker models the smoothing; a force loop wants its steps)
+    smooth_correction: bool = False
     #: external-axis targets (m or rad) the axes reach with the arm, in the same path coordinate (AXES(p, ...))
     axes: tuple[tuple[str, float], ...] = ()
     #: coordinated motion: the world pose of the target's frame (on a moving frame) for given axis values

@@ -363,7 +363,7 @@ def _correction_action(request: MotionRequest, layer: MotionLayer, tool: np.ndar
             slot.signal(data.s)
             slot.request_stop()
         else:
-            layer.set_path_offset(np.asarray(offset, dtype=float), tool)
+            layer.set_path_offset(np.asarray(offset, dtype=float), tool, smooth=request.smooth_correction)
     acts.add("during", correct, "correction")
     return acts
 

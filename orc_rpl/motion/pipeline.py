@@ -18,6 +18,7 @@ from orc_rpl.motion.blending import blend
 from orc_rpl.motion.gear_friction import update_estimates
 from orc_rpl.motion.handle import MoveHandle
 from orc_rpl.motion.kinematics import Kinematics
+from orc_rpl.motion.path_offset import PathOffset, correction_omega_rad_s
 from orc_rpl.motion.paths import DensePath
 from orc_rpl.motion.planner import Planner, combine
 from orc_rpl.motion.short_move import short_trajectory
@@ -68,7 +69,7 @@ class MotionPipeline:
     #: the installed sensors (motion.sensors.SensorManager), read by actions through MotionData.sensors
     sensors: Any = None
     #: the path correction of a tracked move: a joint offset added to the planned references (set_path_offset)
-    _track_dq: np.ndarray | None = None
+    _track: PathOffset | None = None
     #: path velocity control (thesis 5.3) for moves that do not say (Params.path_velocity None)
     path_velocity_control: bool = False
     #: the path velocity controller of the running trajectory (None: the nominal one is played as planned)
@@ -143,7 +144,7 @@ class MotionPipeline:
 
     def _set_traj(self, traj: Trajectory, handles: list[MoveHandle]) -> None:
         if traj.kind != "brake":
-            self._track_dq = None  # a new move starts from the (corrected) reference; a stop keeps the correction
+            self._track = None  # a new move starts from the (corrected) reference; a stop keeps the correction
         windows = self.planner.smoothing_s
         if windows and traj.kind == "path" and traj.sd_f[0] == 0.0 and traj.smoothing_s != windows:
             traj = smoothed(traj, windows)  # no torque steps into elastic gears (the planner's own are averaged)
@@ -229,8 +230,9 @@ class MotionPipeline:
             else:
                 q_r, qd_r, qdd_r = scaled
                 self._rescale_end_times(pvc.lag_s())  # type: ignore[union-attr]
-            if self._track_dq is not None:
-                q_r = q_r + self._track_dq
+            if self._track is not None:
+                dq, dqd, dqdd = self._track.rows(len(q_r), self.dt_s / self.sub)
+                q_r, qd_r, qdd_r = q_r + dq, qd_r + dqd, qdd_r + dqdd
             self._hold_cache = None
             if self.external is not None:
                 x_end = (pvc.x, pvc.sd) if scaled is not None else (float(traj.x_f[rows][-1]), float(traj.sd_f[rows][-1]))
@@ -420,18 +422,23 @@ class MotionPipeline:
             set_tuning(tuning)
         self._tuning = tuning
 
-    def set_path_offset(self, offset_m: Any, tool: np.ndarray | None = None) -> None:
+    def set_path_offset(self, offset_m: Any, tool: np.ndarray | None = None, smooth: bool = False) -> None:
         """Track mode (thesis 5.2): move the running move's TCP by `offset_m` (world, m) from its planned path,
-        from the next motion cycle on (orientation kept: one Jacobian solve); a new move starts without it."""
+        from the next motion cycle on (orientation kept: one Jacobian solve); a new move starts without it. With
+        `smooth`, where moves from rest are averaged (elastic gears), the offset is reached as a smooth trajectory,
+        its speed and acceleration fed forward (motion.path_offset), rather than as a step."""
         if offset_m is None:
-            self._track_dq = None
+            self._track = None
             return
         # the offset is relative to the planned path: the correction the reference carries already is taken off
-        planned_q = self._q_ref - self._track_dq if self._track_dq is not None else self._q_ref
+        planned_q = self._q_ref - self._track.q if self._track is not None else self._q_ref
         jac = self.kin.arm.jacobian(planned_q, tool)
         twist = np.zeros(jac.shape[0])
         twist[:3] = offset_m
-        self._track_dq = np.linalg.lstsq(jac, twist, rcond=None)[0]
+        if self._track is None:
+            omega = correction_omega_rad_s(sum(self.planner.smoothing_s)) if smooth else None
+            self._track = PathOffset(len(planned_q), omega)
+        self._track.goal = np.linalg.lstsq(jac, twist, rcond=None)[0]
 
     def _data(self, h: MoveHandle, stage: str) -> MotionData:
         q = np.array(self.backend.q())

@@ -6,8 +6,10 @@
     TRACKMOVE torch TO EndPos WITH V = OptSpeed WITH SENSOR = LaserSensor WITH TRACKING = OptTrack
 
 Tracking is a path correction at the motion rate: every motion cycle the laser's lateral offset of the seam
-from the TCP, e, feeds a first-order low-pass (an integrator) c <- c + g e, and the TCP is moved by c along the
-lateral direction (horizontal, perpendicular to the straight path) from the next cycle on. The seam counts as
+from the TCP, e, added to the correction the servo has been given so far, a, feeds a first-order low-pass
+c <- c + g (a + e - c), and the TCP is moved by c along the lateral direction (horizontal, perpendicular to the
+straight path) from the next cycle on. On rigid gears a correction is a step (a = c: the integrator c <- c + g e);
+on elastic gears the motion layer smooths it (motion.path_offset) and the Tracker runs the same filter for a. The seam counts as
 lost (SeamLost, catchable with TRY ... ON SeamLost) when, once found, the laser sees no seam for LOST_CYCLES
 cycles, or when it is not found within ACQUIRE_M of the start; the robot stops on its path. A SensorFault of
 the laser (a lost link) also stops the robot on its path and is raised at the statement.
@@ -17,9 +19,9 @@ The design stages are open and replaceable (plain functions of the recording):
   rounded down to 1 mm/s; slope95 is the 95th percentile of |d offset / d s| of the seam's 10 mm mean line
   (the correction must move the torch sideways at slope * v), raggedness the RMS of the seam about that line.
 * Tracking: the gain g (per 4 ms cycle) minimising the RMS deviation of the corrected TCP from the seam's
-  10 mm mean line, simulated on the recording at that speed with the loop's delay (the seam's LoopDelay, which
-  RecordSeam took from the robot: `loop_delay_cycles`); a high gain passes the raggedness on to the torch, a low
-  one lags behind the curve.
+  10 mm mean line, simulated on the recording at that speed with the loop's delay and the smoothing of its
+  corrections (the seam's LoopDelay and Smoothing, which RecordSeam took from the robot: `loop_delay_cycles`);
+  a high gain passes the raggedness on to the torch, a low one lags behind the curve.
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from orc_rpl.application.features.gears import lowest_anti_resonance_rad_s
+from orc_rpl.application.features.gears import lowest_anti_resonance_rad_s, start_averaging_s
 from orc_rpl.application.process_log import SeamRecord, process_log
 from orc_rpl.application.runtime import (
     BehaviourError, InstallContext, MotionCall, MotionRequest, MotionView, run_to_end,
@@ -39,6 +41,7 @@ from orc_rpl.application.runtime import (
 from orc_rpl.application.standard_behaviour import standard_motion
 from orc_rpl.application.values import Record
 from orc_rpl.errors import MotionFault, SensorFault
+from orc_rpl.motion.path_offset import PathOffset, correction_omega_rad_s
 from orc_rpl.plant.processes.seam import cell_seam
 from orc_rpl.syntax.units import LENGTH, TIME, VELOCITY, Quantity
 from orc_rpl.world.pose import Joints, Pose
@@ -50,6 +53,7 @@ RAGGED_REF_M = 0.001        #: raggedness that halves the speed (OptimalSpeed)
 V_MIN_M_S, V_MAX_M_S = 0.01, 0.1
 MEAN_LINE_M = 0.01          #: the seam's mean line: its average over this length (about the weld pool)
 LOOP_DELAY = 3              #: cycles from a correction to the laser seeing it (one cycle + the servo's lag)
+SERVO_STEPS = 4             #: servo steps a motion cycle, over which the motion layer smooths a correction
 LOST_CYCLES = 3             #: the seam is lost after this many cycles without it
 ACQUIRE_M = 0.015           #: TRACKMOVE must find the seam within this distance of its start
 MOTION_TIMEOUT_S = 120.0
@@ -89,11 +93,18 @@ def lateral_direction(start: Any, end: Any) -> np.ndarray:
 
 
 class Tracker:
-    """The correction loop of one straight motion: c <- c + g e each cycle; None when the seam is lost."""
+    """The correction loop of one straight motion: c <- c + g (e + a - c) each cycle, a being the correction the
+    servo has been given so far (the motion layer's smoothing of c: `applied`); None when the seam is lost. Without
+    smoothing (rigid gears) a = c and the loop is the integrator c <- c + g e."""
 
     def __init__(self, sensor_name: str, lateral: np.ndarray, gain: float, read: Callable[[], Any],
-                 distance_m: float, strict: bool, signals: dict[str, float] | None = None) -> None:
+                 distance_m: float, strict: bool, signals: dict[str, float] | None = None,
+                 smoothing_rad_s: float | None = None, dt_s: float = 0.004) -> None:
         self.sensor_name, self.lateral, self.gain, self.read = sensor_name, lateral, gain, read
+        #: the correction as the motion layer hands it to the servo (motion.path_offset): a step, or on elastic gears
+        #: a smooth trajectory lagging c; the laser sees the TCP where that, not c, has put it
+        self.applied = PathOffset(1, smoothing_rad_s)
+        self.dt_s = dt_s
         self.signals = signals                         #: the process record's signals: seam_error_m each cycle
         self.errors: list[float] = []                  #: the laser's lateral error each cycle the seam was seen
         self.distance_m, self.strict = distance_m, strict
@@ -113,17 +124,20 @@ class Tracker:
             return None
         if value.found:
             self.found_once, self.missing = True, 0
-            self.samples.append((view.s, self.c + value.offset_m))
+            seam_m = float(self.applied.q[0]) + value.offset_m
+            self.samples.append((view.s, seam_m))
             self.errors.append(value.offset_m)
             if self.signals is not None:
                 self.signals["seam_error_m"] = value.offset_m
-            self.c += self.gain * value.offset_m
+            self.c += self.gain * (seam_m - self.c)
         else:
             self.missing += 1
             if self.strict and ((self.found_once and self.missing >= LOST_CYCLES)
                                 or (not self.found_once and view.s * self.distance_m > ACQUIRE_M)):
                 self.lost = True
                 return None
+        self.applied.goal[0] = self.c
+        self.applied.rows(SERVO_STEPS, self.dt_s / SERVO_STEPS)  # what the next cycle hands the servo
         v = self.c * self.lateral
         return (float(v[0]), float(v[1]), float(v[2]))
 
@@ -167,14 +181,17 @@ def record_seam(path: Any, *, robot: Any, tool: Pose, to_world: Callable[[Pose],
     run_to_end(robot, MotionRequest(keyword="RecordSeam", kind="joint", target=points[0], tool=tool),
                MOTION_TIMEOUT_S, "RecordSeam")
     delay_s = loop_delay_cycles(robot, robot.joints()) * robot.dt_s
+    smoothing = correction_omega_rad_s(start_averaging_s(robot))
     along: list[float] = []
     offsets: list[float] = []
     travelled = 0.0
     for a, b in zip(points, points[1:]):
         length = math.dist(_xyz(a), _xyz(b))
-        tracker = Tracker(name, lateral_direction(_xyz(a), _xyz(b)), STANDARD_GAIN, sensor.read, length, strict=False)
+        tracker = Tracker(name, lateral_direction(_xyz(a), _xyz(b)), STANDARD_GAIN, sensor.read, length, strict=False,
+                          smoothing_rad_s=smoothing, dt_s=robot.dt_s)
         run_to_end(robot, MotionRequest(keyword="RecordSeam", kind="linear", target=b, tool=tool,
-                                        speed_m_s=RECORD_SPEED_M_S, correction=tracker), MOTION_TIMEOUT_S, "RecordSeam")
+                                        speed_m_s=RECORD_SPEED_M_S, correction=tracker,
+                                        smooth_correction=True), MOTION_TIMEOUT_S, "RecordSeam")
         if tracker.fault is not None:
             raise tracker.fault
         along += [travelled + s * length for s, _ in tracker.samples]
@@ -187,17 +204,19 @@ def record_seam(path: Any, *, robot: Any, tool: Pose, to_world: Callable[[Pose],
     return Record("Seam", (("Position", tuple(Quantity(u, LENGTH) for u in along)),
                            ("Offset", tuple(Quantity(o, LENGTH) for o in offsets)),
                            ("Raggedness", Quantity(_stats(np.array(along), np.array(offsets))[1], LENGTH)),
-                           ("LoopDelay", Quantity(delay_s, TIME))))
+                           ("LoopDelay", Quantity(delay_s, TIME)),
+                           ("Smoothing", Quantity(0.0 if smoothing is None else 1.0 / smoothing, TIME))))
 
 
 def loop_delay_cycles(robot: Any, q: Any) -> int:
     """The tracking loop's delay on this robot at joint angles q (motion cycles), as Tracking models it: LOOP_DELAY,
-    and through elastic gears a quarter period of their lowest anti-resonance more. A correction reaches the
-    servo as a step of the links' reference; the links follow it through their gears, which at the mode's
-    frequency lag by a quarter period (90 degrees), as many cycles of delay would (a loop designed for
-    LOOP_DELAY alone rang on the IRB 2400's elastic gears and lost the seam within its first 10 mm)."""
+    and through elastic gears that take a correction as a step a quarter period of their lowest anti-resonance more
+    (the links ring after a step of their reference and lag it by that at the mode's frequency, as many cycles of
+    delay would: a loop designed for LOOP_DELAY alone lost the seam within its first 10 mm). Where the motion
+    layer smooths corrections (elastic gears under their feed-forward, motion.path_offset) the links follow them
+    without that lag, and Tracking models the smoothing itself (the seam's Smoothing)."""
     lowest_rad_s = lowest_anti_resonance_rad_s(robot, q)
-    if lowest_rad_s is None:
+    if lowest_rad_s is None or correction_omega_rad_s(start_averaging_s(robot)) is not None:
         return LOOP_DELAY
     return LOOP_DELAY + round(0.5 * math.pi / lowest_rad_s / robot.dt_s)
 
@@ -223,6 +242,16 @@ def _loop_delay(seam: Any, dt_s: float = 0.004) -> int:
     except (AttributeError, KeyError):
         return LOOP_DELAY
     return max(1, round((delay.value if type(delay) is Quantity else float(delay)) / dt_s))
+
+
+def _smoothing_rad_s(seam: Any) -> float | None:
+    """The seam's Smoothing as the filter's rate (rad/s), None for a record without one or of rigid gears."""
+    try:
+        smoothing = seam.get("Smoothing")
+    except (AttributeError, KeyError):
+        return None
+    time_s = smoothing.value if type(smoothing) is Quantity else float(smoothing)
+    return 1.0 / time_s if time_s > 0 else None
 
 
 def _mean_line(u: np.ndarray, o: np.ndarray) -> np.ndarray:
@@ -254,17 +283,29 @@ def optimal_speed(seam: Any) -> Quantity:
 
 
 def simulated_rms(u: np.ndarray, o: np.ndarray, speed: float, gain: float, dt_s: float = 0.004,
-                  delay: int = LOOP_DELAY) -> float:
+                  delay: int = LOOP_DELAY, smoothing_rad_s: float | None = None) -> float:
     """RMS deviation from the seam's mean line of a TCP corrected with `gain`, along the recording at `speed`, the
-    laser seeing a correction `delay` cycles after it was made."""
+    laser seeing a correction `delay` cycles after it was made (after the motion layer's smoothing, when
+    smoothing_rad_s: the Tracker's loop, which adds the laser's error to the correction as smoothed so far)."""
     mean = _mean_line(u, o)
     grid = np.arange(u[0], u[-1], speed * dt_s)
     seam, target = np.interp(grid, u, o), np.interp(grid, u, mean)
-    c = np.zeros(len(grid) + delay)
+    if smoothing_rad_s is None:
+        c = np.zeros(len(grid) + delay)
+        for k in range(len(grid)):
+            e = seam[k] - c[k]              # the laser sees the TCP where the correction was `delay` cycles ago
+            c[k + delay] = c[k + delay - 1] + gain * e if k + delay - 1 >= 0 else 0.0
+        return float(np.sqrt(np.mean((target - c[:len(grid)]) ** 2)))
+    applied = PathOffset(1, smoothing_rad_s)
+    tcp = np.zeros(len(grid) + delay)      # tcp[k + delay]: the smoothed correction made after cycle k's reading
+    correction = 0.0
     for k in range(len(grid)):
-        e = seam[k] - c[k]              # the laser sees the TCP where the correction was `delay` cycles ago
-        c[k + delay] = c[k + delay - 1] + gain * e if k + delay - 1 >= 0 else 0.0
-    return float(np.sqrt(np.mean((target - c[:len(grid)]) ** 2)))
+        seen = float(applied.q[0]) + seam[k] - tcp[k]
+        correction += gain * (seen - correction)
+        applied.goal[0] = correction
+        applied.rows(SERVO_STEPS, dt_s / SERVO_STEPS)
+        tcp[k + delay] = applied.q[0]
+    return float(np.sqrt(np.mean((target - tcp[:len(grid)]) ** 2)))
 
 
 def tracking(seam: Any, speed: Any) -> Any:
@@ -275,8 +316,8 @@ def tracking(seam: Any, speed: Any) -> Any:
     if not v > 0:
         raise BehaviourError("Tracking needs a speed > 0")
     gains = np.geomspace(0.005, 0.5, 25)
-    delay = _loop_delay(seam)
-    errors = [simulated_rms(u, o, v, float(g), delay=delay) for g in gains]
+    delay, smoothing = _loop_delay(seam), _smoothing_rad_s(seam)
+    errors = [simulated_rms(u, o, v, float(g), delay=delay, smoothing_rad_s=smoothing) for g in gains]
     best = int(np.argmin(errors))
     g = float(gains[best])
     return Record("Tracking", (("Gain", g), ("TimeConstant", Quantity(0.004 / g, TIME)), ("Speed", Quantity(v, VELOCITY)),
@@ -318,8 +359,10 @@ def trackmove(call: MotionCall) -> Iterator[Any]:
         raise BehaviourError(f"the laser {laser.name} is off ({laser.name}.On switches it on)")
     record = process_log(robot)
     tracker = Tracker(laser.name, lateral_direction(_xyz(start), _xyz(end)), gain, sensor.read,
-                      math.dist(_xyz(start), _xyz(end)), strict=True, signals=record.signals)
-    request = dataclasses.replace(base, keyword=call.keyword, kind="linear", zone_m=0.0, correction=tracker)
+                      math.dist(_xyz(start), _xyz(end)), strict=True, signals=record.signals,
+                      smoothing_rad_s=correction_omega_rad_s(start_averaging_s(robot)), dt_s=robot.dt_s)
+    request = dataclasses.replace(base, keyword=call.keyword, kind="linear", zone_m=0.0, correction=tracker,
+                                  smooth_correction=True)
     ticket = yield request
     while not ticket.done:
         yield None
