@@ -403,7 +403,7 @@ def add_cell_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--plant", choices=SIMULATED_PLANTS, default=None,
                         help="realistic: friction, motor heat, encoders, masses off the model, rigid gears (default); "
                              "elastic-gears: the same with elastic gears under the gears' feed-forward and the state "
-                             "feedback (IRB 2400; slower, and some applications not yet tuned for them: "
+                             "feedback (IRB 2400; moves from rest take longer: "
                              "docs/robots.md, 'Which plant'); ideal: the controller's own model, exactly "
                              "(simulation only: not with --port)")
     # No default here, so that a real arm (--port) can refuse a seed it would not use; a simulated cell reads
