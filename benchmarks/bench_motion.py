@@ -17,7 +17,9 @@ tested against (the law's own kernels on). motion_layer_ms_per_sim_s (and _elast
 the wall time per simulated second spent above the servo (the motion layer's cycle, recording and planning; the
 median run of each), servo_plant_ms_per_sim_s_elastic_state_feedback the rest (the servo, the plant and mj_step).
 --only elastic_state_feedback: the state feedback's five runs alone (its ratio, the raw mj_step it is measured
-against, and the two parts of its wall time), for profiling that variant. --only optimality: the optimality figures
+against, and the two parts of its wall time), for profiling that variant, each run followed by one with MuJoCo's
+default constraint solver for the joints' friction (Newton with islands instead of the plant's PGS without them,
+orc_rpl/plant/realistic.py), suffixed _newton_friction_solver. --only optimality: the optimality figures
 alone. On a robot with elastic gears (IRB 2400) the optimality figures are printed for them too, under their state
 feedback (`--plant elastic-gears`), warm, the payload declared right, suffixed _elastic_state_feedback (the LMOVE
 deviation at the links' own angles), with the layer's averaging of moves from rest (over the whole anti-resonance
@@ -37,6 +39,7 @@ from orc_rpl.motion import CartesianMotion, JointMotion, MotionLayer, Params, ma
 from orc_rpl.motion.planner import TORQUE_SHARE
 from orc_rpl.motion.timing import toppra_profile
 from orc_rpl.motion.trajectory import SplinePath, segment_times
+from orc_rpl.plant import realistic
 from orc_rpl.plant.compiled import AVAILABLE, use_kernels
 from orc_rpl.robot.plants import has_elastic_gears
 from orc_rpl.world.pose import Pose
@@ -269,14 +272,19 @@ def main() -> None:
         print_optimality(args.robot)
         return
     if args.only == "elastic_state_feedback":
-        sf_runs = sorted((bench_speed(args.robot, args.seconds / 5, **elastic, state_feedback=True) for _ in range(5)),
-                         key=lambda r: r[2])
-        ours, raw, ratio, share = sf_runs[2]
+        runs: dict[str, list[tuple[float, float, float, float]]] = {"": [], "_newton_friction_solver": []}
+        for _ in range(5):   # alternately: the machine's load falls on both alike
+            for suffix, lean in (("", True), ("_newton_friction_solver", False)):
+                realistic.LEAN_FRICTION_SOLVER = lean
+                runs[suffix].append(bench_speed(args.robot, args.seconds / 5, **elastic, state_feedback=True))
+        realistic.LEAN_FRICTION_SOLVER = True
         print(f"robot={args.robot}")
-        print(f"raw_mujoco_x_realtime={raw:.0f}")
-        print(f"sim_vs_raw_mujoco_ratio_elastic_state_feedback={ratio:.3f}")
-        print(f"motion_layer_ms_per_sim_s_elastic_state_feedback={motion_layer_ms(ours, share):.2f}")
-        print(f"servo_plant_ms_per_sim_s_elastic_state_feedback={servo_plant_ms(ours, share):.2f}")
+        for suffix, suffix_runs in runs.items():
+            ours, raw, ratio, share = sorted(suffix_runs, key=lambda r: r[2])[2]
+            print(f"raw_mujoco_x_realtime{suffix}={raw:.0f}")
+            print(f"sim_vs_raw_mujoco_ratio_elastic_state_feedback{suffix}={ratio:.3f}")
+            print(f"motion_layer_ms_per_sim_s_elastic_state_feedback{suffix}={motion_layer_ms(ours, share):.2f}")
+            print(f"servo_plant_ms_per_sim_s_elastic_state_feedback{suffix}={servo_plant_ms(ours, share):.2f}")
         return
     # the machine is shared: the median of five runs of the stack, each against raw mj_step in the same run
     runs = sorted((bench_speed(args.robot, args.seconds / 5) for _ in range(5)), key=lambda r: r[2])
