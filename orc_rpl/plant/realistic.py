@@ -142,8 +142,8 @@ class RealisticCell(SimCell):
 
     def _use_friction_solver(self) -> None:
         """PGS without islands for a model whose only constraints are the joints' friction (LEAN_FRICTION_SOLVER):
-        the same motion (angles within 2e-8 rad after 5 s), a quarter less time per step on the elastic IRB 2400
-        (measured with mujoco.rollout: 5.5 -> 4.1 us a step)."""
+        the same motion (tests/plant/test_realistic.py), a quarter less time per step on the elastic IRB 2400
+        (5.4 -> 4.1 us: bench_motion.py --only elastic_state_feedback, elastic_plant_mj_step_us)."""
         import mujoco
 
         m, no = self._model, mujoco.mjtDisableBit
