@@ -17,8 +17,12 @@ tested against (the law's own kernels on). motion_layer_ms_per_sim_s (and _elast
 the wall time per simulated second spent above the servo (the motion layer's cycle, recording and planning; the
 median run of each), servo_plant_ms_per_sim_s_elastic_state_feedback the rest (the servo, the plant and mj_step).
 --only elastic_state_feedback: the state feedback's five runs alone (its ratio, the raw mj_step it is measured
-against, and the two parts of its wall time), for profiling that variant. --only optimality: the optimality figures
-alone. On a robot with elastic gears (IRB 2400) the optimality figures are printed for them too, under their state
+against, and the two parts of its wall time), for profiling that variant, each run followed by one with MuJoCo's
+default constraint solver for the joints' friction (Newton with islands instead of the plant's PGS without them,
+orc_rpl/plant/realistic.py), suffixed _newton_friction_solver; and elastic_plant_mj_step_us, a step of the elastic
+plant alone (mujoco.rollout, the best of 21 rollouts of 10 000 steps), with the plant's solver and with the others of
+STEP_SOLVERS (_without_friction_rows: the rows switched off, what they cost: not a plant). --only optimality: the
+optimality figures alone. On a robot with elastic gears (IRB 2400) the optimality figures are printed for them too, under their state
 feedback (`--plant elastic-gears`), warm, the payload declared right, suffixed _elastic_state_feedback (the LMOVE
 deviation at the links' own angles), with the layer's averaging of moves from rest (over the whole anti-resonance
 periods) and, in the same run, suffixed _scaled_to_gear_steps, each move over as much of them as its steps twist the
@@ -37,6 +41,7 @@ from orc_rpl.motion import CartesianMotion, JointMotion, MotionLayer, Params, ma
 from orc_rpl.motion.planner import TORQUE_SHARE
 from orc_rpl.motion.timing import toppra_profile
 from orc_rpl.motion.trajectory import SplinePath, segment_times
+from orc_rpl.plant import realistic
 from orc_rpl.plant.compiled import AVAILABLE, use_kernels
 from orc_rpl.robot.plants import has_elastic_gears
 from orc_rpl.world.pose import Pose
@@ -171,6 +176,50 @@ def servo_plant_ms(x_realtime: float, servo_share: float) -> float:
     return 1000.0 / x_realtime * servo_share
 
 
+#: The constraint solvers a step of the elastic plant is timed with (`plant_step_us`): the printed suffix, then
+#: (MuJoCo's solver, islands on, other options); "lean" is the plant's own choice, "none" no friction rows at all.
+STEP_SOLVERS = {"": ("lean", False, {}), "_newton_friction_solver": ("mjSOL_NEWTON", True, {}),
+                "_newton_one_iteration": ("mjSOL_NEWTON", True, {"iterations": 1}),
+                "_newton_dense_jacobian": ("mjSOL_NEWTON", True, {"jacobian": 0}),
+                "_newton_sparse_jacobian": ("mjSOL_NEWTON", True, {"jacobian": 1}),
+                "_cg": ("mjSOL_CG", True, {}), "_pgs_with_islands": ("mjSOL_PGS", True, {}),
+                "_without_friction_rows": ("none", False, {})}
+
+
+def plant_step_us(robot: str, solver: tuple[str, bool, dict[str, int]], steps: int = 10000, repeats: int = 7) -> float:
+    """Microseconds per mj_step of the elastic-gear plant alone (mujoco.rollout: no Python between the steps), its
+    drives holding a 0.3 rad sine on every joint: the best of `repeats` (the least disturbed by the machine's
+    load). `solver`: a value of STEP_SOLVERS."""
+    import mujoco
+    from mujoco import rollout
+
+    name, islands, options = solver
+    cell = realistic.RealisticCell(robot, elastic=True)
+    cell.warm_up()
+    model, data = cell._model, cell._data
+    if name == "none":
+        model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS)
+    elif name != "lean":
+        model.opt.solver = getattr(mujoco.mjtSolver, name)
+        if islands:
+            model.opt.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_ISLAND)
+        for option, value in options.items():
+            setattr(model.opt, option, value)
+    n = cell.n_joints
+    cell.drives.set_drive_gains(np.full(n, 20000.0), np.full(n, 300.0), np.zeros(n), np.zeros(n))
+    controls = np.zeros((1, steps, model.nu))
+    t_s = np.arange(steps) * cell.timestep_s
+    controls[0, :, 0 : 3 * n : 3] = np.asarray(cell.description.robot_spec.home_q_rad) + 0.3 * np.sin(2.0 * t_s)[:, None]
+    state = np.empty(mujoco.mj_stateSize(model, mujoco.mjtState.mjSTATE_FULLPHYSICS))
+    mujoco.mj_getState(model, data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    best_s = math.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        rollout.rollout(model, data, state, controls)
+        best_s = min(best_s, time.perf_counter() - t0)
+    return best_s / steps * 1e6
+
+
 def naive_quintic_time(layer: MotionLayer, q0: np.ndarray, q1: np.ndarray) -> float:
     """Shortest duration of q0 + (q1-q0) * (10t^3 - 15t^4 + 6t^5) that keeps speed, acceleration and torque limits."""
     arm = layer.kin.arm
@@ -269,14 +318,26 @@ def main() -> None:
         print_optimality(args.robot)
         return
     if args.only == "elastic_state_feedback":
-        sf_runs = sorted((bench_speed(args.robot, args.seconds / 5, **elastic, state_feedback=True) for _ in range(5)),
-                         key=lambda r: r[2])
-        ours, raw, ratio, share = sf_runs[2]
+        runs: dict[str, list[tuple[float, float, float, float]]] = {"": [], "_newton_friction_solver": []}
+        for _ in range(5):   # alternately: the machine's load falls on both alike
+            for suffix, lean in (("", True), ("_newton_friction_solver", False)):
+                realistic.LEAN_FRICTION_SOLVER = lean
+                runs[suffix].append(bench_speed(args.robot, args.seconds / 5, **elastic, state_feedback=True))
+        realistic.LEAN_FRICTION_SOLVER = True
         print(f"robot={args.robot}")
-        print(f"raw_mujoco_x_realtime={raw:.0f}")
-        print(f"sim_vs_raw_mujoco_ratio_elastic_state_feedback={ratio:.3f}")
-        print(f"motion_layer_ms_per_sim_s_elastic_state_feedback={motion_layer_ms(ours, share):.2f}")
-        print(f"servo_plant_ms_per_sim_s_elastic_state_feedback={servo_plant_ms(ours, share):.2f}")
+        if has_elastic_gears(args.robot):
+            steps_us: dict[str, list[float]] = {suffix: [] for suffix in STEP_SOLVERS}
+            for _ in range(3):
+                for suffix, us in steps_us.items():
+                    us.append(plant_step_us(args.robot, STEP_SOLVERS[suffix]))
+            for suffix, us in steps_us.items():
+                print(f"elastic_plant_mj_step_us{suffix}={min(us):.2f}")
+        for suffix, suffix_runs in runs.items():
+            ours, raw, ratio, share = sorted(suffix_runs, key=lambda r: r[2])[2]
+            print(f"raw_mujoco_x_realtime{suffix}={raw:.0f}")
+            print(f"sim_vs_raw_mujoco_ratio_elastic_state_feedback{suffix}={ratio:.3f}")
+            print(f"motion_layer_ms_per_sim_s_elastic_state_feedback{suffix}={motion_layer_ms(ours, share):.2f}")
+            print(f"servo_plant_ms_per_sim_s_elastic_state_feedback{suffix}={servo_plant_ms(ours, share):.2f}")
         return
     # the machine is shared: the median of five runs of the stack, each against raw mj_step in the same run
     runs = sorted((bench_speed(args.robot, args.seconds / 5) for _ in range(5)), key=lambda r: r[2])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -131,3 +132,30 @@ def test_elastic_gears_start_wound_up_under_the_links_weight() -> None:
     loop.hold(arm.home_q, 300)
     # held, the links stay where the wound gears put them: no drop, no ringing
     assert np.max(np.abs(cell.link_q - cell.true_q - wound)) < 0.05 * abs(wound[1])
+
+
+@pytest.mark.parametrize("elastic", [False, True], ids=["rigid-gears", "elastic-gears"])
+def test_the_joints_friction_steps_by_pgs_with_newtons_motion(elastic: bool) -> None:
+    import mujoco
+
+    pgs, newton = RealisticCell("irb2400", elastic=elastic), RealisticCell("irb2400", elastic=elastic)
+    assert pgs._model.opt.solver == mujoco.mjtSolver.mjSOL_PGS, "friction is the only constraint: PGS is enough"
+    newton._model.opt.solver = mujoco.mjtSolver.mjSOL_NEWTON   # MuJoCo's default, with its islands
+    newton._model.opt.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_ISLAND)
+    # cold friction (twice the warm) against a sine on j1 that reverses it and lets it stick at each reversal
+    _hold_gravity(pgs, 1500)
+    _hold_gravity(newton, 1500)
+    assert np.max(np.abs(pgs.true_q - newton.true_q)) < 1e-6, "the same forces from either solver (rad)"
+    assert np.max(np.abs(pgs.true_qd)) > 0.0
+
+
+def test_a_cell_with_contacts_keeps_newton_for_them() -> None:
+    import mujoco
+
+    from orc_rpl.plant.world_scene import cell_from_world
+    from orc_rpl.world import load_world
+
+    world = load_world(Path(__file__).resolve().parents[2] / "worlds" / "deburring.yaml")
+    cell = RealisticCell(cell=cell_from_world(world))
+    assert cell._model.opt.solver == mujoco.mjtSolver.mjSOL_NEWTON
+    assert not cell._model.opt.disableflags & int(mujoco.mjtDisableBit.mjDSBL_ISLAND)
