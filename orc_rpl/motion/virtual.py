@@ -231,7 +231,8 @@ def make_virtual_motion_layer(
     a Kalman filter every 1 ms step, the unknown torques its integral action), the wrist by the cascade;
     `scaled_averaging` (opt-in under the state feedback) averages each move from rest over only as much of the
     periods as its steps twist the gears (motion/gear_steps.py): nearer time-optimal, but measured worse for
-    the coordinated seam on a turning positioner, identification and CALIBRATE (docs/motion.md).
+    seam tracking, the coordinated seam on a turning positioner and (inside its target) the identification of
+    parts, whose gentle moves then start within 0.02-0.15 s (docs/motion.md, "Averaging on elastic gears").
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
