@@ -2,7 +2,7 @@
 on the realistic plant and then on the ideal one (its keys prefixed `ideal_`).
 
 Run: python benchmarks/bench_applications.py [--trials 1000] [--seed 1] [--plant elastic-gears [--scaled-averaging]]
-     [--only calibrate|seam]
+     [--only calibrate|seam|ident]
 
 Identification. The motion toward the via point is simulated on the MuJoCo cell for every combination of part
 mass (0, 0.3, 0.9, 2 kg: the demo's kinds), speed (the joints' limits, 0.5 m/s, 0.3 m/s) and via point (the
@@ -156,8 +156,9 @@ def _lift(robot: CellRobot, via: Pose, speed: float | None, mass: float) -> Lift
     for _ in range(25):
         robot.tick()
     half = 0.5 * math.dist((PICK.x, PICK.y, PICK.z), (via.x, via.y, via.z))
-    ticket = robot.submit(MotionRequest("IDENTMOVE", "joint", via, tool=TOOL, speed_m_s=speed,
-                                        zone_m=min(0.1, half), record_s=record_s, time_s=record_s + LEAD_S))
+    ticket = robot.submit(MotionRequest("IDENTMOVE", "joint", via, tool=TOOL, speed_m_s=speed,   # as IDENTMOVE asks
+                                        zone_m=min(0.1, half), record_s=record_s, time_s=record_s + LEAD_S,
+                                        whole_averaging=True))
     while not ticket.done:
         robot.tick()
     robot.set_plant_payload(0.0)
@@ -728,9 +729,10 @@ def main() -> None:
     parser.add_argument("--plant", choices=("realistic", "elastic-gears"), default="realistic",
                         help="the plant of the figures without a prefix (default: realistic, as orc run makes it; "
                              "elastic-gears: the realistic plant with elastic gears, without the ideal_ figures)")
-    parser.add_argument("--only", choices=("calibrate", "seam"), default=None,
+    parser.add_argument("--only", choices=("calibrate", "seam", "ident"), default=None,
                         help="only these figures, for working on one of them (calibrate: CALIBRATE's tuning "
-                             "comparison, tuning(), a minute or two; seam: the thesis weld, seam_*)")
+                             "comparison, tuning(), a minute or two; seam: the thesis weld, seam_*; ident: the "
+                             "identification of parts, ident_*)")
     parser.add_argument("--scaled-averaging", action="store_true",
                         help="with --plant elastic-gears: every move from rest averaged over the share of the gears' "
                              "periods its steps call for (make_virtual_motion_layer(..., scaled_averaging=True))")
@@ -750,6 +752,8 @@ def main() -> None:
             figures = tuning(plant)
         elif args.only == "seam":
             figures = seam_figures(plant)
+        elif args.only == "ident":
+            figures = identification(args.trials, args.seed, plant)
         else:
             figures = {**identification(args.trials, args.seed, plant), **processes(plant),
                        **servo_force_estimate(plant), **servo_baseline(plant), **arm_grinding(plant), **tuning(plant)}
