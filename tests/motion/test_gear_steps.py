@@ -1,4 +1,4 @@
-"""Elastic gears under state feedback: whole windows for every move from rest, or (scaled_averaging) as much as it twists the gears."""
+"""Elastic gears under state feedback: each move from rest averaged over as much of the windows as it twists the gears, or the whole."""
 
 from __future__ import annotations
 
@@ -44,10 +44,11 @@ def test_a_heavy_fast_move_gets_the_whole_windows_a_gentle_one_a_share(elastic: 
     assert 0.04 <= gentle < fast < whole
 
 
-def test_by_default_every_move_from_rest_gets_the_whole_windows() -> None:
-    layer = make_virtual_motion_layer("irb2400", plant="elastic-gears")
-    extra = _extra_s(layer, JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7)), Params(accel_fraction=0.25))
-    assert extra == pytest.approx(sum(layer.smoothing_s), abs=0.005)
+def test_elastic_gears_scale_by_default_and_give_every_move_the_whole_windows_when_asked() -> None:
+    gentle = (JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7)), Params(accel_fraction=0.25))
+    whole = make_virtual_motion_layer("irb2400", plant="elastic-gears", scaled_averaging=False)
+    assert _extra_s(whole, *gentle) == pytest.approx(sum(whole.smoothing_s), abs=0.005)
+    assert _extra_s(make_virtual_motion_layer("irb2400", plant="elastic-gears"), *gentle) < 0.15
 
 
 def test_scaled_averaging_is_for_the_state_feedback() -> None:
@@ -56,7 +57,7 @@ def test_scaled_averaging_is_for_the_state_feedback() -> None:
 
 
 def test_a_move_asking_for_whole_averaging_gets_the_whole_windows_where_others_get_a_share() -> None:
-    layer = make_virtual_motion_layer("irb2400", plant="elastic-gears", scaled_averaging=True)
+    layer = make_virtual_motion_layer("irb2400", plant="elastic-gears")   # scaled: the default
     start, target = tuple(layer.reference_q()), JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7))
 
     def duration_s(params: Params) -> float:
