@@ -1,8 +1,8 @@
 """Application benchmark: part identification (IDENTMOVE) over seeded trials, and the process figures of the demos,
 on the realistic plant and then on the ideal one (its keys prefixed `ideal_`).
 
-Run: python benchmarks/bench_applications.py [--trials 1000] [--seed 1] [--plant elastic-gears [--scaled-averaging]]
-     [--only calibrate|seam]
+Run: python benchmarks/bench_applications.py [--trials 1000] [--seed 1] [--plant elastic-gears [--whole-periods]]
+     [--only calibrate|seam|ident]
 
 Identification. The motion toward the via point is simulated on the MuJoCo cell for every combination of part
 mass (0, 0.3, 0.9, 2 kg: the demo's kinds), speed (the joints' limits, 0.5 m/s, 0.3 m/s) and via point (the
@@ -38,9 +38,9 @@ friction part only (calibrate_boost_with_identified_friction_*: what the rest of
 its elastic gears (calibrate_*) and with rigid gears (calibrate_rigid_*). `--plant elastic-gears` runs the realistic
 part on the elastic gears under their feed-forward and the state feedback (`orc run --plant elastic-gears`; the
 calibrate_* then with that servo, calibrate_rigid_* as before) and leaves the ideal plant out; with
-`--scaled-averaging` every cell on the elastic gears (the benchmark's and those of the `orc run` it starts) averages
-each move from rest over the share of the gears' periods its steps call for (make_virtual_motion_layer(...,
-scaled_averaging=True), opt-in; docs/motion.md, "Averaging on elastic gears").
+`--whole-periods` every cell on the elastic gears (the benchmark's and those of the `orc run` it starts) averages
+every move from rest over the gears' whole periods (make_virtual_motion_layer(..., scaled_averaging=False)) instead of
+the share its steps call for (the default; docs/motion.md, "Averaging on elastic gears").
 deburr_servo_force_*: how well the arm's own motor torques tell the grinding force (no force flange), see
 servo_force_estimate; deburr_servo_force_baseline_* and deburr_servo_error_*: the same against a free-air pass at
 the same s (the signature GRINDMOVE without a flange uses), see servo_baseline; deburr_arm_*: thesis_2_1 as it runs
@@ -90,7 +90,7 @@ def kind(mass_kg: float) -> int:
 
 
 ELASTIC_GEARS = [False]   #: --plant elastic-gears: the realistic figures on the realistic plant with elastic gears
-SCALED_AVERAGING = [False]   #: --scaled-averaging: elastic gears' moves from rest averaged over their steps' share
+WHOLE_PERIODS = [False]   #: --whole-periods: elastic gears' moves from rest averaged over the whole periods
 
 
 def cell_plant(plant: str) -> str:
@@ -98,21 +98,21 @@ def cell_plant(plant: str) -> str:
     return "elastic-gears" if plant == "realistic" and ELASTIC_GEARS[0] else plant
 
 
-def use_scaled_averaging() -> None:
-    """Every virtual motion layer made on the elastic gears from now on (in this process) with the opt-in scaled
-    averaging: the cell robots, CALIBRATE's and `orc run`'s all make theirs through `orc_rpl.motion`."""
+def use_whole_periods() -> None:
+    """Every virtual motion layer made on the elastic gears from now on (in this process) averaging every move from
+    rest over the whole periods: the cell robots, CALIBRATE's and `orc run`'s all make theirs through `orc_rpl.motion`."""
     import orc_rpl.motion
 
     make = orc_rpl.motion.make_virtual_motion_layer
 
-    def scaled(*args: Any, **kwargs: Any) -> Any:
-        return make(*args, **kwargs, scaled_averaging=kwargs.get("plant") == "elastic-gears")
-    orc_rpl.motion.make_virtual_motion_layer = scaled  # type: ignore[assignment]
+    def whole(*args: Any, **kwargs: Any) -> Any:
+        return make(*args, **kwargs, scaled_averaging=False if kwargs.get("plant") == "elastic-gears" else None)
+    orc_rpl.motion.make_virtual_motion_layer = whole  # type: ignore[assignment]
 
 
-#: `orc run` in a process of its own with the scaled averaging (`python -c ORC_RUN_SCALED run ...`)
-ORC_RUN_SCALED = (f"import sys; sys.path.insert(0, {str(Path(__file__).resolve().parent)!r}); "
-                  "import bench_applications; bench_applications.use_scaled_averaging(); "
+#: `orc run` in a process of its own with the whole periods (`python -c ORC_RUN_WHOLE run ...`)
+ORC_RUN_WHOLE = (f"import sys; sys.path.insert(0, {str(Path(__file__).resolve().parent)!r}); "
+                  "import bench_applications; bench_applications.use_whole_periods(); "
                   "from orc_rpl.cli import main; raise SystemExit(main())")
 
 
@@ -156,8 +156,9 @@ def _lift(robot: CellRobot, via: Pose, speed: float | None, mass: float) -> Lift
     for _ in range(25):
         robot.tick()
     half = 0.5 * math.dist((PICK.x, PICK.y, PICK.z), (via.x, via.y, via.z))
-    ticket = robot.submit(MotionRequest("IDENTMOVE", "joint", via, tool=TOOL, speed_m_s=speed,
-                                        zone_m=min(0.1, half), record_s=record_s, time_s=record_s + LEAD_S))
+    ticket = robot.submit(MotionRequest("IDENTMOVE", "joint", via, tool=TOOL, speed_m_s=speed,   # as IDENTMOVE asks
+                                        zone_m=min(0.1, half), record_s=record_s, time_s=record_s + LEAD_S,
+                                        whole_averaging=True))
     while not ticket.done:
         robot.tick()
     robot.set_plant_payload(0.0)
@@ -292,7 +293,7 @@ def demo_process(plant: str, program: str, change: tuple[str, str] | None = None
             shutil.copy(source.with_suffix(".sim.yaml"), changed.with_suffix(".sim.yaml"))
             source = changed
         summary = Path(folder) / "summary.json"
-        orc = ["-c", ORC_RUN_SCALED] if SCALED_AVERAGING[0] else ["-m", "orc_rpl"]
+        orc = ["-c", ORC_RUN_WHOLE] if WHOLE_PERIODS[0] else ["-m", "orc_rpl"]
         subprocess.run([sys.executable, *orc, "run", str(source), "--summary-json", str(summary),
                         "--plant", cell_plant(plant)], check=False, capture_output=True)
         return json.loads(summary.read_text()).get("process", {})
@@ -728,28 +729,31 @@ def main() -> None:
     parser.add_argument("--plant", choices=("realistic", "elastic-gears"), default="realistic",
                         help="the plant of the figures without a prefix (default: realistic, as orc run makes it; "
                              "elastic-gears: the realistic plant with elastic gears, without the ideal_ figures)")
-    parser.add_argument("--only", choices=("calibrate", "seam"), default=None,
+    parser.add_argument("--only", choices=("calibrate", "seam", "ident"), default=None,
                         help="only these figures, for working on one of them (calibrate: CALIBRATE's tuning "
-                             "comparison, tuning(), a minute or two; seam: the thesis weld, seam_*)")
-    parser.add_argument("--scaled-averaging", action="store_true",
-                        help="with --plant elastic-gears: every move from rest averaged over the share of the gears' "
-                             "periods its steps call for (make_virtual_motion_layer(..., scaled_averaging=True))")
+                             "comparison, tuning(), a minute or two; seam: the thesis weld, seam_*; ident: the "
+                             "identification of parts, ident_*)")
+    parser.add_argument("--whole-periods", action="store_true",
+                        help="with --plant elastic-gears: every move from rest averaged over the gears' whole periods "
+                             "(make_virtual_motion_layer(..., scaled_averaging=False)), not the share its steps call for")
     args = parser.parse_args()
-    if args.scaled_averaging and args.plant != "elastic-gears":
-        parser.error("--scaled-averaging is for --plant elastic-gears")
+    if args.whole_periods and args.plant != "elastic-gears":
+        parser.error("--whole-periods is for --plant elastic-gears")
     ELASTIC_GEARS[0] = args.plant == "elastic-gears"
-    SCALED_AVERAGING[0] = args.scaled_averaging
-    if args.scaled_averaging:
-        use_scaled_averaging()
+    WHOLE_PERIODS[0] = args.whole_periods
+    if args.whole_periods:
+        use_whole_periods()
     print(f"plant={args.plant}", flush=True)
     if ELASTIC_GEARS[0]:
-        print(f"scaled_averaging={args.scaled_averaging}", flush=True)
+        print(f"scaled_averaging={not args.whole_periods}", flush=True)
     # the ideal plant's figures do not depend on --plant: printed with the default only
     for plant, prefix in (("realistic", ""),) + ((("ideal", "ideal_"),) if not ELASTIC_GEARS[0] else ()):
         if args.only == "calibrate":
             figures = tuning(plant)
         elif args.only == "seam":
             figures = seam_figures(plant)
+        elif args.only == "ident":
+            figures = identification(args.trials, args.seed, plant)
         else:
             figures = {**identification(args.trials, args.seed, plant), **processes(plant),
                        **servo_force_estimate(plant), **servo_baseline(plant), **arm_grinding(plant), **tuning(plant)}

@@ -24,9 +24,9 @@ plant alone (mujoco.rollout, the best of 21 rollouts of 10 000 steps), with the 
 STEP_SOLVERS (_without_friction_rows: the rows switched off, what they cost: not a plant). --only optimality: the
 optimality figures alone. On a robot with elastic gears (IRB 2400) the optimality figures are printed for them too, under their state
 feedback (`--plant elastic-gears`), warm, the payload declared right, suffixed _elastic_state_feedback (the LMOVE
-deviation at the links' own angles), with the layer's averaging of moves from rest (over the whole anti-resonance
-periods) and, in the same run, suffixed _scaled_to_gear_steps, each move over as much of them as its steps twist the
-gears (the opt-in scaled_averaging) and, suffixed _no_averaging, without averaging (what the averaging costs in time).
+deviation at the links' own angles), with the layer's averaging of moves from rest (each over as much of the
+anti-resonance periods as its steps twist the gears) and, in the same run, suffixed _whole_periods, every move over the
+whole periods (scaled_averaging=False) and, suffixed _no_averaging, without averaging (what the averaging costs in time).
 """
 
 from __future__ import annotations
@@ -101,11 +101,12 @@ def warm_realistic(robot: str, plant: str = "realistic", averaging: str = "defau
     """The realistic plant after a warm-up (friction about its warm value), no payload (none declared).
 
     `plant` "elastic-gears": with the elastic gears under their state feedback, the controller's gearbox estimate
-    told of the warm-up too; `averaging` of the moves from rest there: "default" (the layer's: over the whole
-    anti-resonance periods), "scaled" (over as much of them as each move's steps twist the gears:
-    `scaled_averaging`) or "none".
+    told of the warm-up too; `averaging` of the moves from rest there: "default" (the layer's: over as much of the
+    anti-resonance periods as each move's steps twist the gears, `scaled_averaging`), "whole" (every move over the
+    whole periods: `scaled_averaging=False`) or "none".
     """
-    layer = make_virtual_motion_layer(robot, backend="servo", plant=plant, scaled_averaging=averaging == "scaled")
+    layer = make_virtual_motion_layer(robot, backend="servo", plant=plant,
+                                      scaled_averaging=False if averaging == "whole" else None)
     layer.backend.loop.cell.warm_up()
     if layer.gear_friction is not None and plant == "elastic-gears":
         layer.gear_friction.warm_up(layer.backend.loop.cell.gear_rise_k[0])
@@ -393,10 +394,10 @@ def print_optimality(robot: str) -> None:
 
 def print_elastic_optimality(robot: str) -> None:
     """Time optimality, gain over naive and LMOVE deviation (at the links) on the elastic gears under their state
-    feedback: with the layer's averaging of moves from rest (over the whole anti-resonance periods) and, in the same
-    run, with each move averaged over as much of them as its steps twist the gears (`_scaled_to_gear_steps`, the
-    opt-in `scaled_averaging`) and without averaging (`_no_averaging`)."""
-    for suffix, averaging in {"": "default", "_scaled_to_gear_steps": "scaled", "_no_averaging": "none"}.items():
+    feedback: with the layer's averaging of moves from rest (each over as much of the anti-resonance periods as its
+    steps twist the gears) and, in the same run, with every move over the whole periods (`_whole_periods`,
+    `scaled_averaging=False`) and without averaging (`_no_averaging`)."""
+    for suffix, averaging in {"": "default", "_whole_periods": "whole", "_no_averaging": "none"}.items():
         worst, mean, naive, _, _ = bench_optimality(robot, "elastic-gears", averaging)
         dev = bench_lmove_deviation(robot, "elastic-gears", averaging)
         shown = warm_realistic(robot, "elastic-gears", averaging).smoothing_s

@@ -52,6 +52,9 @@ class MotionRequest:
     path_control: bool | None = None              #: path velocity control for this motion (None: the robot's setting)
     until: Callable[[MotionView], bool] | None = None  #: stop on the path when it becomes true
     short: bool = False                           #: a short move (ShortMove: jerk-limited, FINE) when the robot has one
+    #: a quiet start: averaged over the elastic gears' whole periods even where the robot scales the averaging
+    #: to each move's steps (no torque step left inside a recording or a seam's first millimetres)
+    whole_averaging: bool = False
     signal_before_end_s: float | None = None      #: tau: the ticket's `signalled_s` is set when t >= T_d - tau
     record_s: float = 0.0                         #: record (t, q, qd, torque) for this long after the start
     #: path correction (TRACKMOVE), called every motion cycle: the TCP offset (world, m) from the planned path

@@ -386,7 +386,8 @@ def _params(request: MotionRequest, zone_m: float | None = None) -> Params:
         return kind(speed_m_s=request.speed_m_s, speed_fraction=request.speed_fraction,
                     accel_fraction=request.accel_fraction, zone_m=request.zone_m if zone_m is None else zone_m,
                     time_s=request.time_s, load_kg=request.load_kg,
-                    tuning=request.tuning, path_velocity=request.path_control, known=Known(request.known))
+                    tuning=request.tuning, path_velocity=request.path_control, known=Known(request.known),
+                    whole_averaging=request.whole_averaging)
     except OrcError as error:
         raise PlanningError(f"{request.keyword}: {error}") from None
 

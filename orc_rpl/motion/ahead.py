@@ -103,7 +103,8 @@ class PlanAhead:
         planner.tcp_speed_cap_m_s, planner.friction_reserve_nm = cap, reserve
         plan = planner.plan(0, motion, params, start_q)
         if plan is not None and plan.timed is None:
-            plan.saved_first = planner.time(plan.pieces[0], plan.limits, 0.0, params.time_s if len(plan.pieces) == 1 else None)
+            plan.saved_first = planner.time(plan.pieces[0], plan.limits, 0.0, params.time_s if len(plan.pieces) == 1 else None,
+                                             params.whole_averaging)
         return plan
 
     def start(self, motion: Motion, params: Params, start_q: np.ndarray, main: Planner) -> int:

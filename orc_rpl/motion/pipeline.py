@@ -137,7 +137,8 @@ class MotionPipeline:
               and plan.saved_first.smoothing_s in ((), self.planner.smoothing_s)):  # (averaged as this layer wants)
             traj = plan.saved_first
         else:
-            traj = self.planner.time(piece, plan.limits, 0.0, h.params.time_s if len(plan.pieces) == 1 else None)
+            traj = self.planner.time(piece, plan.limits, 0.0, h.params.time_s if len(plan.pieces) == 1 else None,
+                                     h.params.whole_averaging)
         self._set_traj(traj, [h])
         if not h.started:
             self._start(h)
@@ -207,8 +208,9 @@ class MotionPipeline:
         d1 = path(0.0, 1)
         sd0 = max(0.0, float(self._qd_ref @ d1) / max(float(d1 @ d1), 1e-12))
         try:
+            whole = any(h.params.whole_averaging for h in handles)   # (from rest only: a blend rarely is)
             new, _ = parameterize(path, limits, self.dt_s, self.sub, sd0, 0.0, smoothing_s=self.planner.smoothing_s,
-                                  gear_steps=self.planner.gear_steps)
+                                  gear_steps=None if whole else self.planner.gear_steps)
         except PlanningError:
             return False
         nxt.pieces_left.pop(0)
@@ -343,7 +345,7 @@ class MotionPipeline:
     def _start_from_rest_piece(self, h: MoveHandle) -> None:
         piece = h.pieces_left.pop(0)
         try:
-            self._set_traj(self.planner.time(piece, h.plan.limits), [h])
+            self._set_traj(self.planner.time(piece, h.plan.limits, whole_averaging=h.params.whole_averaging), [h])
         except OrcError as exc:
             self._fault(h, exc)
 

@@ -206,11 +206,13 @@ class Planner:
 
     # -- timing -------------------------------------------------------------------
 
-    def time(self, dense: DensePath, limits: TimingLimits, sd_start: float = 0.0, min_duration_s: float | None = None) -> Trajectory:
+    def time(self, dense: DensePath, limits: TimingLimits, sd_start: float = 0.0, min_duration_s: float | None = None,
+             whole_averaging: bool = False) -> Trajectory:
         """Time a dense path (time-optimal, or the fallback profile if toppra fails); from rest, averaged over
-        `smoothing_s` (elastic gears: the averaging is part of the planning, on the plan-ahead worker too)."""
+        `smoothing_s` (elastic gears: the averaging is part of the planning, on the plan-ahead worker too), over
+        the whole windows with `whole_averaging` even where `gear_steps` would scale them."""
         traj, _ = parameterize(SplinePath(dense), limits, self.dt_s, self.sub, sd_start, 0.0, min_duration_s,
-                               smoothing_s=self.smoothing_s, gear_steps=self.gear_steps)
+                               smoothing_s=self.smoothing_s, gear_steps=None if whole_averaging else self.gear_steps)
         return traj
 
     # -- computation = save / done ---------------------------------------------------
@@ -218,7 +220,8 @@ class Planner:
     def save(self, descriptor: int, plan: Plan) -> None:
         """Store a plan (its first piece timed from rest) under a descriptor, replacing what was there."""
         if plan.timed is None:
-            plan.saved_first = self.time(plan.pieces[0], plan.limits, 0.0, plan.params.time_s)
+            plan.saved_first = self.time(plan.pieces[0], plan.limits, 0.0, plan.params.time_s,
+                                         plan.params.whole_averaging)
         self._saved[descriptor] = plan
 
     def recall(self, descriptor: int, motion: Motion, q_start: np.ndarray) -> Plan | None:

@@ -139,6 +139,9 @@ class Params:
     load_kg: float = 0.0                 #: payload carried, included in the torque limits
     tuning: Any = None                   #: servo tuning for this motion only (a `ServoTuning`; None: default gains)
     path_velocity: bool | None = None    #: path velocity control on/off for this motion (None: the layer's default)
+    #: elastic gears: from rest, averaged over the gears' whole periods even where the layer scales the averaging
+    #: to each move's steps (a quiet start for a recording or a seam: IDENTMOVE's lift, TRACKMOVE)
+    whole_averaging: bool = False
     computation: Computation = Computation.DURING
     descriptor: int | None = None        #: plan store slot for SAVE / DONE
     known: Known = Known.COMPLETELY

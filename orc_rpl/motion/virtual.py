@@ -206,7 +206,7 @@ def make_virtual_motion_layer(
     gear_feedforward: bool = False,
     gear_observer: bool = False,
     state_feedback: bool = False,
-    scaled_averaging: bool = False,
+    scaled_averaging: bool | None = None,
 ) -> MotionLayer:
     """A motion layer on the virtual robot.
 
@@ -229,13 +229,16 @@ def make_virtual_motion_layer(
     `state_feedback` (opt-in on top, instead of the observer) controls the slow joints by state feedback
     designed for the two-mass joints (servo/state_feedback.py: an LQR on the rotors' and the links' states,
     a Kalman filter every 1 ms step, the unknown torques its integral action), the wrist by the cascade;
-    `scaled_averaging` (opt-in under the state feedback) averages each move from rest over only as much of the
-    periods as its steps twist the gears (motion/gear_steps.py): nearer time-optimal, but measured worse for
-    seam tracking, the coordinated seam on a turning positioner and (inside its target) the identification of
-    parts, whose gentle moves then start within 0.02-0.15 s (docs/motion.md, "Averaging on elastic gears").
+    `scaled_averaging` (under the state feedback; None: on for `plant="elastic-gears"`, off for the keywords)
+    averages each move from rest over only as much of the periods as its steps twist the gears
+    (motion/gear_steps.py; a motion asking for `Params.whole_averaging`, IDENTMOVE's lift and TRACKMOVE, keeps
+    the whole periods); `scaled_averaging=False` averages every move over the whole periods (docs/motion.md,
+    "Averaging on elastic gears").
     """
     if plant not in PLANTS:
         raise UsageError(f"plant must be one of {', '.join(PLANTS)}, not {plant!r}")
+    if scaled_averaging is None:   # nearer time-optimal, every application's figure within its target (docs/motion.md)
+        scaled_averaging = plant == "elastic-gears"
     if plant == "elastic-gears":   # the realistic plant with the elastic gears' whole servo
         check_elastic_gears(robot, "plant='elastic-gears'")
         plant, elastic, gear_feedforward, state_feedback = "realistic", True, True, True

@@ -1,4 +1,4 @@
-"""Elastic gears under state feedback: whole windows for every move from rest, or (scaled_averaging) as much as it twists the gears."""
+"""Elastic gears under state feedback: each move from rest averaged over as much of the windows as it twists the gears, or the whole."""
 
 from __future__ import annotations
 
@@ -44,12 +44,31 @@ def test_a_heavy_fast_move_gets_the_whole_windows_a_gentle_one_a_share(elastic: 
     assert 0.04 <= gentle < fast < whole
 
 
-def test_by_default_every_move_from_rest_gets_the_whole_windows() -> None:
-    layer = make_virtual_motion_layer("irb2400", plant="elastic-gears")
-    extra = _extra_s(layer, JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7)), Params(accel_fraction=0.25))
-    assert extra == pytest.approx(sum(layer.smoothing_s), abs=0.005)
+def test_elastic_gears_scale_by_default_and_give_every_move_the_whole_windows_when_asked() -> None:
+    gentle = (JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7)), Params(accel_fraction=0.25))
+    whole = make_virtual_motion_layer("irb2400", plant="elastic-gears", scaled_averaging=False)
+    assert _extra_s(whole, *gentle) == pytest.approx(sum(whole.smoothing_s), abs=0.005)
+    assert _extra_s(make_virtual_motion_layer("irb2400", plant="elastic-gears"), *gentle) < 0.15
 
 
 def test_scaled_averaging_is_for_the_state_feedback() -> None:
     with pytest.raises(UsageError, match="scaled_averaging is for the elastic gears' state feedback"):
         make_virtual_motion_layer("irb2400", elastic=True, gear_feedforward=True, scaled_averaging=True)
+
+
+def test_a_move_asking_for_whole_averaging_gets_the_whole_windows_where_others_get_a_share() -> None:
+    layer = make_virtual_motion_layer("irb2400", plant="elastic-gears")   # scaled: the default
+    start, target = tuple(layer.reference_q()), JointMotion((0.8, -0.2, 0.3, 0.5, 0.6, -0.7))
+
+    def duration_s(params: Params) -> float:
+        there = layer.move(target, params)
+        layer.wait(there)
+        layer.wait(layer.move(JointMotion(start), Params(accel_fraction=0.25)))
+        assert there.start_time_s is not None and there.t_end_s is not None
+        return there.t_end_s - there.start_time_s
+
+    scaled = duration_s(Params(accel_fraction=0.25))
+    whole = duration_s(Params(accel_fraction=0.25, whole_averaging=True))   # IDENTMOVE's lift, TRACKMOVE: a quiet start
+    gentle = _extra_s(layer, target, Params(accel_fraction=0.25))
+    assert whole - scaled == pytest.approx(sum(layer.smoothing_s) - gentle, abs=0.005)
+    assert whole - scaled > 0.15

@@ -361,8 +361,10 @@ def trackmove(call: MotionCall) -> Iterator[Any]:
     tracker = Tracker(laser.name, lateral_direction(_xyz(start), _xyz(end)), gain, sensor.read,
                       math.dist(_xyz(start), _xyz(end)), strict=True, signals=record.signals,
                       smoothing_rad_s=correction_omega_rad_s(start_averaging_s(robot)), dt_s=robot.dt_s)
+    # whole_averaging: the Tracker's smoothing is the whole periods', and a gentle line's short windows leave
+    # its start ringing into the seam (docs/motion.md, "Averaging on elastic gears")
     request = dataclasses.replace(base, keyword=call.keyword, kind="linear", zone_m=0.0, correction=tracker,
-                                  smooth_correction=True)
+                                  smooth_correction=True, whole_averaging=True)
     ticket = yield request
     while not ticket.done:
         yield None

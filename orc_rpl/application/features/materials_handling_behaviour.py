@@ -126,8 +126,10 @@ def identmove(call: MotionCall) -> Iterator[Any]:
     if type(via) is Pose:  # blending must not begin before the final motion is known
         zone = min(zone, 0.5 * math.dist((here.x, here.y, here.z), (via.x, via.y, via.z)))
     record_s, window = identify_window(robot, robot.joints())
+    # whole_averaging: a lift averaged over less than the gears' whole periods leaves its start's step or its
+    # switch to braking inside the recording (the abstentions double on elastic gears: docs/motion.md)
     to_via = dataclasses.replace(to_via, keyword=call.keyword, zone_m=zone, until=None, record_s=record_s,
-                                 time_s=max(to_via.time_s or 0.0, record_s + LEAD_S))
+                                 time_s=max(to_via.time_s or 0.0, record_s + LEAD_S), whole_averaging=True)
     ticket = yield to_via
     # the first sample is one cycle into the motion, the last RECORD_S into it
     while not ticket.done and (not ticket.recording

@@ -1,4 +1,4 @@
-"""bench_applications --scaled-averaging: the elastic gears' cells, its own and `orc run`'s, scale their averaging."""
+"""bench_applications --whole-periods: the elastic gears' cells, its own and `orc run`'s, average over the whole periods."""
 
 from __future__ import annotations
 
@@ -20,18 +20,18 @@ MOVE effector TO POSE(900mm, 200mm, 800mm, 0, 180deg, 0)
 
 @pytest.fixture
 def restored(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The motion layer's maker put back after the test (use_scaled_averaging replaces it)."""
+    """The motion layer's maker put back after the test (use_whole_periods replaces it)."""
     monkeypatch.setattr(orc_rpl.motion, "make_virtual_motion_layer", orc_rpl.motion.make_virtual_motion_layer)
 
 
-def test_scaled_averaging_reaches_the_elastic_gears_cells_only(restored: None) -> None:
-    assert CellRobot.virtual(plant="elastic-gears").layer.planner.gear_steps is None   # the default: whole periods
-    bench_applications.use_scaled_averaging()
-    assert CellRobot.virtual(plant="elastic-gears").layer.planner.gear_steps is not None
+def test_whole_periods_reach_the_elastic_gears_cells_only(restored: None) -> None:
+    assert CellRobot.virtual(plant="elastic-gears").layer.planner.gear_steps is not None   # the default: scaled
+    bench_applications.use_whole_periods()
+    assert CellRobot.virtual(plant="elastic-gears").layer.planner.gear_steps is None
     assert CellRobot.virtual(plant="realistic").layer.planner.gear_steps is None       # rigid gears: nothing to scale
 
 
-def test_orc_run_with_scaled_averaging_ends_a_gentle_move_sooner(tmp_path: Path) -> None:
+def test_orc_run_by_default_ends_a_gentle_move_sooner_than_with_whole_periods(tmp_path: Path) -> None:
     program = tmp_path / "move.rpl"
     program.write_text(PROGRAM, encoding="utf-8")
 
@@ -40,5 +40,5 @@ def test_orc_run_with_scaled_averaging_ends_a_gentle_move_sooner(tmp_path: Path)
         subprocess.run([sys.executable, *orc, "run", str(program), "--plant", "elastic-gears",
                         "--summary-json", str(summary)], check=True, capture_output=True)
         return float(json.loads(summary.read_text())["cycle_time_s"])
-    whole, scaled = cycle_s(["-m", "orc_rpl"]), cycle_s(["-c", bench_applications.ORC_RUN_SCALED])
+    scaled, whole = cycle_s(["-m", "orc_rpl"]), cycle_s(["-c", bench_applications.ORC_RUN_WHOLE])
     assert scaled < whole - 0.05   # the whole periods add 0.295 s to the move; a gentle move's steps call for less
