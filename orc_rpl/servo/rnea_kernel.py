@@ -47,12 +47,14 @@ def _inertia_times(body: np.ndarray, i: int, l0: float, l1: float, l2: float, w0
 def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
              tau: np.ndarray, work: np.ndarray) -> None:  # pragma: no cover - compiled
     """tau = RNEA(q, qd, qdd) for one state; work: a (n, 15) scratch array (a body's rotation 0:9, its force 9:15)."""
-    n = q.shape[0]
-    # forward: each body's rotation from its parent, velocity and acceleration in its own frame
-    vl0 = vl1 = vl2 = vw0 = vw1 = vw2 = 0.0
-    al0, al1, al2 = -gravity[0], -gravity[1], -gravity[2]
-    aw0 = aw1 = aw2 = 0.0
-    for i in range(n):
+    rotations(body, q, work)
+    rnea_rotated(body, gravity, qd, qdd, tau, work)
+
+
+@inlined_kernel
+def rotations(body: np.ndarray, q: np.ndarray, work: np.ndarray) -> None:  # pragma: no cover - compiled
+    """Each body's rotation from its parent at the angles q into work[:, 0:9] (`rnea_row`'s first part)."""
+    for i in range(q.shape[0]):
         x, y, z = body[i, AXIS], body[i, AXIS + 1], body[i, AXIS + 2]
         # joint rotation (Rodrigues) and the placement's before it: R = P Rj, rows of R map child to parent
         j00, j01, j02, j10, j11, j12, j20, j21, j22 = axis_rotation(x, y, z, q[i])
@@ -61,6 +63,20 @@ def rnea_row(body: np.ndarray, gravity: np.ndarray, q: np.ndarray, qd: np.ndarra
             work[i, 3 * r] = p0 * j00 + p1 * j10 + p2 * j20
             work[i, 3 * r + 1] = p0 * j01 + p1 * j11 + p2 * j21
             work[i, 3 * r + 2] = p0 * j02 + p1 * j12 + p2 * j22
+
+
+@inlined_kernel
+def rnea_rotated(body: np.ndarray, gravity: np.ndarray, qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray,
+                 work: np.ndarray) -> None:  # pragma: no cover - compiled
+    """`rnea_row` after `rotations`: work[:, 0:9] holds the bodies' rotations at the state's angles (several
+    RNEAs at the same angles, as the mass matrix's columns, make them once)."""
+    n = qd.shape[0]
+    # forward: each body's velocity and acceleration in its own frame
+    vl0 = vl1 = vl2 = vw0 = vw1 = vw2 = 0.0
+    al0, al1, al2 = -gravity[0], -gravity[1], -gravity[2]
+    aw0 = aw1 = aw2 = 0.0
+    for i in range(n):
+        x, y, z = body[i, AXIS], body[i, AXIS + 1], body[i, AXIS + 2]
         px, py, pz = body[i, TRANSLATION], body[i, TRANSLATION + 1], body[i, TRANSLATION + 2]
         # actInv: w' = R^T w, v' = R^T (v - p x w); plus the joint's S qd (velocity) and S qdd (acceleration)
         nvl0, nvl1, nvl2, nvw0, nvw1, nvw2 = _in_child(work, i, px, py, pz, vl0, vl1, vl2, vw0, vw1, vw2)
@@ -174,13 +190,15 @@ def mass_diagonal(body: np.ndarray, q: np.ndarray, out: np.ndarray) -> None:  # 
 @kernel
 def mass_matrix_block(body: np.ndarray, q: np.ndarray, joints: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover
     """The block of the mass matrix M(q) (armature included) of the rows and columns `joints`, into out: a column
-    is the RNEA of a unit acceleration of its joint, at rest, without gravity (one `rnea_row` a column)."""
+    is the RNEA of a unit acceleration of its joint, at rest, without gravity (`rnea_rotated` a column, on the
+    rotations made once)."""
     n, m = q.shape[0], joints.shape[0]
     zero, unit, tau, work = np.zeros(3), np.zeros(n), np.empty(n), np.empty((n, 15))
     speed = np.zeros(n)
+    rotations(body, q, work)   # the same angles for every column: the rotations once (the forces overwrite 9:15 only)
     for c in range(m):
         unit[joints[c]] = 1.0
-        rnea_row(body, zero, q, speed, unit, tau, work)
+        rnea_rotated(body, zero, speed, unit, tau, work)
         unit[joints[c]] = 0.0
         for r in range(c + 1):   # the upper triangle, mirrored (symmetric to the bit, as Pinocchio's is made)
             out[r, c] = out[c, r] = tau[joints[r]]
