@@ -21,7 +21,7 @@ from orc_rpl.motion.kinematics import Kinematics
 from orc_rpl.motion.path_offset import PathOffset, correction_omega_rad_s
 from orc_rpl.motion.paths import DensePath
 from orc_rpl.motion.planner import Planner, combine
-from orc_rpl.motion.short_move import short_trajectory
+from orc_rpl.motion.short_move import short_trajectory, short_windows
 from orc_rpl.motion.specs import MoveStatus
 from orc_rpl.motion.timing import parameterize
 from orc_rpl.motion.trajectory import SplinePath, Trajectory, smoothed
@@ -130,7 +130,7 @@ class MotionPipeline:
                                 self.planner.tcp_speed_cap_m_s) if c is not None]
             traj = short_trajectory(self._q_ref, self._qd_ref * 0, self._qdd_ref * 0, piece.q[-1], lim, self.dt_s,
                                     self.sub, h.id, lambda q: self.kin.fk(q, h.motion.tool)[:3, 3],
-                                    min(caps) if caps else None)
+                                    min(caps) if caps else None, short_windows(self.planner.smoothing_s))
         elif plan.timed is not None:
             traj = plan.timed
         elif (plan.saved_first is not None and len(h.pieces_left) == len(plan.pieces) - 1

@@ -14,6 +14,20 @@ from orc_rpl.motion.trajectory import SplinePath, Trajectory
 
 #: jerk limit as a multiple of the acceleration limit (1/s) when the caller gives none
 DEFAULT_JERK_PER_S = 40.0
+#: On elastic gears each joint of a short move from rest is averaged over these windows (s) in turn. After an
+#: unaveraged ShortMove's reference ends the IRB 2400's links ring under the state feedback: j1 and j2 at about
+#: 16 Hz, j3 at 24 Hz (the spot welds' moves: 7 to 15 mm/s at the TCP 40 to 120 ms after the end). A box over j3's
+#: period (0.042 s) and one over half of j1's and j2's leave them at 3.3 to 3.8 mm/s (j1 moves that much at rest:
+#: after a path move averaged over the whole anti-resonance periods, 3.5), each move about 0.07 s longer; the whole
+#: anti-resonance periods the path moves take (0.164 + 0.131 s) cost 0.44 s a spot. docs/motion.md, "Averaging on
+#: elastic gears".
+ELASTIC_WINDOWS_S = (0.042, 0.032)
+
+
+def short_windows(path_windows_s: tuple[float, ...]) -> tuple[float, ...]:
+    """The averaging windows of a short move from rest on a layer whose path moves are averaged over
+    `path_windows_s`: none on rigid gears (no windows), ELASTIC_WINDOWS_S on elastic ones."""
+    return ELASTIC_WINDOWS_S if path_windows_s else ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -69,8 +83,10 @@ def short_trajectory(
     owner: int,
     tcp_of: Callable[[np.ndarray], np.ndarray],
     tcp_speed_max_m_s: float | None = None,
+    windows_s: tuple[float, ...] = (),
 ) -> Trajectory:
-    """A short move sampled every dt_s, its TCP kept under `tcp_speed_max_m_s`; ruckig's -110 retried softer."""
+    """A short move sampled every dt_s, its TCP kept under `tcp_speed_max_m_s`, each joint's profile averaged over
+    `windows_s` in turn (`short_windows`); ruckig's -110 retried softer."""
     if tcp_speed_max_m_s is not None and not np.any(qd0) and not np.any(qdd0):
         lim = _capped(q0, q1, lim, tcp_of, tcp_speed_max_m_s)
     traj = _ruckig(q0, qd0, qdd0, q1, lim)
@@ -92,6 +108,14 @@ def short_trajectory(
         p, v, a = traj.at_time(float(ti))
         q[i], qd[i], qdd[i] = p, v, a
     q[t >= duration], qd[t >= duration], qdd[t >= duration] = q1, 0.0, 0.0
+    if windows_s:
+        rows = len(q)
+        q, qd, qdd = _box_averaged(q, qd, qdd, windows_s, dt_s / sub)
+        duration += (len(q) - rows) * dt_s / sub   # each window adds its length less one step
+        cycles = max(1, math.ceil((len(q) - 1) / sub))
+        pad = cycles * sub + 1 - len(q)
+        q = np.concatenate([q, np.tile(q1, (pad, 1))])
+        qd, qdd = np.concatenate([qd, np.zeros((pad, len(q1)))]), np.concatenate([qdd, np.zeros((pad, len(q1)))])
     # The path of a short move is taken as the joint-space line from start to target (ruckig's
     # time-synchronised profile stays close to it); s is the progress along that line.
     chord = q1 - q0
@@ -104,6 +128,27 @@ def short_trajectory(
     return Trajectory(
         dt_s, sub, path, s * path.length, sd, q, qd, qdd, np.full(cycles + 1, owner), s[::sub], duration, blendable=False, kind="short"
     )
+
+
+def _box_averaged(q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, windows_s: tuple[float, ...], step_s: float
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each joint's samples (every step_s, from rest to rest) averaged over each window in turn.
+
+    The joints' own profiles are averaged (a box average of q, q' and q'' alike keeps them consistent), not the
+    progress along the chord: ruckig's joints are time-synchronised, not on the chord."""
+    start, end, rest = q[0].copy(), q[-1].copy(), np.zeros(q.shape[1])
+    for window_s in windows_s:
+        n = max(1, int(round(window_s / step_s)))
+        q, qd, qdd = _box(q, start, end, n), _box(qd, rest, rest, n), _box(qdd, rest, rest, n)
+    q[-1], qd[-1], qdd[-1] = end, 0.0, 0.0   # the averages of the end's samples are the end up to rounding
+    return q, qd, qdd
+
+
+def _box(samples: np.ndarray, before: np.ndarray, after: np.ndarray, n: int) -> np.ndarray:
+    """Each column's moving average over n samples, held at `before` and `after` outside (n - 1 rows longer)."""
+    padded = np.concatenate([np.tile(before, (n - 1, 1)), samples, np.tile(after, (n - 1, 1))])
+    sums = np.cumsum(np.concatenate([np.zeros((1, padded.shape[1])), padded]), axis=0)
+    return (sums[n:] - sums[:-n]) / n
 
 
 def _capped(q0: np.ndarray, q1: np.ndarray, lim: ShortLimits, tcp_of: Callable[[np.ndarray], np.ndarray],
