@@ -181,7 +181,7 @@ def record_seam(path: Any, *, robot: Any, tool: Pose, to_world: Callable[[Pose],
     run_to_end(robot, MotionRequest(keyword="RecordSeam", kind="joint", target=points[0], tool=tool),
                MOTION_TIMEOUT_S, "RecordSeam")
     delay_s = loop_delay_cycles(robot, robot.joints()) * robot.dt_s
-    smoothing = correction_omega_rad_s(start_averaging_s(robot))
+    smoothing = correction_smoothing_rad_s(robot)
     along: list[float] = []
     offsets: list[float] = []
     travelled = 0.0
@@ -208,6 +208,12 @@ def record_seam(path: Any, *, robot: Any, tool: Pose, to_world: Callable[[Pose],
                            ("Smoothing", Quantity(0.0 if smoothing is None else 1.0 / smoothing, TIME))))
 
 
+def correction_smoothing_rad_s(robot: Any) -> float | None:
+    """The rate (rad/s) at which this robot's motion layer smooths a tracked move's corrections (elastic gears),
+    None where a correction is a step."""
+    return correction_omega_rad_s(start_averaging_s(robot))
+
+
 def loop_delay_cycles(robot: Any, q: Any) -> int:
     """The tracking loop's delay on this robot at joint angles q (motion cycles), as Tracking models it: LOOP_DELAY,
     and through elastic gears that take a correction as a step a quarter period of their lowest anti-resonance more
@@ -216,7 +222,7 @@ def loop_delay_cycles(robot: Any, q: Any) -> int:
     layer smooths corrections (elastic gears under their feed-forward, motion.path_offset) the links follow them
     without that lag, and Tracking models the smoothing itself (the seam's Smoothing)."""
     lowest_rad_s = lowest_anti_resonance_rad_s(robot, q)
-    if lowest_rad_s is None or correction_omega_rad_s(start_averaging_s(robot)) is not None:
+    if lowest_rad_s is None or correction_smoothing_rad_s(robot) is not None:
         return LOOP_DELAY
     return LOOP_DELAY + round(0.5 * math.pi / lowest_rad_s / robot.dt_s)
 
@@ -235,23 +241,25 @@ def _seam_arrays(seam: Any) -> tuple[np.ndarray, np.ndarray]:
     return u[order], o[order]
 
 
+def _seam_time_s(seam: Any, field: str) -> float | None:
+    """A time field of the seam's record (s), None for a record without it (recorded before it was kept)."""
+    try:
+        value = seam.get(field)
+    except (AttributeError, KeyError):
+        return None
+    return value.value if type(value) is Quantity else float(value)
+
+
 def _loop_delay(seam: Any, dt_s: float = 0.004) -> int:
     """The seam's LoopDelay in cycles (LOOP_DELAY for a record without one)."""
-    try:
-        delay = seam.get("LoopDelay")
-    except (AttributeError, KeyError):
-        return LOOP_DELAY
-    return max(1, round((delay.value if type(delay) is Quantity else float(delay)) / dt_s))
+    delay_s = _seam_time_s(seam, "LoopDelay")
+    return LOOP_DELAY if delay_s is None else max(1, round(delay_s / dt_s))
 
 
 def _smoothing_rad_s(seam: Any) -> float | None:
     """The seam's Smoothing as the filter's rate (rad/s), None for a record without one or of rigid gears."""
-    try:
-        smoothing = seam.get("Smoothing")
-    except (AttributeError, KeyError):
-        return None
-    time_s = smoothing.value if type(smoothing) is Quantity else float(smoothing)
-    return 1.0 / time_s if time_s > 0 else None
+    time_s = _seam_time_s(seam, "Smoothing")
+    return 1.0 / time_s if time_s is not None and time_s > 0 else None
 
 
 def _mean_line(u: np.ndarray, o: np.ndarray) -> np.ndarray:
@@ -360,7 +368,7 @@ def trackmove(call: MotionCall) -> Iterator[Any]:
     record = process_log(robot)
     tracker = Tracker(laser.name, lateral_direction(_xyz(start), _xyz(end)), gain, sensor.read,
                       math.dist(_xyz(start), _xyz(end)), strict=True, signals=record.signals,
-                      smoothing_rad_s=correction_omega_rad_s(start_averaging_s(robot)), dt_s=robot.dt_s)
+                      smoothing_rad_s=correction_smoothing_rad_s(robot), dt_s=robot.dt_s)
     # whole_averaging: the Tracker's smoothing is the whole periods', and a gentle line's short windows leave
     # its start ringing into the seam (docs/motion.md, "Averaging on elastic gears")
     request = dataclasses.replace(base, keyword=call.keyword, kind="linear", zone_m=0.0, correction=tracker,
